@@ -1,0 +1,63 @@
+// Shared command-line plumbing for the subcommands (DESIGN.md, Command line).
+#pragma once
+#include <CLI/CLI.hpp>
+#include <memory>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "sim/scene.hpp"
+#include "sim/simulation.hpp"
+
+namespace apiclab::cli {
+
+// A user error: printed as one line "apiclab: <message>", exit code 2.
+struct UsageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+// The common OPTIONS of run, render, compare, gui.
+struct RunOptions {
+  std::string scene;  // path or shipped scene name
+  std::string scheme, kernel, integrator, precision = "double";
+  std::optional<double> flip_alpha, lambda, t_end, fps, dt;
+  std::optional<int> frames;
+  std::string csv, dump;
+  std::vector<std::string> sets;
+  int threads = 0;  // 0: OpenMP default
+  bool quiet = false;
+};
+
+// Registers the common options on a subcommand.
+void add_run_options(CLI::App* cmd, RunOptions& o, bool scene_required = true);
+
+// Loads the scene and applies the options as `--set` overrides, so that every option is
+// validated by the same strict scene parser. Throws SceneError / UsageError.
+SceneDesc load_scene_with_options(const RunOptions& o);
+Precision precision_of(const RunOptions& o);
+// Number of frames and end time after --frames / --t-end / --fps.
+int frame_count(const SceneDesc& s);
+void apply_threads(int threads);
+
+// Creates `dir` (and parents) and checks that a file can be written there; throws UsageError.
+void ensure_writable_dir(const std::string& dir);
+// Checks that `file` can be created (its directory is created); throws UsageError.
+void ensure_writable_file(const std::string& file);
+
+// Progress with ETA on stderr, at most a few times a second, one line rewritten in place.
+class Progress {
+ public:
+  Progress(std::string label, double total, bool quiet);
+  void update(double done, const std::string& extra = "");
+  void finish(const std::string& summary);
+
+ private:
+  std::string label_;
+  double total_;
+  bool quiet_;
+  double start_, last_ = -1;
+};
+double now_seconds();
+
+}  // namespace apiclab::cli

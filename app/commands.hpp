@@ -1,0 +1,30 @@
+// Each subcommand registers its CLI11 subcommand and the action that runs it.
+#pragma once
+#include <CLI/CLI.hpp>
+#include <functional>
+#include <vector>
+
+namespace apiclab::cli {
+
+struct Command {
+  CLI::App* app;
+  std::function<int()> action;
+};
+using CommandTable = std::vector<Command>;
+
+void register_run(CLI::App& root, CommandTable& table);
+void register_roundtrip(CLI::App& root, CommandTable& table);
+void register_bench(CLI::App& root, CommandTable& table);
+#ifdef APICLAB_HAVE_RENDER
+void register_render(CLI::App& root, CommandTable& table);   // render and compare
+#endif
+#ifdef APICLAB_HAVE_GUI
+void register_gui(CLI::App& root, CommandTable& table);
+bool gui_available();  // a display can be opened
+int run_default_gui();  // `apiclab` with no arguments and a display
+#endif
+#ifdef APICLAB_HAVE_FIGURES
+void register_figures(CLI::App& root, CommandTable& table);
+#endif
+
+}  // namespace apiclab::cli

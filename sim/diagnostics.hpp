@@ -1,0 +1,30 @@
+// One diagnostics row per step (DESIGN.md, Diagnostics CSV).
+#pragma once
+#include <array>
+#include <ostream>
+#include <string>
+#include <vector>
+
+namespace apiclab {
+
+struct DiagnosticsRow {
+  long step = 0;
+  double t = 0, dt = 0;
+  double kinetic = 0;       // particles, with ½ m tr(C D Cᵀ) for APIC/RPIC
+  double kinetic_grid = 0;  // ½ Σ m_i |v_i^n|² right after P2G
+  double potential = 0;     // elastic Σ V_p Ψ(F_p) plus gravitational -Σ m_p g·x_p
+  double total = 0;
+  std::array<double, 3> p{0, 0, 0};  // linear momentum
+  std::array<double, 3> L{0, 0, 0};  // angular momentum about the origin, with m (B : ε)
+  double wall_seconds = 0;           // cost of the step
+  double newton_iters = 0, cg_iters = 0, residual = 0;  // implicit integrators
+};
+
+inline const char* diagnostics_header() {
+  return "step,t,dt,kinetic,kinetic_grid,potential,total,px,py,pz,Lx,Ly,Lz,newton_iters,cg_iters,"
+         "residual,wall_s";
+}
+
+void write_diagnostics_row(std::ostream& out, const DiagnosticsRow& r);
+
+}  // namespace apiclab

@@ -1,0 +1,130 @@
+// One registry of string keys for every choice a user makes: the same key is used in scene
+// JSON, CLI flags and GUI combo boxes.
+#pragma once
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "kernels.hpp"
+
+namespace apiclab {
+
+enum class Scheme { pic, flip, apic, rpic };
+enum class Integrator { symplectic, midpoint, backward };
+enum class MaterialModel { neo_hookean, fixed_corotated };
+enum class ShapeType { box, ball, annulus, torus, mesh };
+enum class SamplingType { lattice, ppc, poisson };
+enum class BoundaryCondition { slip, sticky, separate, periodic };
+enum class DtRule { fixed, cfl, elastic, two_step };
+enum class Precision { single, dbl };
+
+// A keyed choice: key, value, one-line description for help texts and GUI tooltips.
+template <class E>
+struct Choice {
+  std::string_view key;
+  E value;
+  std::string_view help;
+};
+
+inline const std::vector<Choice<Scheme>>& scheme_choices() {
+  static const std::vector<Choice<Scheme>> c = {
+      {"pic", Scheme::pic, "PIC, eqs 1-2: grid velocity interpolated back; dissipative"},
+      {"flip", Scheme::flip, "FLIP/PIC blend, eq 3: particles keep grid velocity increments"},
+      {"apic", Scheme::apic, "APIC, eqs 24-26 and 37-40: affine velocity per particle"},
+      {"rpic", Scheme::rpic, "RPIC, Secs 2.1 and 5.1: rigid (skew) velocity per particle"}};
+  return c;
+}
+inline const std::vector<Choice<KernelType>>& kernel_choices() {
+  static const std::vector<Choice<KernelType>> c = {
+      {"linear", KernelType::linear, "multilinear hat; APIC uses the lagged-C form (Sec 5.9)"},
+      {"quadratic", KernelType::quadratic, "quadratic B-spline, D_p = dx^2/4"},
+      {"cubic", KernelType::cubic, "cubic B-spline, D_p = dx^2/3"}};
+  return c;
+}
+inline const std::vector<Choice<Integrator>>& integrator_choices() {
+  static const std::vector<Choice<Integrator>> c = {
+      {"symplectic", Integrator::symplectic, "symplectic Euler, lambda = 0 (eqs 27-30)"},
+      {"midpoint", Integrator::midpoint, "implicit midpoint, lambda = 1/2 (Sec 4.1)"},
+      {"backward", Integrator::backward, "backward Euler (Sec 4.1, E_be), for comparison"}};
+  return c;
+}
+inline const std::vector<Choice<MaterialModel>>& material_choices() {
+  static const std::vector<Choice<MaterialModel>> c = {
+      {"neo-hookean", MaterialModel::neo_hookean, "compressible neo-Hookean"},
+      {"fixed-corotated", MaterialModel::fixed_corotated,
+       "fixed corotated (Stomakhin et al. 2012)"}};
+  return c;
+}
+inline const std::vector<Choice<ShapeType>>& shape_choices() {
+  static const std::vector<Choice<ShapeType>> c = {
+      {"box", ShapeType::box, "axis-aligned box: min, max"},
+      {"ball", ShapeType::ball, "disk (2D) or sphere (3D): center, radius"},
+      {"annulus", ShapeType::annulus, "ring (2D) or hollow cylinder (3D): center, inner, outer"},
+      {"torus", ShapeType::torus, "torus: center, inner, outer radius (3D)"},
+      {"mesh", ShapeType::mesh, "closed triangle mesh (OBJ): file, scale, translate"}};
+  return c;
+}
+inline const std::vector<Choice<SamplingType>>& sampling_choices() {
+  static const std::vector<Choice<SamplingType>> c = {
+      {"lattice", SamplingType::lattice, "grid-aligned lattice with a given spacing"},
+      {"ppc", SamplingType::ppc, "grid-aligned lattice with N particles per cell"},
+      {"poisson", SamplingType::poisson, "Poisson disk (Bridson 2007) with radius and seed"}};
+  return c;
+}
+inline const std::vector<Choice<BoundaryCondition>>& boundary_choices() {
+  static const std::vector<Choice<BoundaryCondition>> c = {
+      {"slip", BoundaryCondition::slip, "normal velocity set to zero"},
+      {"sticky", BoundaryCondition::sticky, "velocity set to zero"},
+      {"separate", BoundaryCondition::separate, "normal velocity cannot point into the wall"},
+      {"periodic", BoundaryCondition::periodic, "opposite walls identified (domain walls only)"}};
+  return c;
+}
+inline const std::vector<Choice<DtRule>>& dt_rule_choices() {
+  static const std::vector<Choice<DtRule>> c = {
+      {"fixed", DtRule::fixed, "constant dt (time.dt.value)"},
+      {"cfl", DtRule::cfl, "Sec 4.3: nu dx / max(|v_p| + 6 sqrt(d)/dx |B_p|)"},
+      {"elastic", DtRule::elastic, "explicit limit nu dx / (c + max|v|), c = sqrt((lambda+2mu)/rho)"},
+      {"two-step", DtRule::two_step, "Sec 6.7: clamp(nu dx / max(v_max, v_tau), dt_min, dt_max)"}};
+  return c;
+}
+inline const std::vector<Choice<Precision>>& precision_choices() {
+  static const std::vector<Choice<Precision>> c = {
+      {"double", Precision::dbl, "64-bit (default; conservation tested to round-off)"},
+      {"float", Precision::single, "32-bit, faster"}};
+  return c;
+}
+
+template <class E>
+std::string choice_keys(const std::vector<Choice<E>>& choices) {
+  std::string s;
+  for (auto& c : choices) s += (s.empty() ? "" : "|") + std::string(c.key);
+  return s;
+}
+
+// Throws std::invalid_argument naming the unknown key and the valid ones.
+template <class E>
+E parse_choice(const std::vector<Choice<E>>& choices, std::string_view key, std::string_view what) {
+  for (auto& c : choices)
+    if (c.key == key) return c.value;
+  throw std::invalid_argument("unknown " + std::string(what) + " '" + std::string(key) +
+                              "' (expected " + choice_keys(choices) + ")");
+}
+
+template <class E>
+std::string_view choice_key(const std::vector<Choice<E>>& choices, E value) {
+  for (auto& c : choices)
+    if (c.value == value) return c.key;
+  return "?";
+}
+
+inline std::string_view key_of(Scheme s) { return choice_key(scheme_choices(), s); }
+inline std::string_view key_of(KernelType k) { return choice_key(kernel_choices(), k); }
+inline std::string_view key_of(Integrator i) { return choice_key(integrator_choices(), i); }
+inline std::string_view key_of(MaterialModel m) { return choice_key(material_choices(), m); }
+inline std::string_view key_of(BoundaryCondition b) { return choice_key(boundary_choices(), b); }
+inline std::string_view key_of(DtRule r) { return choice_key(dt_rule_choices(), r); }
+inline std::string_view key_of(Precision p) { return choice_key(precision_choices(), p); }
+
+}  // namespace apiclab

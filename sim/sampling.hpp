@@ -1,0 +1,52 @@
+// Filling scene objects with particles: shapes (inside tests), grid-aligned lattices and
+// Poisson disk sampling (Bridson 2007), closed triangle meshes (OBJ).
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "scene.hpp"
+
+namespace apiclab {
+
+struct SampledParticles {
+  std::vector<Vec3d> positions;
+  std::vector<Vec3d> velocities;
+  std::vector<double> volumes;
+  double spacing = 0;  // nominal particle spacing (drawing radius, D_p checks)
+};
+
+// Samples one object of a scene. Throws SceneError (e.g. unreadable mesh, no particle inside).
+SampledParticles sample_object(const SceneDesc& scene, int object_index);
+
+// Inside test for a shape in world coordinates (meshes need a MeshSolid, below).
+bool inside_shape(const ShapeDesc& shape, const Vec3d& x, int dim);
+
+// A closed triangle mesh with a fast inside test (ray parity along +z, triangles bucketed on xy).
+class MeshSolid {
+ public:
+  // Loads an OBJ through tinyobjloader, scaled, rotated and translated as the shape says.
+  MeshSolid(const std::string& obj_path, const ShapeDesc& shape);
+  bool inside(const Vec3d& p) const;
+  Vec3d lower() const { return lo_; }
+  Vec3d upper() const { return hi_; }
+  double volume() const;  // signed-volume sum (divergence theorem)
+  std::size_t triangle_count() const { return tris_.size(); }
+
+ private:
+  struct Tri {
+    Vec3d a, b, c;
+  };
+  std::vector<Tri> tris_;
+  Vec3d lo_{}, hi_{};
+  int nx_ = 1, ny_ = 1;
+  double cell_x_ = 1, cell_y_ = 1;
+  std::vector<std::vector<std::uint32_t>> buckets_;
+};
+
+// Poisson disk samples (Bridson 2007) with minimum separation r in the box [lo, hi];
+// `periodic` makes the separation hold across opposite faces too.
+std::vector<Vec3d> poisson_disk(const Vec3d& lo, const Vec3d& hi, double r, int dim,
+                                std::uint64_t seed, bool periodic = false);
+
+}  // namespace apiclab

@@ -1,0 +1,441 @@
+#include "scene.hpp"
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+#ifndef APICLAB_ASSETS_DIR
+#define APICLAB_ASSETS_DIR "assets"
+#endif
+
+namespace apiclab {
+namespace {
+
+using nlohmann::json;
+
+// Reads one JSON object strictly: every key must be consumed, so a misspelled key is an error.
+class Reader {
+ public:
+  Reader(const json& j, std::string path, const std::string& file) : j_(j), path_(std::move(path)), file_(file) {
+    if (!j_.is_object()) fail("", "expected an object");
+  }
+  ~Reader() noexcept(false) {
+    if (std::uncaught_exceptions()) return;
+    for (auto it = j_.begin(); it != j_.end(); ++it)
+      if (!used_.count(it.key())) fail(it.key(), "unknown key");
+  }
+  [[noreturn]] void fail(const std::string& key, const std::string& what) const {
+    throw SceneError(file_ + ": key '" + join(key) + "': " + what);
+  }
+  std::string join(const std::string& key) const {
+    if (path_.empty()) return key;
+    return key.empty() ? path_ : path_ + "." + key;
+  }
+  bool has(const std::string& key) const { return j_.contains(key); }
+  const json& raw(const std::string& key) {
+    used_.insert(key);
+    return j_.at(key);
+  }
+  double number(const std::string& key, double fallback, bool required = false) {
+    if (!has(key)) {
+      if (required) fail(key, "missing");
+      return fallback;
+    }
+    const json& v = raw(key);
+    if (!v.is_number()) fail(key, "expected a number, got " + v.dump());
+    double d = v.get<double>();
+    if (!std::isfinite(d)) fail(key, "not finite");
+    return d;
+  }
+  double positive(const std::string& key, double fallback, bool required = false) {
+    double d = number(key, fallback, required);
+    if (!(d > 0)) fail(key, "must be positive, got " + fmt(d));
+    return d;
+  }
+  int integer(const std::string& key, int fallback) {
+    if (!has(key)) return fallback;
+    const json& v = raw(key);
+    if (!v.is_number_integer()) fail(key, "expected an integer, got " + v.dump());
+    return v.get<int>();
+  }
+  bool boolean(const std::string& key, bool fallback) {
+    if (!has(key)) return fallback;
+    const json& v = raw(key);
+    if (!v.is_boolean()) fail(key, "expected true or false, got " + v.dump());
+    return v.get<bool>();
+  }
+  std::string string(const std::string& key, const std::string& fallback, bool required = false) {
+    if (!has(key)) {
+      if (required) fail(key, "missing");
+      return fallback;
+    }
+    const json& v = raw(key);
+    if (!v.is_string()) fail(key, "expected a string, got " + v.dump());
+    return v.get<std::string>();
+  }
+  // A vector of `dim` numbers (missing trailing components stay as in fallback).
+  Vec3d vec(const std::string& key, Vec3d fallback, int dim, bool required = false) {
+    if (!has(key)) {
+      if (required) fail(key, "missing");
+      return fallback;
+    }
+    const json& v = raw(key);
+    if (!v.is_array() || int(v.size()) != dim) fail(key, "expected " + std::to_string(dim) + " numbers, got " + v.dump());
+    Vec3d out = fallback;
+    for (int i = 0; i < dim; ++i) {
+      if (!v[i].is_number()) fail(key, "expected numbers, got " + v.dump());
+      out[i] = v[i].get<double>();
+    }
+    return out;
+  }
+  template <class E>
+  E choice(const std::string& key, const std::vector<Choice<E>>& choices, E fallback, const char* what) {
+    if (!has(key)) return fallback;
+    std::string s = string(key, "");
+    try {
+      return parse_choice(choices, s, what);
+    } catch (const std::invalid_argument& e) {
+      fail(key, e.what());
+    }
+  }
+  Reader child(const std::string& key) { return Reader(raw(key), join(key), file_); }
+  static std::string fmt(double d) {
+    std::ostringstream o;
+    o << d;
+    return o.str();
+  }
+  const std::string& file() const { return file_; }
+  std::string path() const { return path_; }
+
+ private:
+  const json& j_;
+  std::string path_;
+  const std::string& file_;
+  std::set<std::string> used_;
+};
+
+void read_domain(Reader r, SceneDesc& s) {
+  auto& d = s.domain;
+  d.min = r.vec("min", {0, 0, 0}, s.dim, true);
+  d.max = r.vec("max", {1, 1, 1}, s.dim, true);
+  d.dx = r.positive("dx", 0, true);
+  for (int a = 0; a < s.dim; ++a)
+    if (!(d.max[a] > d.min[a])) r.fail("max", "must exceed min on every axis");
+  if (s.dim == 2) { d.min[2] = 0; d.max[2] = 0; }
+  d.walls.fill(BoundaryCondition::slip);
+  if (r.has("boundary")) {
+    const json& b = r.raw("boundary");
+    if (b.is_string()) {
+      BoundaryCondition bc;
+      try {
+        bc = parse_choice(boundary_choices(), b.get<std::string>(), "boundary condition");
+      } catch (const std::invalid_argument& e) {
+        r.fail("boundary", e.what());
+      }
+      d.walls.fill(bc);
+    } else {
+      Reader br(b, r.join("boundary"), r.file());
+      const char* names[6] = {"x-", "x+", "y-", "y+", "z-", "z+"};
+      for (int w = 0; w < 2 * s.dim; ++w)
+        d.walls[w] = br.choice(names[w], boundary_choices(), BoundaryCondition::slip, "boundary condition");
+      for (int a = 0; a < s.dim; ++a)
+        if ((d.walls[2 * a] == BoundaryCondition::periodic) != (d.walls[2 * a + 1] == BoundaryCondition::periodic))
+          r.fail("boundary", "periodic must be set on both walls of an axis");
+    }
+  }
+  for (int a = 0; a < s.dim; ++a) {
+    double cells = (d.max[a] - d.min[a]) / d.dx;
+    if (cells > 1e5) r.fail("dx", "domain has more than 1e5 cells along an axis");
+    if (d.periodic(a) && std::abs(cells - std::round(cells)) > 1e-6 * cells)
+      r.fail("dx", "a periodic axis must be a whole number of cells long");
+  }
+}
+
+void read_time(Reader r, SceneDesc& s) {
+  auto& t = s.time;
+  t.end = r.positive("end", t.end);
+  t.fps = r.positive("fps", t.fps);
+  if (r.has("dt")) {
+    Reader d = r.child("dt");
+    t.rule = d.choice("rule", dt_rule_choices(), t.rule, "time-step rule");
+    // fixed: the step; other rules: an upper bound (default: none beyond the frame time).
+    t.dt = d.positive("value", t.rule == DtRule::two_step ? 0.005 : 1e30, t.rule == DtRule::fixed);
+    t.nu = d.positive("nu", t.nu);
+    t.dt_min = d.positive("min", t.dt_min);
+    t.v_tau = d.positive("v_tau", t.v_tau);
+  } else {
+    t.dt = 1e30;
+  }
+}
+
+void read_solver(Reader r, SceneDesc& s) {
+  auto& v = s.solver;
+  v.scheme = r.choice("scheme", scheme_choices(), v.scheme, "scheme");
+  v.flip_alpha = r.number("flip_alpha", v.flip_alpha);
+  if (v.flip_alpha < 0 || v.flip_alpha > 1) r.fail("flip_alpha", "must be in [0, 1]");
+  v.kernel = r.choice("kernel", kernel_choices(), v.kernel, "kernel");
+  v.integrator = r.choice("integrator", integrator_choices(), v.integrator, "integrator");
+  v.lambda = r.number("lambda", v.lambda);
+  if (v.lambda > 1) r.fail("lambda", "must be in [0, 1]");
+  v.newton_tolerance = r.positive("newton_tolerance", v.newton_tolerance);
+  v.newton_max_iterations = r.integer("newton_max_iterations", v.newton_max_iterations);
+  v.cg_tolerance = r.positive("cg_tolerance", v.cg_tolerance);
+  v.cg_max_iterations = r.integer("cg_max_iterations", v.cg_max_iterations);
+  if (v.newton_max_iterations < 1) r.fail("newton_max_iterations", "must be at least 1");
+  if (v.cg_max_iterations < 1) r.fail("cg_max_iterations", "must be at least 1");
+  v.stop_on_nonconvergence = r.boolean("stop_on_nonconvergence", v.stop_on_nonconvergence);
+  v.blowup_energy_factor = r.positive("blowup_energy_factor", v.blowup_energy_factor);
+}
+
+MaterialDesc read_material(Reader r, int index) {
+  MaterialDesc m;
+  m.name = r.string("name", "material" + std::to_string(index));
+  m.model = r.choice("model", material_choices(), m.model, "material model");
+  m.E = r.positive("E", m.E, true);
+  m.nu = r.number("nu", m.nu, true);
+  if (!(m.nu > -1.0 && m.nu < 0.5)) r.fail("nu", "Poisson's ratio must be in (-1, 0.5), got " + Reader::fmt(m.nu));
+  m.rho = r.positive("rho", m.rho, true);
+  return m;
+}
+
+ShapeDesc read_shape(Reader r, int dim) {
+  ShapeDesc sh;
+  std::string type = r.string("type", "", true);
+  try {
+    sh.type = parse_choice(shape_choices(), type, "shape");
+  } catch (const std::invalid_argument& e) {
+    r.fail("type", e.what());
+  }
+  switch (sh.type) {
+    case ShapeType::box:
+      sh.min = r.vec("min", {0, 0, 0}, dim, true);
+      sh.max = r.vec("max", {0, 0, 0}, dim, true);
+      for (int a = 0; a < dim; ++a)
+        if (!(sh.max[a] > sh.min[a])) r.fail("max", "must exceed min on every axis");
+      for (int a = 0; a < dim; ++a) sh.center[a] = 0.5 * (sh.min[a] + sh.max[a]);
+      break;
+    case ShapeType::ball:
+      sh.center = r.vec("center", {0, 0, 0}, dim, true);
+      sh.radius = r.positive("radius", 0, true);
+      break;
+    case ShapeType::annulus:
+    case ShapeType::torus:
+      sh.center = r.vec("center", {0, 0, 0}, dim, true);
+      sh.inner = r.positive("inner", 0, true);
+      sh.outer = r.positive("outer", 0, true);
+      if (!(sh.outer > sh.inner)) r.fail("outer", "must exceed inner");
+      if (dim == 3) {
+        sh.axis = r.vec("axis", {0, 0, 1}, 3);
+        if (sh.type == ShapeType::annulus) sh.length = r.positive("length", 0, true);
+      }
+      if (sh.type == ShapeType::torus && dim != 3) r.fail("type", "torus needs dim 3 (use annulus in 2D)");
+      break;
+    case ShapeType::mesh:
+      sh.file = r.string("file", "", true);
+      sh.scale = r.positive("scale", 1.0);
+      sh.translate = r.vec("translate", {0, 0, 0}, dim);
+      if (dim != 3) r.fail("type", "mesh needs dim 3");
+      break;
+  }
+  if (r.has("rotation")) {
+    Reader rot = r.child("rotation");
+    sh.rotation_axis = rot.vec("axis", {0, 0, 1}, 3);
+    sh.rotation_degrees = rot.number("degrees", 0, true);
+  }
+  return sh;
+}
+
+SamplingDesc read_sampling(Reader r) {
+  SamplingDesc s;
+  std::string type = r.string("type", "ppc");
+  try {
+    s.type = parse_choice(sampling_choices(), type, "sampling");
+  } catch (const std::invalid_argument& e) {
+    r.fail("type", e.what());
+  }
+  if (s.type == SamplingType::lattice) s.spacing = r.positive("spacing", 0, true);
+  if (s.type == SamplingType::ppc) s.ppc = r.positive("ppc", 4);
+  if (s.type == SamplingType::poisson) {
+    s.radius = r.positive("radius", 0, true);
+    s.seed = std::uint64_t(r.integer("seed", 1));
+  }
+  return s;
+}
+
+ObjectDesc read_object(Reader r, const SceneDesc& s, int index) {
+  ObjectDesc o;
+  o.name = r.string("name", "object" + std::to_string(index));
+  o.shape = read_shape(r.child("shape"), s.dim);
+  if (!r.has("material")) r.fail("material", "missing");
+  const json& m = r.raw("material");
+  if (m.is_number_integer()) {
+    o.material = m.get<int>();
+    if (o.material < 0 || o.material >= int(s.materials.size())) r.fail("material", "no material with index " + m.dump());
+  } else if (m.is_string()) {
+    o.material = -1;
+    for (size_t i = 0; i < s.materials.size(); ++i)
+      if (s.materials[i].name == m.get<std::string>()) o.material = int(i);
+    if (o.material < 0) r.fail("material", "no material named " + m.dump());
+  } else {
+    r.fail("material", "expected a material name or index");
+  }
+  o.sampling = r.has("sampling") ? read_sampling(r.child("sampling")) : SamplingDesc{};
+  o.velocity = r.vec("velocity", {0, 0, 0}, s.dim);
+  if (r.has("angular_velocity")) {
+    if (s.dim == 2) {
+      o.angular_velocity = {0, 0, r.number("angular_velocity", 0)};
+    } else {
+      o.angular_velocity = r.vec("angular_velocity", {0, 0, 0}, 3);
+    }
+  }
+  // The object's bounding box must lie inside the domain.
+  const ShapeDesc& sh = o.shape;
+  Vec3d lo = sh.min, hi = sh.max;
+  double ext = sh.type == ShapeType::ball ? sh.radius : sh.outer;
+  if (sh.type == ShapeType::annulus && s.dim == 3) ext = std::max(ext, 0.5 * sh.length);
+  if (sh.type == ShapeType::ball || sh.type == ShapeType::annulus || sh.type == ShapeType::torus)
+    for (int a = 0; a < 3; ++a) { lo[a] = sh.center[a] - ext; hi[a] = sh.center[a] + ext; }
+  if (sh.type != ShapeType::mesh)
+    for (int a = 0; a < s.dim; ++a)
+      if (lo[a] < s.domain.min[a] - 1e-12 || hi[a] > s.domain.max[a] + 1e-12)
+        r.fail("shape", "object lies outside the domain on axis " + std::string(1, "xyz"[a]));
+  return o;
+}
+
+ColliderDesc read_collider(Reader r, int dim) {
+  ColliderDesc c;
+  std::string type = r.string("type", "plane");
+  if (type != "plane") r.fail("type", "unknown collider type '" + type + "' (expected plane)");
+  c.point = r.vec("point", {0, 0, 0}, dim, true);
+  c.normal = r.vec("normal", {0, 1, 0}, dim, true);
+  double n = std::sqrt(c.normal[0] * c.normal[0] + c.normal[1] * c.normal[1] + c.normal[2] * c.normal[2]);
+  if (!(n > 0)) r.fail("normal", "must be non-zero");
+  for (double& x : c.normal) x /= n;
+  c.condition = r.choice("condition", boundary_choices(), c.condition, "boundary condition");
+  if (c.condition == BoundaryCondition::periodic) r.fail("condition", "a collider cannot be periodic");
+  return c;
+}
+
+SceneDesc parse_json(const json& j, const std::string& file) {
+  SceneDesc s;
+  s.source = file;
+  Reader r(j, "", file);
+  s.name = r.string("name", std::filesystem::path(file).stem().string());
+  s.description = r.string("description", "");
+  s.dim = r.integer("dim", 2);
+  if (s.dim != 2 && s.dim != 3) r.fail("dim", "must be 2 or 3");
+  if (!r.has("domain")) r.fail("domain", "missing");
+  read_domain(r.child("domain"), s);
+  s.gravity = r.vec("gravity", {0, 0, 0}, s.dim);
+  if (r.has("time")) read_time(r.child("time"), s);
+  if (r.has("solver")) read_solver(r.child("solver"), s);
+  if (!r.has("materials") || !r.raw("materials").is_array() || r.raw("materials").empty())
+    r.fail("materials", "expected a non-empty array");
+  const json& mats = r.raw("materials");
+  for (size_t i = 0; i < mats.size(); ++i)
+    s.materials.push_back(read_material(Reader(mats[i], "materials." + std::to_string(i), file), int(i)));
+  if (!r.has("objects") || !r.raw("objects").is_array() || r.raw("objects").empty())
+    r.fail("objects", "expected a non-empty array");
+  const json& objs = r.raw("objects");
+  for (size_t i = 0; i < objs.size(); ++i)
+    s.objects.push_back(read_object(Reader(objs[i], "objects." + std::to_string(i), file), s, int(i)));
+  if (r.has("colliders")) {
+    const json& cols = r.raw("colliders");
+    if (!cols.is_array()) r.fail("colliders", "expected an array");
+    for (size_t i = 0; i < cols.size(); ++i)
+      s.colliders.push_back(read_collider(Reader(cols[i], "colliders." + std::to_string(i), file), s.dim));
+  }
+  return s;
+}
+
+// `--set a.b.0.c=VALUE`: walks existing objects/arrays; the last key may be new (the strict
+// parser then rejects it if the scene format does not know it).
+void apply_override(json& j, const std::string& assignment, const std::string& file) {
+  auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw SceneError(file + ": --set '" + assignment + "': expected KEY=VALUE");
+  std::string key = assignment.substr(0, eq), text = assignment.substr(eq + 1);
+  json value = json::parse(text, nullptr, false);
+  if (value.is_discarded()) value = text;  // a bare word is a string
+  json* node = &j;
+  std::string walked;
+  std::stringstream ss(key);
+  std::vector<std::string> parts;
+  for (std::string part; std::getline(ss, part, '.');) parts.push_back(part);
+  for (size_t i = 0; i < parts.size(); ++i) {
+    const std::string& p = parts[i];
+    bool last = i + 1 == parts.size();
+    walked += (walked.empty() ? "" : ".") + p;
+    if (node->is_array()) {
+      char* end = nullptr;
+      long idx = std::strtol(p.c_str(), &end, 10);
+      if (p.empty() || *end || idx < 0 || idx >= long(node->size()))
+        throw SceneError(file + ": --set key '" + walked + "' does not exist");
+      node = &(*node)[size_t(idx)];
+    } else if (node->is_object()) {
+      if (!node->contains(p) && !last)
+        throw SceneError(file + ": --set key '" + walked + "' does not exist");
+      node = &(*node)[p];
+    } else {
+      throw SceneError(file + ": --set key '" + walked + "' does not exist");
+    }
+  }
+  *node = value;
+}
+
+SceneDesc parse_with_overrides(json j, const std::string& file, const std::vector<std::string>& overrides) {
+  for (auto& o : overrides) apply_override(j, o, file);
+  try {
+    return parse_json(j, file);
+  } catch (const SceneError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw SceneError(file + ": " + e.what());
+  }
+}
+
+}  // namespace
+
+SceneDesc parse_scene_text(const std::string& text, const std::string& source, const std::vector<std::string>& overrides) {
+  json j = json::parse(text, nullptr, false);
+  if (j.is_discarded()) {
+    // Parse again with exceptions to get the position of the error.
+    try {
+      (void)json::parse(text);
+    } catch (const json::parse_error& e) {
+      throw SceneError(source + ": malformed JSON: " + e.what());
+    }
+    throw SceneError(source + ": malformed JSON");
+  }
+  return parse_with_overrides(std::move(j), source, overrides);
+}
+
+SceneDesc load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+  std::ifstream in(path);
+  if (!in) throw SceneError(path + ": cannot open scene file");
+  std::stringstream buf;
+  buf << in.rdbuf();
+  return parse_scene_text(buf.str(), path, overrides);
+}
+
+std::string scenes_directory() {
+  namespace fs = std::filesystem;
+  if (const char* env = std::getenv("APICLAB_SCENES")) return env;
+  fs::path built = fs::path(APICLAB_ASSETS_DIR) / "scenes";
+  if (fs::is_directory(built)) return built.string();
+  return "assets/scenes";
+}
+
+std::string resolve_scene_path(const std::string& arg) {
+  namespace fs = std::filesystem;
+  if (fs::exists(arg)) return arg;
+  if (arg.find('/') == std::string::npos) {
+    fs::path p = fs::path(scenes_directory()) / (arg + (fs::path(arg).extension() == ".json" ? "" : ".json"));
+    if (fs::exists(p)) return p.string();
+  }
+  return arg;  // load_scene reports it as missing
+}
+
+}  // namespace apiclab

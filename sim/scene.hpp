@@ -1,0 +1,129 @@
+// Scene description: everything a paper scene states, as plain data read from JSON
+// (DESIGN.md, Scenes). All values are double; the solver converts to its scalar type.
+#pragma once
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "registry.hpp"
+
+namespace apiclab {
+
+using Vec3d = std::array<double, 3>;
+
+// A scene that cannot be used: the message names the file and the JSON key.
+struct SceneError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct DomainDesc {
+  Vec3d min{0, 0, 0}, max{1, 1, 1};
+  double dx = 0.0;
+  // Walls in the order x-, x+, y-, y+, z-, z+.
+  std::array<BoundaryCondition, 6> walls{};
+  bool periodic(int axis) const { return walls[2 * axis] == BoundaryCondition::periodic; }
+};
+
+struct TimeDesc {
+  double end = 1.0;
+  double fps = 24.0;
+  DtRule rule = DtRule::elastic;
+  double dt = 1e30;      // fixed rule: the step; other rules: an upper bound
+  double nu = 0.5;       // Courant number for cfl, elastic and two-step rules
+  double dt_min = 1e-6;  // two-step rule (Sec 6.7)
+  double v_tau = 0.01;   // two-step rule (Sec 6.7)
+};
+
+struct SolverDesc {
+  Scheme scheme = Scheme::apic;
+  double flip_alpha = 1.0;  // eq 3 blend: 1 = pure FLIP, 0 = PIC
+  KernelType kernel = KernelType::quadratic;
+  Integrator integrator = Integrator::symplectic;
+  double lambda = -1.0;  // λ of eqs 27-30; < 0 means "from the integrator"
+  double newton_tolerance = 1e-6;
+  int newton_max_iterations = 20;
+  double cg_tolerance = 1e-6;
+  int cg_max_iterations = 200;
+  bool stop_on_nonconvergence = false;
+  double blowup_energy_factor = 10.0;
+  double integrator_lambda() const {
+    if (lambda >= 0) return lambda;
+    return integrator == Integrator::midpoint ? 0.5 : 0.0;
+  }
+};
+
+struct MaterialDesc {
+  std::string name;
+  MaterialModel model = MaterialModel::neo_hookean;
+  double E = 1000.0, nu = 0.3, rho = 1.0;
+  double mu() const { return E / (2.0 * (1.0 + nu)); }
+  double lambda() const { return E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)); }
+  double wave_speed() const { return std::sqrt((lambda() + 2.0 * mu()) / rho); }
+};
+
+struct ShapeDesc {
+  ShapeType type = ShapeType::box;
+  Vec3d min{0, 0, 0}, max{0, 0, 0};  // box
+  Vec3d center{0, 0, 0};             // ball, annulus, torus
+  double radius = 0, inner = 0, outer = 0;
+  Vec3d axis{0, 0, 1};  // annulus (3D cylinder axis) and torus symmetry axis
+  double length = 0;    // annulus in 3D: cylinder length
+  std::string file;     // mesh: OBJ path, relative to the scene file
+  double scale = 1.0;   // mesh
+  Vec3d translate{0, 0, 0};
+  Vec3d rotation_axis{0, 0, 1};  // rotation about `center` (mesh: about origin, then translate)
+  double rotation_degrees = 0;
+};
+
+struct SamplingDesc {
+  SamplingType type = SamplingType::ppc;
+  double spacing = 0;  // lattice
+  double ppc = 4;      // particles per cell
+  double radius = 0;   // poisson: minimum separation
+  std::uint64_t seed = 1;
+};
+
+struct ObjectDesc {
+  std::string name;
+  ShapeDesc shape;
+  int material = 0;
+  SamplingDesc sampling;
+  Vec3d velocity{0, 0, 0};
+  Vec3d angular_velocity{0, 0, 0};  // about the shape's center; 2D uses z
+};
+
+struct ColliderDesc {
+  Vec3d point{0, 0, 0};
+  Vec3d normal{0, 1, 0};  // points into the free side
+  BoundaryCondition condition = BoundaryCondition::slip;
+};
+
+struct SceneDesc {
+  std::string name, description;
+  std::string source;  // file it came from, for messages and relative paths
+  int dim = 2;
+  DomainDesc domain;
+  Vec3d gravity{0, 0, 0};
+  TimeDesc time;
+  SolverDesc solver;
+  std::vector<MaterialDesc> materials;
+  std::vector<ObjectDesc> objects;
+  std::vector<ColliderDesc> colliders;
+};
+
+// Reads a scene file, applies `--set KEY=VALUE` overrides (JSON paths like
+// `materials.0.E`), and validates it. Throws SceneError naming file and key.
+SceneDesc load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
+// Same, from JSON text (tests, GUI).
+SceneDesc parse_scene_text(const std::string& json_text, const std::string& source_name,
+                           const std::vector<std::string>& overrides = {});
+
+// The directory holding the shipped scenes (build-time path, then ./assets/scenes).
+std::string scenes_directory();
+// Resolves a scene argument: a path, or a bare name like `rotating-disk`.
+std::string resolve_scene_path(const std::string& arg);
+
+}  // namespace apiclab
