@@ -1,0 +1,97 @@
+// MPM with interchangeable transfers (Jiang et al. 2017). One step, as the paper orders it:
+//   clear grid → P2G (eqs 24-26) → grid update (eqs 27-34) → boundary → G2P (eqs 37-40)
+//   → particle update.
+#pragma once
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "grid.hpp"
+#include "materials.hpp"
+#include "particles.hpp"
+#include "simulation.hpp"
+#include "stencil.hpp"
+
+namespace apiclab {
+
+template <class T>
+struct MaterialParams {
+  MaterialModel model;
+  Lame<T> lame;
+};
+
+// A grid node with a boundary condition: a domain wall or a collider plane.
+template <class T, int D>
+struct ConstrainedNode {
+  std::size_t node;
+  Vec<T, D> normal;  // into the free side
+  BoundaryCondition condition;
+};
+
+template <class T, int D>
+class MpmSimulation final : public Simulation {
+ public:
+  explicit MpmSimulation(const SceneDesc& scene);
+  std::unique_ptr<Simulation> clone() const override { return std::make_unique<MpmSimulation>(*this); }
+
+  int dim() const override { return D; }
+  Precision precision() const override { return sizeof(T) == 4 ? Precision::single : Precision::dbl; }
+  const SceneDesc& scene() const override { return scene_; }
+  std::size_t particle_count() const override { return p_.size(); }
+  double time() const override { return time_; }
+  long steps() const override { return steps_; }
+
+  std::optional<Failure> step(double t_limit, DiagnosticsRow* row) override;
+  void step_fixed(double dt) override;
+  DiagnosticsRow measure() const override;
+  const std::optional<Failure>& failure() const override { return failure_; }
+  void set_scheme(Scheme scheme, double flip_alpha) override;
+  std::shared_ptr<Snapshot> snapshot(bool with_noise) const override;
+  void write_particles_csv(std::ostream& out) const override;
+
+  // Direct access for tests and the round-trip probe.
+  Particles<T, D>& particles() { return p_; }
+  const Particles<T, D>& particles() const { return p_; }
+  Grid<T, D>& grid() { return grid_; }
+  const Grid<T, D>& grid() const { return grid_; }
+  SolverDesc& solver() { return scene_.solver; }
+  T inertia_scale() const;  // k Δx² with D_p = k Δx² I (quadratic, cubic)
+
+  // The phases, public so tests can check each one's conservation.
+  void sort_particles();
+  void clear_grid();
+  void particles_to_grid(bool with_forces);  // eqs 24, 26 (+ eq 34 at F^n when with_forces)
+  void grid_velocity_update(T dt);           // eq 29, explicit (λ = 0)
+  void apply_boundary_conditions();
+  void grid_to_particles(T dt);               // eqs 37-40, or the scheme's variant
+  // Σ_i m_i v_i, Σ_i x_i × m_i v_i over the grid (after P2G: v = velocity; after update: ṽ).
+  void grid_momentum(bool updated, Eigen::Vector3d& p, Eigen::Vector3d& L) const;
+  // Sum of internal forces Σ_i f_i (zero for forces derived from an energy, Sec 5.2).
+  Eigen::Vector3d total_force() const;
+  double elastic_energy() const;
+
+ private:
+  template <class K> void p2g_impl(bool with_forces);
+  template <class K, Scheme S> void g2p_impl(T dt);
+  template <class K> void velocity_noise(std::vector<float>& out) const;
+  double choose_dt(double t_limit) const;
+  void build_constraints();
+  double energy_reference() const;
+
+  SceneDesc scene_;
+  Particles<T, D> p_, scratch_;
+  Grid<T, D> grid_;
+  std::vector<MaterialParams<T>> materials_;
+  std::vector<ConstrainedNode<T, D>> constraints_;
+  double time_ = 0, kinetic_grid_ = 0, max_grid_speed_ = 0, energy_ref_ = 0, max_wave_speed_ = 0;
+  long steps_ = 0;
+  std::optional<Failure> failure_;
+  std::vector<float> radius_;  // per particle (by id), for drawing
+  // Block sort for coloured parallel P2G: particles of block b are [block_start_[b], block_start_[b+1]).
+  std::vector<std::uint32_t> keys_, order_, block_start_;
+  std::vector<std::vector<std::uint32_t>> color_blocks_;
+  std::array<int, D> blocks_per_axis_{};
+  bool non_finite_ = false;
+};
+
+}  // namespace apiclab

@@ -1,0 +1,646 @@
+// Definitions of MpmSimulation<T, D>; included by mpm_2d.cpp and mpm_3d.cpp only.
+#pragma once
+#include <omp.h>
+
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <numeric>
+#include <ostream>
+
+#include "mpm.hpp"
+#include "sampling.hpp"
+
+namespace apiclab {
+
+template <class T, int D>
+MpmSimulation<T, D>::MpmSimulation(const SceneDesc& scene) : scene_(scene) {
+  if (scene.dim != D) throw SceneError(scene.source + ": key 'dim': internal dimension mismatch");
+  if (scene.solver.integrator != Integrator::symplectic)
+    throw SceneError(scene.source + ": key 'solver.integrator': '" + std::string(key_of(scene.solver.integrator)) +
+                     "' is not available in this build (symplectic only)");
+  grid_.init(scene);
+  for (auto& m : scene.materials) {
+    materials_.push_back({m.model, {T(m.mu()), T(m.lambda())}});
+    max_wave_speed_ = std::max(max_wave_speed_, m.wave_speed());
+  }
+  for (int o = 0; o < int(scene.objects.size()); ++o) {
+    SampledParticles s = sample_object(scene, o);
+    const MaterialDesc& mat = scene.materials[size_t(scene.objects[size_t(o)].material)];
+    std::size_t start = p_.size();
+    p_.resize(start + s.positions.size());
+    for (std::size_t k = 0; k < s.positions.size(); ++k) {
+      std::size_t q = start + k;
+      for (int a = 0; a < D; ++a) { p_.x[q][a] = T(s.positions[k][a]); p_.v[q][a] = T(s.velocities[k][a]); }
+      p_.C[q].setZero();
+      p_.F[q].setIdentity();
+      p_.volume0[q] = T(s.volumes[k]);
+      p_.mass[q] = T(s.volumes[k] * mat.rho);
+      p_.material[q] = scene.objects[size_t(o)].material;
+      p_.object[q] = o;
+      p_.id[q] = std::int32_t(q);
+      radius_.push_back(float(0.5 * s.spacing));
+    }
+  }
+  // A rigidly rotating object has the affine velocity C = ω* (APIC/RPIC start with it, Sec 6.1).
+  if (scene.solver.scheme == Scheme::apic || scene.solver.scheme == Scheme::rpic) {
+    for (std::size_t q = 0; q < p_.size(); ++q) {
+      const Vec3d& w = scene.objects[size_t(p_.object[q])].angular_velocity;
+      if constexpr (D == 2) {
+        p_.C[q] << T(0), T(-w[2]), T(w[2]), T(0);
+      } else {
+        p_.C[q] << T(0), T(-w[2]), T(w[1]), T(w[2]), T(0), T(-w[0]), T(-w[1]), T(w[0]), T(0);
+      }
+    }
+  }
+  build_constraints();
+  energy_ref_ = energy_reference();
+}
+
+template <class T, int D>
+T MpmSimulation<T, D>::inertia_scale() const {
+  return T(inertia_factor(scene_.solver.kernel)) * grid_.dx * grid_.dx;
+}
+
+// Walls: nodes on or beyond a non-periodic domain face; colliders: nodes behind the plane.
+template <class T, int D>
+void MpmSimulation<T, D>::build_constraints() {
+  constraints_.clear();
+  const auto& dom = scene_.domain;
+  for (std::size_t i = 0; i < grid_.size(); ++i) {
+    Vec<T, D> x = grid_.node_position(i);
+    T eps = T(1e-6) * grid_.dx;
+    for (int a = 0; a < D; ++a) {
+      if (dom.periodic(a)) continue;
+      if (x[a] <= T(dom.min[a]) + eps) {
+        Vec<T, D> n = Vec<T, D>::Zero(); n[a] = T(1);
+        constraints_.push_back({i, n, dom.walls[2 * a]});
+      }
+      if (x[a] >= T(dom.max[a]) - eps) {
+        Vec<T, D> n = Vec<T, D>::Zero(); n[a] = T(-1);
+        constraints_.push_back({i, n, dom.walls[2 * a + 1]});
+      }
+    }
+    for (const auto& c : scene_.colliders) {
+      Vec<T, D> n, p0;
+      for (int a = 0; a < D; ++a) { n[a] = T(c.normal[a]); p0[a] = T(c.point[a]); }
+      if ((x - p0).dot(n) <= eps) constraints_.push_back({i, n, c.condition});
+    }
+  }
+}
+
+// Largest energy the scene can hold without a blow-up: initial kinetic + elastic energy plus
+// what gravity can release across the whole domain.
+template <class T, int D>
+double MpmSimulation<T, D>::energy_reference() const {
+  DiagnosticsRow r = measure();
+  double g = 0, height = 0, mass = 0;
+  for (int a = 0; a < D; ++a) {
+    g += scene_.gravity[a] * scene_.gravity[a];
+    height += std::pow(scene_.domain.max[a] - scene_.domain.min[a], 2);
+  }
+  for (T m : p_.mass) mass += double(m);
+  double elastic = elastic_energy();
+  return std::max(r.kinetic + elastic + mass * std::sqrt(g) * std::sqrt(height), 1e-300);
+}
+
+template <class T, int D>
+void MpmSimulation<T, D>::sort_particles() {
+  const std::size_t n = p_.size();
+  std::size_t nblocks = 1;
+  for (int a = 0; a < D; ++a) {
+    blocks_per_axis_[a] = (grid_.n[a] + 3) / 4;
+    nblocks *= std::size_t(blocks_per_axis_[a]);
+  }
+  keys_.resize(n);
+  for (std::size_t q = 0; q < n; ++q) {
+    std::size_t key = 0, s = 1;
+    for (int a = 0; a < D; ++a) {
+      int cell = int(std::floor((p_.x[q][a] - grid_.origin[a]) * grid_.inv_dx));
+      cell = grid_.wrap(cell, a);
+      key += std::size_t(cell / 4) * s;
+      s *= std::size_t(blocks_per_axis_[a]);
+    }
+    keys_[q] = std::uint32_t(key);
+  }
+  // Counting sort by block (stable, so an already sorted order stays identical).
+  block_start_.assign(nblocks + 1, 0);
+  for (std::size_t q = 0; q < n; ++q) ++block_start_[keys_[q] + 1];
+  for (std::size_t b = 0; b < nblocks; ++b) block_start_[b + 1] += block_start_[b];
+  bool sorted = true;
+  for (std::size_t q = 1; q < n && sorted; ++q) sorted = keys_[q - 1] <= keys_[q];
+  if (!sorted) {
+    order_.resize(n);
+    std::vector<std::uint32_t>& cursor = keys_;  // reuse: keys are consumed below
+    std::vector<std::uint32_t> next(block_start_.begin(), block_start_.end() - 1);
+    for (std::size_t q = 0; q < n; ++q) order_[next[cursor[q]]++] = std::uint32_t(q);
+    p_.gather_into(order_, scratch_);
+    std::swap(p_, scratch_);
+  }
+  // Colours: blocks of one colour are at least one block apart, so their stencils never share
+  // a node; the last block of a periodic axis gets its own colour (it touches block 0 and 1).
+  int colors = 1;
+  for (int a = 0; a < D; ++a) colors *= 3;
+  color_blocks_.resize(std::size_t(colors));
+  for (auto& c : color_blocks_) c.clear();
+  for (std::size_t b = 0; b < nblocks; ++b) {
+    if (block_start_[b] == block_start_[b + 1]) continue;
+    std::size_t rest = b;
+    int color = 0, scale = 1;
+    for (int a = 0; a < D; ++a) {
+      int ba = int(rest % std::size_t(blocks_per_axis_[a]));
+      rest /= std::size_t(blocks_per_axis_[a]);
+      int c = (grid_.periodic[a] && ba == blocks_per_axis_[a] - 1 && ba > 0) ? 2 : ba % 2;
+      color += c * scale;
+      scale *= 3;
+    }
+    color_blocks_[std::size_t(color)].push_back(std::uint32_t(b));
+  }
+}
+
+template <class T, int D>
+void MpmSimulation<T, D>::clear_grid() {
+  const std::ptrdiff_t n = std::ptrdiff_t(grid_.size());
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    grid_.mass[i] = T(0);
+    grid_.velocity[i].setZero();
+    grid_.force[i].setZero();
+  }
+}
+
+template <class T, int D>
+template <class K>
+void MpmSimulation<T, D>::p2g_impl(bool with_forces) {
+  const bool affine = scene_.solver.scheme == Scheme::apic || scene_.solver.scheme == Scheme::rpic;
+  T* mass = grid_.mass.data();
+  Vec<T, D>* mom = grid_.velocity.data();
+  Vec<T, D>* force = grid_.force.data();
+  for (const auto& blocks : color_blocks_) {
+    const std::ptrdiff_t nb = std::ptrdiff_t(blocks.size());
+#pragma omp parallel for schedule(dynamic, 1)
+    for (std::ptrdiff_t bi = 0; bi < nb; ++bi) {
+      const std::uint32_t b = blocks[std::size_t(bi)];
+      Stencil<T, D, K> st;
+      for (std::uint32_t q = block_start_[b]; q < block_start_[b + 1]; ++q) {
+        st.compute(p_.x[q], grid_);
+        const T m = p_.mass[q];
+        const Vec<T, D> mv = m * p_.v[q];
+        const Mat<T, D> mC = m * p_.C[q];
+        Mat<T, D> stress = Mat<T, D>::Zero();
+        if (with_forces) {
+          // f_i = −Σ_p V_p P(F_p) F_pᵀ ∇w_ip (eq 34 at λ = 0).
+          const MaterialParams<T>& mat = materials_[std::size_t(p_.material[q])];
+          const Mat<T, D>& F = p_.F[q];
+          stress = -p_.volume0[q] * first_piola<T, D>(mat.model, F, mat.lame) * F.transpose();
+        }
+        if (affine) {
+          st.for_each([&](std::size_t i, T w, const Vec<T, D>& grad, const Vec<T, D>& r) {
+            mass[i] += w * m;
+            mom[i] += w * (mv + mC * r);
+            if (with_forces) force[i] += stress * grad;
+          });
+        } else {
+          st.for_each([&](std::size_t i, T w, const Vec<T, D>& grad, const Vec<T, D>&) {
+            mass[i] += w * m;
+            mom[i] += w * mv;
+            if (with_forces) force[i] += stress * grad;
+          });
+        }
+      }
+    }
+  }
+}
+
+template <class T, int D>
+void MpmSimulation<T, D>::particles_to_grid(bool with_forces) {
+  switch (scene_.solver.kernel) {
+    case KernelType::linear: p2g_impl<LinearKernel>(with_forces); break;
+    case KernelType::quadratic: p2g_impl<QuadraticKernel>(with_forces); break;
+    case KernelType::cubic: p2g_impl<CubicKernel>(with_forces); break;
+  }
+}
+
+// v_i^n = (m v)_i / m_i (eq 26), ṽ_i = v_i + Δt (f_i / m_i + g) (eq 29 with λ = 0).
+template <class T, int D>
+void MpmSimulation<T, D>::grid_velocity_update(T dt) {
+  Vec<T, D> g;
+  for (int a = 0; a < D; ++a) g[a] = T(scene_.gravity[a]);
+  const std::ptrdiff_t n = std::ptrdiff_t(grid_.size());
+  double kinetic = 0, vmax2 = 0;
+#pragma omp parallel for schedule(static) reduction(+ : kinetic) reduction(max : vmax2)
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    const T m = grid_.mass[i];
+    if (m > T(0)) {
+      Vec<T, D> v = grid_.velocity[i] / m;
+      grid_.velocity[i] = v;
+      grid_.velocity_new[i] = v + dt * (grid_.force[i] / m + g);
+      kinetic += 0.5 * double(m) * double(v.squaredNorm());
+      vmax2 = std::max(vmax2, double(v.squaredNorm()));
+    } else {
+      grid_.velocity[i].setZero();
+      grid_.velocity_new[i].setZero();
+    }
+  }
+  kinetic_grid_ = kinetic;
+  max_grid_speed_ = std::sqrt(vmax2);
+}
+
+template <class T, int D>
+void MpmSimulation<T, D>::apply_boundary_conditions() {
+  for (const auto& c : constraints_) {
+    Vec<T, D>& v = grid_.velocity_new[c.node];
+    T vn = v.dot(c.normal);
+    switch (c.condition) {
+      case BoundaryCondition::sticky: v.setZero(); break;
+      case BoundaryCondition::slip: v -= vn * c.normal; break;
+      case BoundaryCondition::separate: if (vn < T(0)) v -= vn * c.normal; break;
+      case BoundaryCondition::periodic: break;
+    }
+  }
+}
+
+// Grid to particles. With u_i = λ v_i + (1 − λ) ṽ_i the moved node is x̃_i = x_i + Δt u_i
+// (eq 30), so x_p^{n+1} = Σ w x̃_i = x_p + Δt Σ w u_i (eq 39) and F^{n+1} = (I + Δt Σ u_i ∇wᵀ) F
+// (eq 40). APIC's eq 38 expands to B = Σ w ṽ rᵀ + Δt/2 (S − Sᵀ − v_p ūᵀ + ū v_pᵀ) with
+// S = Σ w ṽ u_iᵀ and ū = Σ w u_i, which is exact and needs one pass over the stencil.
+template <class T, int D>
+template <class K, Scheme S>
+void MpmSimulation<T, D>::g2p_impl(T dt) {
+  const T lambda = T(scene_.solver.integrator_lambda());
+  const T alpha = T(scene_.solver.flip_alpha);
+  const bool lagged = K::type == KernelType::linear;  // Sec 5.9: lagged C for multilinear
+  const T inv_k = lagged ? T(0) : T(1) / inertia_scale();
+  const Vec<T, D>* vold = grid_.velocity.data();
+  const Vec<T, D>* vnew = grid_.velocity_new.data();
+  const std::ptrdiff_t n = std::ptrdiff_t(p_.size());
+  bool bad = false;
+  Vec<T, D> lo, hi;
+  for (int a = 0; a < D; ++a) { lo[a] = T(scene_.domain.min[a]); hi[a] = T(scene_.domain.max[a]); }
+#pragma omp parallel for schedule(static) reduction(|| : bad)
+  for (std::ptrdiff_t q = 0; q < n; ++q) {
+    Stencil<T, D, K> st;
+    st.compute(p_.x[q], grid_);
+    Vec<T, D> vpic = Vec<T, D>::Zero(), ubar = Vec<T, D>::Zero(), vold_p = Vec<T, D>::Zero();
+    Mat<T, D> Bsum = Mat<T, D>::Zero(), Ssum = Mat<T, D>::Zero(), gradu = Mat<T, D>::Zero(),
+              gradv = Mat<T, D>::Zero();
+    st.for_each([&](std::size_t i, T w, const Vec<T, D>& grad, const Vec<T, D>& r) {
+      const Vec<T, D> vt = vnew[i];
+      vpic += w * vt;
+      if (lambda != T(0)) {
+        const Vec<T, D> u = lambda * vold[i] + (T(1) - lambda) * vt;
+        ubar += w * u;
+        gradu += u * grad.transpose();
+        if constexpr (S == Scheme::apic || S == Scheme::rpic) Ssum += (w * vt) * u.transpose();
+      } else {
+        gradu += vt * grad.transpose();
+      }
+      if constexpr (S == Scheme::flip) vold_p += w * vold[i];
+      if constexpr (S == Scheme::apic || S == Scheme::rpic) {
+        if (lagged) gradv += vt * grad.transpose();
+        else Bsum += (w * vt) * r.transpose();
+      }
+    });
+    if (lambda == T(0)) ubar = vpic;
+    // Velocity and affine matrix per scheme.
+    if constexpr (S == Scheme::pic) {
+      p_.v[q] = vpic;  // eq 2
+    } else if constexpr (S == Scheme::flip) {
+      p_.v[q] = alpha * (p_.v[q] + vpic - vold_p) + (T(1) - alpha) * vpic;  // eq 3, PIC blend
+    } else {
+      p_.v[q] = vpic;  // eq 37
+      Mat<T, D> C;
+      if (lagged) {
+        C = gradv;  // Sec 5.9: C = Σ ṽ_i ∇w_ipᵀ
+      } else {
+        Mat<T, D> B = Bsum;
+        if (lambda != T(0))
+          B += T(0.5) * dt * (Ssum - Ssum.transpose() - vpic * ubar.transpose() + ubar * vpic.transpose());
+        C = B * inv_k;  // C = B D⁻¹ with D = k Δx² I
+      }
+      if constexpr (S == Scheme::rpic) {
+        if (lagged) {
+          // ω = K_p⁻¹ l_p with K_p = tr(D_p) I − D_p (Sec 2.1): keep only the rigid part.
+          Mat<T, D> Dp = st.inertia();
+          Mat<T, D> B = C * Dp;
+          Mat<T, D> skewB = T(0.5) * (B - B.transpose());
+          Mat<T, D> Cr = Mat<T, D>::Zero();
+          if constexpr (D == 2) {
+            T kk = Dp.trace();
+            T w = kk > T(0) ? T(2) * skewB(1, 0) / kk : T(0);
+            Cr << T(0), -w, w, T(0);
+          } else {
+            Vec<T, 3> l(T(2) * skewB(2, 1), T(2) * skewB(0, 2), T(2) * skewB(1, 0));
+            Vec<T, 3> w;
+            for (int a = 0; a < 3; ++a) {
+              T kk = Dp.trace() - Dp(a, a);
+              w[a] = kk > T(0) ? l[a] / kk : T(0);
+            }
+            Cr << T(0), -w[2], w[1], w[2], T(0), -w[0], -w[1], w[0], T(0);
+          }
+          C = Cr;
+        } else {
+          C = T(0.5) * (C - C.transpose());  // RPIC: the skew part, ω = K⁻¹ l (Sec 5.6.3)
+        }
+      }
+      p_.C[q] = C;
+    }
+    // Particle update: positions on the moved grid (eq 39), F by eq 40.
+    Vec<T, D> x = p_.x[q] + dt * ubar;
+    for (int a = 0; a < D; ++a) {
+      if (grid_.periodic[a]) {
+        T L = hi[a] - lo[a];
+        if (x[a] < lo[a]) x[a] += L;
+        if (x[a] >= hi[a]) x[a] -= L;
+      } else {
+        x[a] = std::min(std::max(x[a], lo[a]), hi[a]);  // walls: keep the stencil on the grid
+      }
+    }
+    p_.x[q] = x;
+    p_.F[q] = (Mat<T, D>::Identity() + dt * gradu) * p_.F[q];
+    if (!x.allFinite() || !p_.v[q].allFinite()) bad = true;
+  }
+  non_finite_ = non_finite_ || bad;
+}
+
+template <class T, int D>
+void MpmSimulation<T, D>::grid_to_particles(T dt) {
+  auto run = [&](auto kernel) {
+    using K = decltype(kernel);
+    switch (scene_.solver.scheme) {
+      case Scheme::pic: g2p_impl<K, Scheme::pic>(dt); break;
+      case Scheme::flip: g2p_impl<K, Scheme::flip>(dt); break;
+      case Scheme::apic: g2p_impl<K, Scheme::apic>(dt); break;
+      case Scheme::rpic: g2p_impl<K, Scheme::rpic>(dt); break;
+    }
+  };
+  switch (scene_.solver.kernel) {
+    case KernelType::linear: run(LinearKernel{}); break;
+    case KernelType::quadratic: run(QuadraticKernel{}); break;
+    case KernelType::cubic: run(CubicKernel{}); break;
+  }
+}
+
+template <class T, int D>
+void MpmSimulation<T, D>::step_fixed(double dt) {
+  sort_particles();
+  clear_grid();
+  particles_to_grid(true);
+  grid_velocity_update(T(dt));
+  apply_boundary_conditions();
+  grid_to_particles(T(dt));
+  time_ += dt;
+  ++steps_;
+}
+
+// Time-step rules (registry `dt_rule_choices`), then the Sec 6.7 landing rule on t_limit.
+template <class T, int D>
+double MpmSimulation<T, D>::choose_dt(double t_limit) const {
+  const TimeDesc& tm = scene_.time;
+  const double dx = scene_.domain.dx;
+  double dt_star = tm.dt;
+  if (tm.rule == DtRule::cfl || tm.rule == DtRule::elastic) {
+    double vmax = 0, cterm = 0;
+    const double k6 = 6.0 * std::sqrt(double(D)) * std::max(inertia_factor(scene_.solver.kernel), 0.25) * dx;
+    const std::ptrdiff_t n = std::ptrdiff_t(p_.size());
+#pragma omp parallel for reduction(max : vmax, cterm)
+    for (std::ptrdiff_t q = 0; q < n; ++q) {
+      double v = double(p_.v[q].norm());
+      vmax = std::max(vmax, v);
+      cterm = std::max(cterm, v + k6 * double(p_.C[q].norm()));  // Sec 4.3: |v_p| + (κ/k)Δx‖B_p‖
+    }
+    if (tm.rule == DtRule::cfl)
+      dt_star = std::min(dt_star, tm.nu * dx / std::max(cterm, 1e-300));
+    else
+      dt_star = std::min(dt_star, tm.nu * dx / (max_wave_speed_ + vmax));
+  } else if (tm.rule == DtRule::two_step) {
+    // Sec 6.7: dt* = max(dt_min, min(dt_max, ν Δx / max(v_max, v_τ))) with grid speeds.
+    double vmax = 0;
+    const std::ptrdiff_t n = std::ptrdiff_t(p_.size());
+#pragma omp parallel for reduction(max : vmax)
+    for (std::ptrdiff_t q = 0; q < n; ++q) vmax = std::max(vmax, double(p_.v[q].norm()));
+    vmax = std::max(vmax, max_grid_speed_);
+    dt_star = std::max(tm.dt_min, std::min(tm.dt, tm.nu * dx / std::max(vmax, tm.v_tau)));
+  }
+  dt_star = std::min(dt_star, 1.0 / tm.fps);
+  double to_frame = t_limit - time_;
+  if (to_frame < 1.001 * dt_star) return to_frame;  // land on the frame time
+  if (to_frame < 2.0 * dt_star) return 0.5 * to_frame;  // avoid a sliver step
+  return dt_star;
+}
+
+template <class T, int D>
+std::optional<Failure> MpmSimulation<T, D>::step(double t_limit, DiagnosticsRow* row) {
+  if (failure_) return failure_;
+  if (!(t_limit > time_)) return std::nullopt;
+  auto start = std::chrono::steady_clock::now();
+  double dt = choose_dt(t_limit);
+  step_fixed(dt);
+  if (t_limit - time_ < 1e-12 * std::max(1.0, std::abs(t_limit))) time_ = t_limit;  // exact landing
+  DiagnosticsRow r = measure();
+  r.dt = dt;
+  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (row) *row = r;
+  auto fail = [&](const std::string& quantity, const std::string& detail) {
+    std::ostringstream msg;
+    msg << "simulation blew up at step " << steps_ << ", t = " << time_ << ": " << quantity << " " << detail;
+    failure_ = Failure{steps_, time_, quantity, msg.str()};
+  };
+  if (non_finite_ || !std::isfinite(r.total) || !std::isfinite(r.kinetic)) {
+    fail("particle state", "became non-finite (NaN or Inf)");
+  } else if (r.kinetic + elastic_energy() > scene_.solver.blowup_energy_factor * energy_ref_) {
+    std::ostringstream d;
+    d << "grew to " << r.kinetic + elastic_energy() << ", more than " << scene_.solver.blowup_energy_factor
+      << " x the energy available (" << energy_ref_ << ")";
+    fail("kinetic + elastic energy", d.str());
+  }
+  return failure_;
+}
+
+template <class T, int D>
+double MpmSimulation<T, D>::elastic_energy() const {
+  double e = 0;
+  const std::ptrdiff_t n = std::ptrdiff_t(p_.size());
+#pragma omp parallel for reduction(+ : e)
+  for (std::ptrdiff_t q = 0; q < n; ++q) {
+    const MaterialParams<T>& mat = materials_[std::size_t(p_.material[q])];
+    e += double(p_.volume0[q]) * double(energy_density<T, D>(mat.model, p_.F[q], mat.lame));
+  }
+  return e;
+}
+
+// Energies and momenta of the particle state, with the affine terms ½ m tr(C D Cᵀ) and
+// m (Bᵀ : ε), B = C D_p (DESIGN.md, Diagnostics CSV).
+template <class T, int D>
+DiagnosticsRow MpmSimulation<T, D>::measure() const {
+  DiagnosticsRow r;
+  r.step = steps_;
+  r.t = time_;
+  r.kinetic_grid = kinetic_grid_;
+  const bool affine = scene_.solver.scheme == Scheme::apic || scene_.solver.scheme == Scheme::rpic;
+  double kin = 0, grav = 0, px = 0, py = 0, pz = 0, Lx = 0, Ly = 0, Lz = 0;
+  const std::ptrdiff_t n = std::ptrdiff_t(p_.size());
+  const KernelType kernel = scene_.solver.kernel;
+  const Vec3d g = scene_.gravity;
+#pragma omp parallel for reduction(+ : kin, grav, px, py, pz, Lx, Ly, Lz)
+  for (std::ptrdiff_t q = 0; q < n; ++q) {
+    const double m = double(p_.mass[q]);
+    const Vec<T, D>& v = p_.v[q];
+    kin += 0.5 * m * double(v.squaredNorm());
+    Vec<T, D> mv = p_.mass[q] * v;
+    px += double(mv[0]);
+    py += double(mv[1]);
+    if constexpr (D == 3) pz += double(mv[2]);
+    Eigen::Vector3d L = cross_moment<T, D>(p_.x[q], mv);
+    for (int a = 0; a < D; ++a) grav -= m * g[a] * double(p_.x[q][a]);
+    if (affine) {
+      Mat<T, D> Dp;
+      if (kernel == KernelType::linear) {
+        Stencil<T, D, LinearKernel> st;
+        st.compute(p_.x[q], grid_);
+        Dp = st.inertia();
+      } else {
+        Dp = inertia_scale() * Mat<T, D>::Identity();
+      }
+      const Mat<T, D>& C = p_.C[q];
+      kin += 0.5 * m * double((C * Dp * C.transpose()).trace());
+      L += m * permutation_contract<T, D>(Mat<T, D>((C * Dp).transpose()));
+    }
+    Lx += L[0]; Ly += L[1]; Lz += L[2];
+  }
+  r.kinetic = kin;
+  r.potential = elastic_energy() + grav;
+  r.total = r.kinetic + r.potential;
+  r.p = {px, py, pz};
+  r.L = {Lx, Ly, Lz};
+  return r;
+}
+
+template <class T, int D>
+void MpmSimulation<T, D>::grid_momentum(bool updated, Eigen::Vector3d& p, Eigen::Vector3d& L) const {
+  p.setZero();
+  L.setZero();
+  const auto& vel = updated ? grid_.velocity_new : grid_.velocity;
+  for (std::size_t i = 0; i < grid_.size(); ++i) {
+    if (grid_.mass[i] <= T(0)) continue;
+    Vec<T, D> mv = grid_.mass[i] * vel[i];
+    for (int a = 0; a < D; ++a) p[a] += double(mv[a]);
+    L += cross_moment<T, D>(grid_.node_position(i), mv);
+  }
+}
+
+template <class T, int D>
+Eigen::Vector3d MpmSimulation<T, D>::total_force() const {
+  Eigen::Vector3d f = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < grid_.size(); ++i)
+    for (int a = 0; a < D; ++a) f[a] += double(grid_.force[i][a]);
+  return f;
+}
+
+template <class T, int D>
+void MpmSimulation<T, D>::set_scheme(Scheme scheme, double flip_alpha) {
+  const bool was_affine = scene_.solver.scheme == Scheme::apic || scene_.solver.scheme == Scheme::rpic;
+  scene_.solver.scheme = scheme;
+  scene_.solver.flip_alpha = flip_alpha;
+  if (scheme == Scheme::pic || scheme == Scheme::flip) {
+    for (auto& C : p_.C) C.setZero();
+  } else if (scheme == Scheme::rpic && was_affine) {
+    for (auto& C : p_.C) C = T(0.5) * (C - C.transpose());
+  }
+}
+
+// |v_p − Σ w_ip v_i| with v_i from a fresh P2G of the current particles (this scheme's own
+// transfer, so an affine field gives zero): velocity modes the grid cannot see.
+template <class T, int D>
+template <class K>
+void MpmSimulation<T, D>::velocity_noise(std::vector<float>& out) const {
+  const bool affine = scene_.solver.scheme == Scheme::apic || scene_.solver.scheme == Scheme::rpic;
+  std::vector<T> mass(grid_.size(), T(0));
+  std::vector<Vec<T, D>> mom(grid_.size(), Vec<T, D>::Zero());
+  Stencil<T, D, K> st;
+  for (std::size_t q = 0; q < p_.size(); ++q) {
+    st.compute(p_.x[q], grid_);
+    const T m = p_.mass[q];
+    st.for_each([&](std::size_t i, T w, const Vec<T, D>&, const Vec<T, D>& r) {
+      mass[i] += w * m;
+      mom[i] += w * m * (affine ? Vec<T, D>(p_.v[q] + p_.C[q] * r) : p_.v[q]);
+    });
+  }
+  out.assign(p_.size(), 0.f);
+  for (std::size_t q = 0; q < p_.size(); ++q) {
+    st.compute(p_.x[q], grid_);
+    Vec<T, D> v = Vec<T, D>::Zero();
+    st.for_each([&](std::size_t i, T w, const Vec<T, D>&, const Vec<T, D>&) {
+      if (mass[i] > T(0)) v += w * mom[i] / mass[i];
+    });
+    out[std::size_t(p_.id[q])] = float((p_.v[q] - v).norm());
+  }
+}
+
+template <class T, int D>
+std::shared_ptr<Snapshot> MpmSimulation<T, D>::snapshot(bool with_noise) const {
+  auto s = std::make_shared<Snapshot>();
+  s->dim = D;
+  s->step = steps_;
+  s->time = time_;
+  s->scene_name = scene_.name;
+  s->scheme = key_of(scene_.solver.scheme);
+  s->kernel = key_of(scene_.solver.kernel);
+  s->integrator = key_of(scene_.solver.integrator);
+  s->flip_alpha = scene_.solver.flip_alpha;
+  const std::size_t n = p_.size();
+  s->positions.resize(n * D);
+  s->velocities.resize(n * D);
+  s->material.resize(n);
+  s->object.resize(n);
+  for (std::size_t q = 0; q < n; ++q) {
+    std::size_t k = std::size_t(p_.id[q]);
+    for (int a = 0; a < D; ++a) {
+      s->positions[k * D + a] = float(p_.x[q][a]);
+      s->velocities[k * D + a] = float(p_.v[q][a]);
+    }
+    s->material[k] = p_.material[q];
+    s->object[k] = p_.object[q];
+  }
+  s->radius = radius_;
+  if (with_noise) {
+    switch (scene_.solver.kernel) {
+      case KernelType::linear: velocity_noise<LinearKernel>(s->noise); break;
+      case KernelType::quadratic: velocity_noise<QuadraticKernel>(s->noise); break;
+      case KernelType::cubic: velocity_noise<CubicKernel>(s->noise); break;
+    }
+  }
+  s->domain_min = scene_.domain.min;
+  s->domain_max = scene_.domain.max;
+  s->dx = scene_.domain.dx;
+  s->colliders = scene_.colliders;
+  for (auto& m : scene_.materials) s->material_names.push_back(m.name);
+  s->failure = failure_;
+  return s;
+}
+
+template <class T, int D>
+void MpmSimulation<T, D>::write_particles_csv(std::ostream& out) const {
+  out << "id,object,x,y" << (D == 3 ? ",z" : "") << ",vx,vy" << (D == 3 ? ",vz" : "") << ",mass,volume0";
+  for (int i = 0; i < D; ++i)
+    for (int j = 0; j < D; ++j) out << ",F" << i << j;
+  for (int i = 0; i < D; ++i)
+    for (int j = 0; j < D; ++j) out << ",C" << i << j;
+  out << "\n";
+  std::vector<std::size_t> by_id(p_.size());
+  for (std::size_t q = 0; q < p_.size(); ++q) by_id[std::size_t(p_.id[q])] = q;
+  out << std::setprecision(std::numeric_limits<T>::max_digits10);
+  for (std::size_t q : by_id) {
+    out << p_.id[q] << ',' << p_.object[q];
+    for (int a = 0; a < D; ++a) out << ',' << p_.x[q][a];
+    for (int a = 0; a < D; ++a) out << ',' << p_.v[q][a];
+    out << ',' << p_.mass[q] << ',' << p_.volume0[q];
+    for (int i = 0; i < D; ++i)
+      for (int j = 0; j < D; ++j) out << ',' << p_.F[q](i, j);
+    for (int i = 0; i < D; ++i)
+      for (int j = 0; j < D; ++j) out << ',' << p_.C[q](i, j);
+    out << '\n';
+  }
+}
+
+}  // namespace apiclab

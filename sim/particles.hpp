@@ -1,0 +1,35 @@
+// Material points, structure-of-arrays: one array per quantity, no per-particle allocation.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "math.hpp"
+
+namespace apiclab {
+
+template <class T, int D>
+struct Particles {
+  std::vector<Vec<T, D>> x, v;  // position, velocity
+  std::vector<Mat<T, D>> C;     // affine velocity matrix C_p = B_p D_p⁻¹ (zero for PIC/FLIP)
+  std::vector<Mat<T, D>> F;     // deformation gradient
+  std::vector<T> mass, volume0;
+  std::vector<std::int32_t> material, object, id;  // id: stable order for dumps and snapshots
+
+  std::size_t size() const { return x.size(); }
+  void resize(std::size_t n) {
+    x.resize(n); v.resize(n); C.resize(n); F.resize(n);
+    mass.resize(n); volume0.resize(n); material.resize(n); object.resize(n); id.resize(n);
+  }
+  // out[k] = this[order[k]] for every array; `out` keeps its capacity between calls.
+  void gather_into(const std::vector<std::uint32_t>& order, Particles& out) const {
+    out.resize(order.size());
+    for (std::size_t k = 0; k < order.size(); ++k) {
+      std::uint32_t s = order[k];
+      out.x[k] = x[s]; out.v[k] = v[s]; out.C[k] = C[s]; out.F[k] = F[s];
+      out.mass[k] = mass[s]; out.volume0[k] = volume0[s];
+      out.material[k] = material[s]; out.object[k] = object[s]; out.id[k] = id[s];
+    }
+  }
+};
+
+}  // namespace apiclab

@@ -1,0 +1,21 @@
+// The round-trip transfer error probe of Jiang et al. 2017, Sec 6.8 (Fig 11).
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "registry.hpp"
+
+namespace apiclab {
+
+struct RoundTripResult {
+  int resolution = 0;  // grid cells per axis over [0, 2π]
+  double dx = 0;
+  double l2_error = 0;  // ‖v_i^after − v_i^before‖ in the discrete L2 norm (Σ |e_i|² Δx²)^½
+  std::size_t particles = 0;
+};
+
+// Periodic [0, 2π]², Poisson disk particles with minimum separation Δx/3, grid velocity
+// (1.1 sin x, 0.9 cos y); G2P then P2G with Δt = 0. Scheme pic, apic or rpic.
+RoundTripResult roundtrip_error(KernelType kernel, Scheme scheme, int resolution, std::uint64_t seed = 1);
+
+}  // namespace apiclab

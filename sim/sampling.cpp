@@ -1,0 +1,320 @@
+#include "sampling.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <random>
+#include <tiny_obj_loader.h>
+
+namespace apiclab {
+namespace {
+
+Eigen::Vector3d to_eigen(const Vec3d& v) { return {v[0], v[1], v[2]}; }
+Vec3d from_eigen(const Eigen::Vector3d& v) { return {v[0], v[1], v[2]}; }
+
+Eigen::Matrix3d rotation_of(const ShapeDesc& s) {
+  Eigen::Vector3d axis = to_eigen(s.rotation_axis);
+  if (s.rotation_degrees == 0 || axis.norm() == 0) return Eigen::Matrix3d::Identity();
+  return Eigen::AngleAxisd(s.rotation_degrees * M_PI / 180.0, axis.normalized()).toRotationMatrix();
+}
+
+// Position relative to the shape center, in the shape's unrotated frame.
+Eigen::Vector3d local_point(const ShapeDesc& s, const Vec3d& x) {
+  return rotation_of(s).transpose() * (to_eigen(x) - to_eigen(s.center));
+}
+
+// Distance from the (unit) axis through the origin and position along it.
+void axial(const Eigen::Vector3d& p, const Vec3d& axis_in, double& radial, double& along) {
+  Eigen::Vector3d a = to_eigen(axis_in).normalized();
+  along = p.dot(a);
+  radial = (p - along * a).norm();
+}
+
+// Bounding box of a shape (world coordinates, before rotation: a sphere around the center).
+void shape_bounds(const ShapeDesc& s, int dim, Vec3d& lo, Vec3d& hi) {
+  if (s.type == ShapeType::box && s.rotation_degrees == 0) {
+    lo = s.min;
+    hi = s.max;
+    return;
+  }
+  double r = 0;
+  if (s.type == ShapeType::box) {
+    for (int a = 0; a < dim; ++a) r += 0.25 * (s.max[a] - s.min[a]) * (s.max[a] - s.min[a]);
+    r = std::sqrt(r);
+  } else if (s.type == ShapeType::ball) {
+    r = s.radius;
+  } else if (s.type == ShapeType::annulus) {
+    r = dim == 3 ? std::hypot(s.outer, 0.5 * s.length) : s.outer;
+  } else {
+    r = s.outer;
+  }
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = a < dim ? s.center[a] - r : 0;
+    hi[a] = a < dim ? s.center[a] + r : 0;
+  }
+}
+
+}  // namespace
+
+bool inside_shape(const ShapeDesc& s, const Vec3d& x, int dim) {
+  Eigen::Vector3d p = local_point(s, x);
+  if (dim == 2) p[2] = 0;
+  switch (s.type) {
+    case ShapeType::box:
+      for (int a = 0; a < dim; ++a) {
+        double half = 0.5 * (s.max[a] - s.min[a]);
+        if (std::abs(p[a]) > half) return false;
+      }
+      return true;
+    case ShapeType::ball:
+      return p.squaredNorm() <= s.radius * s.radius;
+    case ShapeType::annulus: {
+      if (dim == 2) {
+        double r = p.norm();
+        return r >= s.inner && r <= s.outer;
+      }
+      double radial, along;
+      axial(p, s.axis, radial, along);
+      return radial >= s.inner && radial <= s.outer && std::abs(along) <= 0.5 * s.length;
+    }
+    case ShapeType::torus: {
+      double radial, along;
+      axial(p, s.axis, radial, along);
+      double R = 0.5 * (s.inner + s.outer), r = 0.5 * (s.outer - s.inner);
+      return (radial - R) * (radial - R) + along * along <= r * r;
+    }
+    case ShapeType::mesh:
+      return false;  // needs a MeshSolid
+  }
+  return false;
+}
+
+MeshSolid::MeshSolid(const std::string& path, const ShapeDesc& shape) {
+  tinyobj::ObjReader reader;
+  tinyobj::ObjReaderConfig config;
+  config.triangulate = true;
+  if (!reader.ParseFromFile(path, config))
+    throw SceneError(path + ": cannot read mesh: " + (reader.Error().empty() ? "no such file" : reader.Error()));
+  const auto& verts = reader.GetAttrib().vertices;
+  Eigen::Matrix3d R = rotation_of(shape);
+  auto vertex = [&](int i) {
+    Eigen::Vector3d v(verts[3 * i], verts[3 * i + 1], verts[3 * i + 2]);
+    return from_eigen(R * (shape.scale * v) + to_eigen(shape.translate));
+  };
+  lo_ = {1e300, 1e300, 1e300};
+  hi_ = {-1e300, -1e300, -1e300};
+  for (const auto& sh : reader.GetShapes()) {
+    const auto& idx = sh.mesh.indices;
+    for (size_t f = 0; f + 2 < idx.size(); f += 3) {
+      Tri t{vertex(idx[f].vertex_index), vertex(idx[f + 1].vertex_index), vertex(idx[f + 2].vertex_index)};
+      for (const Vec3d* v : {&t.a, &t.b, &t.c})
+        for (int a = 0; a < 3; ++a) { lo_[a] = std::min(lo_[a], (*v)[a]); hi_[a] = std::max(hi_[a], (*v)[a]); }
+      tris_.push_back(t);
+    }
+  }
+  if (tris_.empty()) throw SceneError(path + ": mesh has no triangles");
+  // Bucket triangles by their xy bounding box so a +z ray only meets nearby triangles.
+  int n = std::max(1, int(std::sqrt(double(tris_.size()) / 4.0)));
+  nx_ = ny_ = n;
+  cell_x_ = (hi_[0] - lo_[0]) / nx_ + 1e-12;
+  cell_y_ = (hi_[1] - lo_[1]) / ny_ + 1e-12;
+  buckets_.assign(size_t(nx_) * ny_, {});
+  for (std::uint32_t k = 0; k < tris_.size(); ++k) {
+    const Tri& t = tris_[k];
+    double x0 = std::min({t.a[0], t.b[0], t.c[0]}), x1 = std::max({t.a[0], t.b[0], t.c[0]});
+    double y0 = std::min({t.a[1], t.b[1], t.c[1]}), y1 = std::max({t.a[1], t.b[1], t.c[1]});
+    int i0 = std::clamp(int((x0 - lo_[0]) / cell_x_), 0, nx_ - 1), i1 = std::clamp(int((x1 - lo_[0]) / cell_x_), 0, nx_ - 1);
+    int j0 = std::clamp(int((y0 - lo_[1]) / cell_y_), 0, ny_ - 1), j1 = std::clamp(int((y1 - lo_[1]) / cell_y_), 0, ny_ - 1);
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i) buckets_[size_t(j) * nx_ + i].push_back(k);
+  }
+}
+
+bool MeshSolid::inside(const Vec3d& p) const {
+  for (int a = 0; a < 3; ++a)
+    if (p[a] < lo_[a] || p[a] > hi_[a]) return false;
+  int i = std::clamp(int((p[0] - lo_[0]) / cell_x_), 0, nx_ - 1);
+  int j = std::clamp(int((p[1] - lo_[1]) / cell_y_), 0, ny_ - 1);
+  int crossings = 0;
+  for (std::uint32_t k : buckets_[size_t(j) * nx_ + i]) {
+    const Tri& t = tris_[k];
+    // 2D point-in-triangle on xy with barycentrics, then the crossing height.
+    double d = (t.b[1] - t.c[1]) * (t.a[0] - t.c[0]) + (t.c[0] - t.b[0]) * (t.a[1] - t.c[1]);
+    if (d == 0) continue;
+    double l1 = ((t.b[1] - t.c[1]) * (p[0] - t.c[0]) + (t.c[0] - t.b[0]) * (p[1] - t.c[1])) / d;
+    double l2 = ((t.c[1] - t.a[1]) * (p[0] - t.c[0]) + (t.a[0] - t.c[0]) * (p[1] - t.c[1])) / d;
+    double l3 = 1 - l1 - l2;
+    if (l1 < 0 || l2 < 0 || l3 < 0) continue;
+    double z = l1 * t.a[2] + l2 * t.b[2] + l3 * t.c[2];
+    if (z > p[2]) ++crossings;
+  }
+  return crossings % 2 == 1;
+}
+
+double MeshSolid::volume() const {
+  double v = 0;
+  for (const Tri& t : tris_) v += to_eigen(t.a).dot(to_eigen(t.b).cross(to_eigen(t.c))) / 6.0;
+  return std::abs(v);
+}
+
+std::vector<Vec3d> poisson_disk(const Vec3d& lo, const Vec3d& hi, double r, int dim, std::uint64_t seed, bool periodic) {
+  // Bridson 2007: background grid of cell r/√d holds at most one sample; k = 30 tries.
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  const double cell = r / std::sqrt(double(dim));
+  std::array<int, 3> n{1, 1, 1};
+  for (int a = 0; a < dim; ++a) n[a] = std::max(1, int(std::ceil((hi[a] - lo[a]) / cell)));
+  std::vector<int> grid(size_t(n[0]) * n[1] * n[2], -1);
+  std::vector<Vec3d> samples, active;
+  auto cell_of = [&](const Vec3d& x, int a) { return std::clamp(int((x[a] - lo[a]) / cell), 0, n[a] - 1); };
+  auto index = [&](int i, int j, int k) { return (size_t(k) * n[1] + j) * n[0] + i; };
+  auto far_enough = [&](const Vec3d& x) {
+    int c[3] = {cell_of(x, 0), cell_of(x, 1), dim == 3 ? cell_of(x, 2) : 0};
+    int reach = 2;
+    for (int dk = (dim == 3 ? -reach : 0); dk <= (dim == 3 ? reach : 0); ++dk)
+      for (int dj = -reach; dj <= reach; ++dj)
+        for (int di = -reach; di <= reach; ++di) {
+          int ii = c[0] + di, jj = c[1] + dj, kk = c[2] + dk;
+          int q[3] = {ii, jj, kk};
+          bool skip = false;
+          for (int a = 0; a < dim; ++a) {
+            if (q[a] < 0 || q[a] >= n[a]) {
+              if (!periodic) { skip = true; break; }
+              q[a] = (q[a] % n[a] + n[a]) % n[a];
+            }
+          }
+          if (skip) continue;
+          int s = grid[index(q[0], q[1], q[2])];
+          if (s < 0) continue;
+          double d2 = 0;
+          for (int a = 0; a < dim; ++a) {
+            double d = x[a] - samples[s][a];
+            if (periodic) {
+              double L = hi[a] - lo[a];
+              d -= L * std::round(d / L);
+            }
+            d2 += d * d;
+          }
+          if (d2 < r * r) return false;
+        }
+    return true;
+  };
+  auto add = [&](const Vec3d& x) {
+    grid[index(cell_of(x, 0), cell_of(x, 1), dim == 3 ? cell_of(x, 2) : 0)] = int(samples.size());
+    samples.push_back(x);
+    active.push_back(x);
+  };
+  Vec3d first{0, 0, 0};
+  for (int a = 0; a < dim; ++a) first[a] = lo[a] + uni(rng) * (hi[a] - lo[a]);
+  add(first);
+  while (!active.empty()) {
+    size_t pick = size_t(uni(rng) * double(active.size())) % active.size();
+    Vec3d base = active[pick];
+    bool found = false;
+    for (int attempt = 0; attempt < 30 && !found; ++attempt) {
+      // Uniform in the spherical shell [r, 2r) around the base sample.
+      Vec3d dir{0, 0, 0};
+      double norm2 = 0;
+      do {
+        norm2 = 0;
+        for (int a = 0; a < dim; ++a) { dir[a] = 2 * uni(rng) - 1; norm2 += dir[a] * dir[a]; }
+      } while (norm2 > 1 || norm2 < 1e-12);
+      double rad = r * (1 + uni(rng));
+      Vec3d x{0, 0, 0};
+      bool in = true;
+      for (int a = 0; a < dim; ++a) {
+        x[a] = base[a] + rad * dir[a] / std::sqrt(norm2);
+        if (x[a] < lo[a] || x[a] >= hi[a]) {
+          if (!periodic) { in = false; break; }
+          double L = hi[a] - lo[a];
+          x[a] = lo[a] + std::fmod(std::fmod(x[a] - lo[a], L) + L, L);
+        }
+      }
+      if (in && far_enough(x)) { add(x); found = true; }
+    }
+    if (!found) { active[pick] = active.back(); active.pop_back(); }
+  }
+  return samples;
+}
+
+SampledParticles sample_object(const SceneDesc& scene, int object_index) {
+  const ObjectDesc& obj = scene.objects[size_t(object_index)];
+  const ShapeDesc& shape = obj.shape;
+  const int dim = scene.dim;
+  const std::string key = "objects." + std::to_string(object_index);
+  std::unique_ptr<MeshSolid> mesh;
+  Vec3d lo{0, 0, 0}, hi{0, 0, 0};
+  if (shape.type == ShapeType::mesh) {
+    namespace fs = std::filesystem;
+    fs::path file = shape.file;
+    if (file.is_relative()) {
+      fs::path beside = fs::path(scene.source).parent_path() / file;
+      fs::path assets = fs::path(scenes_directory()).parent_path() / file;
+      file = fs::exists(beside) ? beside : assets;
+    }
+    if (!fs::exists(file)) throw SceneError(scene.source + ": key '" + key + ".shape.file': mesh file '" + shape.file + "' not found");
+    mesh = std::make_unique<MeshSolid>(file.string(), shape);
+    lo = mesh->lower();
+    hi = mesh->upper();
+    for (int a = 0; a < dim; ++a)
+      if (lo[a] < scene.domain.min[a] || hi[a] > scene.domain.max[a])
+        throw SceneError(scene.source + ": key '" + key + ".shape': mesh lies outside the domain on axis " + std::string(1, "xyz"[a]));
+  } else {
+    shape_bounds(shape, dim, lo, hi);
+  }
+  auto inside = [&](const Vec3d& x) { return mesh ? mesh->inside(x) : inside_shape(shape, x, dim); };
+
+  SampledParticles out;
+  const SamplingDesc& smp = obj.sampling;
+  if (smp.type == SamplingType::poisson) {
+    std::vector<Vec3d> pts = poisson_disk(lo, hi, smp.radius, dim, smp.seed);
+    size_t total = pts.size();
+    for (auto& x : pts)
+      if (inside(x)) out.positions.push_back(x);
+    double box = 1;
+    for (int a = 0; a < dim; ++a) box *= hi[a] - lo[a];
+    // Poisson samples are uniform: each represents an equal share of the box.
+    double vol = total ? box / double(total) : 0;
+    out.volumes.assign(out.positions.size(), vol);
+    out.spacing = smp.radius;
+  } else {
+    double s = smp.type == SamplingType::lattice ? smp.spacing : scene.domain.dx / std::pow(smp.ppc, 1.0 / dim);
+    // Grid-aligned: sample k sits at domain.min + (k + ½) s, so s = dx/2 gives 4 per full cell in 2D.
+    std::array<long, 3> k0{0, 0, 0}, k1{0, 0, 0};
+    for (int a = 0; a < dim; ++a) {
+      k0[a] = long(std::floor((lo[a] - scene.domain.min[a]) / s - 0.5));
+      k1[a] = long(std::ceil((hi[a] - scene.domain.min[a]) / s - 0.5));
+    }
+    double count = 1;
+    for (int a = 0; a < dim; ++a) count *= double(k1[a] - k0[a] + 1);
+    if (count > 5e7) throw SceneError(scene.source + ": key '" + key + ".sampling': more than 5e7 lattice sites; spacing too small");
+    for (long k = k0[2]; k <= k1[2]; ++k)
+      for (long j = k0[1]; j <= k1[1]; ++j)
+        for (long i = k0[0]; i <= k1[0]; ++i) {
+          Vec3d x{scene.domain.min[0] + (i + 0.5) * s, scene.domain.min[1] + (j + 0.5) * s,
+                  dim == 3 ? scene.domain.min[2] + (k + 0.5) * s : 0.0};
+          if (inside(x)) out.positions.push_back(x);
+        }
+    out.volumes.assign(out.positions.size(), std::pow(s, dim));
+    out.spacing = s;
+  }
+  if (out.positions.empty())
+    throw SceneError(scene.source + ": key '" + key + "': no particle falls inside the shape (sampling too coarse?)");
+  for (auto& x : out.positions)
+    for (int a = 0; a < dim; ++a)
+      if (x[a] < scene.domain.min[a] || x[a] > scene.domain.max[a])
+        throw SceneError(scene.source + ": key '" + key + "': particles fall outside the domain");
+  // Initial velocity: v + ω × (x − center).
+  Eigen::Vector3d center = mesh ? 0.5 * (to_eigen(lo) + to_eigen(hi)) : to_eigen(shape.center);
+  Eigen::Vector3d w = to_eigen(obj.angular_velocity);
+  out.velocities.reserve(out.positions.size());
+  for (auto& x : out.positions) {
+    Eigen::Vector3d v = to_eigen(obj.velocity) + w.cross(to_eigen(x) - center);
+    if (dim == 2) v[2] = 0;
+    out.velocities.push_back(from_eigen(v));
+  }
+  return out;
+}
+
+}  // namespace apiclab

@@ -1,0 +1,68 @@
+// The kernel stencil of one particle: per-axis weights, gradients, node offsets and
+// x_i − x_p, computed once and visited node by node (eqs 18-19).
+#pragma once
+#include <cstddef>
+
+#include "grid.hpp"
+#include "kernels.hpp"
+
+namespace apiclab {
+
+template <class T, int D, class K>
+struct Stencil {
+  static constexpr int W = K::width;
+  T w[D][W], dw[D][W];       // dw already in 1/length units
+  T r[D][W];                 // (x_i − x_p) per axis
+  std::size_t off[D][W];     // node index contribution per axis (wrapped × stride)
+
+  void compute(const Vec<T, D>& x, const Grid<T, D>& g) {
+    for (int a = 0; a < D; ++a) {
+      T xg = (x[a] - g.origin[a]) * g.inv_dx;
+      int base = K::weights(xg, w[a], dw[a]);
+      for (int k = 0; k < W; ++k) {
+        dw[a][k] *= g.inv_dx;
+        r[a][k] = (T(base + k) - xg) * g.dx;
+        int idx = g.periodic[a] ? g.wrap(base + k, a) : base + k;
+        off[a][k] = std::size_t(idx) * g.stride[a];
+      }
+    }
+  }
+
+  // f(node, w_ip, ∇w_ip, x_i − x_p) for every node of the stencil.
+  template <class Fn>
+  void for_each(Fn&& f) const {
+    if constexpr (D == 2) {
+      for (int j = 0; j < W; ++j)
+        for (int i = 0; i < W; ++i) {
+          T wij = w[0][i] * w[1][j];
+          Vec<T, 2> grad(dw[0][i] * w[1][j], w[0][i] * dw[1][j]);
+          Vec<T, 2> rr(r[0][i], r[1][j]);
+          f(off[0][i] + off[1][j], wij, grad, rr);
+        }
+    } else {
+      for (int k = 0; k < W; ++k)
+        for (int j = 0; j < W; ++j) {
+          T wjk = w[1][j] * w[2][k];
+          for (int i = 0; i < W; ++i) {
+            T wijk = w[0][i] * wjk;
+            Vec<T, 3> grad(dw[0][i] * wjk, w[0][i] * dw[1][j] * w[2][k], w[0][i] * w[1][j] * dw[2][k]);
+            Vec<T, 3> rr(r[0][i], r[1][j], r[2][k]);
+            f(off[0][i] + off[1][j] + off[2][k], wijk, grad, rr);
+          }
+        }
+    }
+  }
+
+  // D_p = Σ w (x_i − x_p)(x_i − x_p)ᵀ (eq 25); diagonal for tensor-product kernels.
+  Mat<T, D> inertia() const {
+    Mat<T, D> Dp = Mat<T, D>::Zero();
+    for (int a = 0; a < D; ++a) {
+      T s = 0;
+      for (int k = 0; k < W; ++k) s += w[a][k] * r[a][k] * r[a][k];
+      Dp(a, a) = s;
+    }
+    return Dp;
+  }
+};
+
+}  // namespace apiclab
