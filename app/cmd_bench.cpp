@@ -31,17 +31,20 @@ std::string bench_scene(const BenchOptions& o, double& dx) {
   std::string g = o.dim == 2 ? "[0,-9.8]" : "[0,-9.8,0]";
   std::string dmax = o.dim == 2 ? "[1,1]" : "[1,1,1]";
   std::string omega = o.dim == 2 ? "1.0" : "[0,0,1.0]";
-  char buf[2048];
-  std::snprintf(buf, sizeof buf,
-                R"({"name":"bench-block","dim":%d,"domain":{"min":%s,"max":%s,"dx":%.17g,"boundary":"sticky"},
-  "gravity":%s,"time":{"end":1,"fps":24,"dt":{"rule":"fixed","value":%.17g}},
-  "solver":{"scheme":"%s","kernel":"%s","integrator":"%s"},
-  "materials":[{"name":"jelly","model":"fixed-corotated","E":10000,"nu":0.3,"rho":1000}],
-  "objects":[{"shape":{"type":"box","min":%s,"max":%s},"material":0,"sampling":{"type":"ppc","ppc":%d},
-              "velocity":%s,"angular_velocity":%s}]})",
-                o.dim, zero.c_str(), dmax.c_str(), dx, 0.3 * dx / 3.7, o.scheme.c_str(), o.kernel.c_str(),
-                o.integrator.c_str(), lo.c_str(), hi.c_str(), ppc, zero.c_str(), omega.c_str());
-  return buf;
+  auto num = [](double d) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.17g", d);
+    return std::string(b);
+  };
+  return std::string("{\"name\":\"bench-block\",\"dim\":") + std::to_string(o.dim) +
+         ",\"domain\":{\"min\":" + zero + ",\"max\":" + dmax + ",\"dx\":" + num(dx) +
+         ",\"boundary\":\"sticky\"},\"gravity\":" + g +
+         ",\"time\":{\"end\":1,\"fps\":24,\"dt\":{\"rule\":\"fixed\",\"value\":" + num(0.3 * dx / 3.7) +
+         "}},\"solver\":{\"scheme\":\"" + o.scheme + "\",\"kernel\":\"" + o.kernel + "\",\"integrator\":\"" +
+         o.integrator + "\"},\"materials\":[{\"name\":\"jelly\",\"model\":\"fixed-corotated\",\"E\":10000,"
+         "\"nu\":0.3,\"rho\":1000}],\"objects\":[{\"shape\":{\"type\":\"box\",\"min\":" + lo + ",\"max\":" + hi +
+         "},\"material\":0,\"sampling\":{\"type\":\"ppc\",\"ppc\":" + std::to_string(ppc) + "},\"velocity\":" + zero +
+         ",\"angular_velocity\":" + omega + "}]}";
 }
 
 int bench(BenchOptions o) {

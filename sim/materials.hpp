@@ -55,8 +55,13 @@ struct FixedCorotated {
   }
   // P = 2μ (F − R) + λ (J − 1) J F⁻ᵀ.
   static Mat<T, D> stress(const Mat<T, D>& F, Lame<T> l) {
-    Mat<T, D> R, S;
-    polar_decomposition<T, D>(F, R, S);
+    Mat<T, D> R;
+    if constexpr (D == 2) {
+      R = rotation_2d(F);
+    } else {
+      Mat<T, D> S;
+      polar_decomposition<T, D>(F, R, S);
+    }
     T J = F.determinant();
     return T(2) * l.mu * (F - R) + l.lambda * (J - T(1)) * cofactor<T, D>(F);
   }

@@ -55,6 +55,22 @@ void polar_decomposition(const Mat<T, D>& F, Mat<T, D>& R, Mat<T, D>& S) {
   }
 }
 
+// The rotation of the 2D polar decomposition alone (the stress needs no S).
+template <class T>
+inline Mat<T, 2> rotation_2d(const Mat<T, 2>& F) {
+  T a = F(0, 0) + F(1, 1), b = F(1, 0) - F(0, 1);
+  T n2 = a * a + b * b;
+  T c = T(1), s = T(0);
+  if (n2 > T(0)) {
+    T inv = T(1) / std::sqrt(n2);
+    c = a * inv;
+    s = b * inv;
+  }
+  Mat<T, 2> R;
+  R << c, -s, s, c;
+  return R;
+}
+
 // Cofactor matrix J F^{-T}, and its directional derivative; both exist for singular F.
 template <class T, int D>
 Mat<T, D> cofactor(const Mat<T, D>& F) {

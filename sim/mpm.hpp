@@ -71,7 +71,7 @@ class MpmSimulation final : public Simulation {
   double elastic_energy() const;
 
  private:
-  template <class K> void p2g_impl(bool with_forces);
+  template <class K, bool affine, bool with_forces> void p2g_impl();
   template <class K, Scheme S> void g2p_impl(T dt);
   template <class K> void velocity_noise(std::vector<float>& out) const;
   double choose_dt(double t_limit) const;
@@ -92,6 +92,7 @@ class MpmSimulation final : public Simulation {
   std::vector<std::vector<std::uint32_t>> color_blocks_;
   std::array<int, D> blocks_per_axis_{};
   bool non_finite_ = false;
+  double drift_since_sort_ = 1e30;  // cells moved since the last block sort
 };
 
 }  // namespace apiclab

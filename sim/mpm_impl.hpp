@@ -106,6 +106,10 @@ double MpmSimulation<T, D>::energy_reference() const {
 
 template <class T, int D>
 void MpmSimulation<T, D>::sort_particles() {
+  // The colouring stays race-free while no particle has moved a cell away from the block it
+  // was sorted into (same-coloured stencils are a block apart); re-sort at half a cell.
+  if (drift_since_sort_ < 0.5) return;
+  drift_since_sort_ = 0;
   const std::size_t n = p_.size();
   std::size_t nblocks = 1;
   for (int a = 0; a < D; ++a) {
@@ -170,9 +174,8 @@ void MpmSimulation<T, D>::clear_grid() {
 }
 
 template <class T, int D>
-template <class K>
-void MpmSimulation<T, D>::p2g_impl(bool with_forces) {
-  const bool affine = scene_.solver.scheme == Scheme::apic || scene_.solver.scheme == Scheme::rpic;
+template <class K, bool affine, bool with_forces>
+void MpmSimulation<T, D>::p2g_impl() {
   T* mass = grid_.mass.data();
   Vec<T, D>* mom = grid_.velocity.data();
   Vec<T, D>* force = grid_.force.data();
@@ -188,25 +191,36 @@ void MpmSimulation<T, D>::p2g_impl(bool with_forces) {
         const Vec<T, D> mv = m * p_.v[q];
         const Mat<T, D> mC = m * p_.C[q];
         Mat<T, D> stress = Mat<T, D>::Zero();
-        if (with_forces) {
+        if constexpr (with_forces) {
           // f_i = −Σ_p V_p P(F_p) F_pᵀ ∇w_ip (eq 34 at λ = 0).
           const MaterialParams<T>& mat = materials_[std::size_t(p_.material[q])];
           const Mat<T, D>& F = p_.F[q];
           stress = -p_.volume0[q] * first_piola<T, D>(mat.model, F, mat.lame) * F.transpose();
         }
-        if (affine) {
-          st.for_each([&](std::size_t i, T w, const Vec<T, D>& grad, const Vec<T, D>& r) {
-            mass[i] += w * m;
-            mom[i] += w * (mv + mC * r);
-            if (with_forces) force[i] += stress * grad;
-          });
-        } else {
-          st.for_each([&](std::size_t i, T w, const Vec<T, D>& grad, const Vec<T, D>&) {
-            mass[i] += w * m;
-            mom[i] += w * mv;
-            if (with_forces) force[i] += stress * grad;
-          });
+        // Per node of a row: w = wx_i row.w, so the affine and force terms split into a part
+        // per x-node (precomputed here) and a part per row.
+        constexpr int W = K::width;
+        T mw[W];
+        Vec<T, D> a[W], sx[W];
+        const T* wx = st.w[0];
+        for (int i = 0; i < W; ++i) {
+          mw[i] = m * wx[i];
+          a[i] = wx[i] * (affine ? Vec<T, D>(mv + mC.col(0) * st.r[0][i]) : mv);
+          sx[i] = stress.col(0) * st.dw[0][i];
         }
+        st.for_each_row([&](const typename Stencil<T, D, K>::Row& row) {
+          Vec<T, D> c = Vec<T, D>::Zero(), t = Vec<T, D>::Zero();
+          for (int ax = 1; ax < D; ++ax) {
+            if constexpr (affine) c += mC.col(ax) * row.r[ax];
+            if constexpr (with_forces) t += stress.col(ax) * row.dw[ax];
+          }
+          for (int i = 0; i < W; ++i) {
+            const std::size_t node = st.off[0][i] + row.off;
+            mass[node] += mw[i] * row.w;
+            mom[node] += row.w * (a[i] + wx[i] * c);
+            if constexpr (with_forces) force[node] += sx[i] * row.w + wx[i] * t;
+          }
+        });
       }
     }
   }
@@ -214,10 +228,16 @@ void MpmSimulation<T, D>::p2g_impl(bool with_forces) {
 
 template <class T, int D>
 void MpmSimulation<T, D>::particles_to_grid(bool with_forces) {
+  const bool affine = scene_.solver.scheme == Scheme::apic || scene_.solver.scheme == Scheme::rpic;
+  auto run = [&](auto kernel) {
+    using K = decltype(kernel);
+    if (affine) with_forces ? p2g_impl<K, true, true>() : p2g_impl<K, true, false>();
+    else with_forces ? p2g_impl<K, false, true>() : p2g_impl<K, false, false>();
+  };
   switch (scene_.solver.kernel) {
-    case KernelType::linear: p2g_impl<LinearKernel>(with_forces); break;
-    case KernelType::quadratic: p2g_impl<QuadraticKernel>(with_forces); break;
-    case KernelType::cubic: p2g_impl<CubicKernel>(with_forces); break;
+    case KernelType::linear: run(LinearKernel{}); break;
+    case KernelType::quadratic: run(QuadraticKernel{}); break;
+    case KernelType::cubic: run(CubicKernel{}); break;
   }
 }
 
@@ -275,15 +295,43 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
   const Vec<T, D>* vnew = grid_.velocity_new.data();
   const std::ptrdiff_t n = std::ptrdiff_t(p_.size());
   bool bad = false;
+  double max_move = 0;
   Vec<T, D> lo, hi;
   for (int a = 0; a < D; ++a) { lo[a] = T(scene_.domain.min[a]); hi[a] = T(scene_.domain.max[a]); }
-#pragma omp parallel for schedule(static) reduction(|| : bad)
+#pragma omp parallel for schedule(static) reduction(|| : bad) reduction(max : max_move)
   for (std::ptrdiff_t q = 0; q < n; ++q) {
     Stencil<T, D, K> st;
     st.compute(p_.x[q], grid_);
     Vec<T, D> vpic = Vec<T, D>::Zero(), ubar = Vec<T, D>::Zero(), vold_p = Vec<T, D>::Zero();
     Mat<T, D> Bsum = Mat<T, D>::Zero(), Ssum = Mat<T, D>::Zero(), gradu = Mat<T, D>::Zero(),
               gradv = Mat<T, D>::Zero();
+    if (lambda == T(0)) {
+      // Explicit path: gather row by row (see Stencil::for_each_row); u_i = ṽ_i.
+      constexpr int W = K::width;
+      const T* wx = st.w[0];
+      T wr[W];
+      for (int i = 0; i < W; ++i) wr[i] = wx[i] * st.r[0][i];
+      st.for_each_row([&](const typename Stencil<T, D, K>::Row& row) {
+        Vec<T, D> s0 = Vec<T, D>::Zero(), s1 = Vec<T, D>::Zero(), g0 = Vec<T, D>::Zero(), o0 = Vec<T, D>::Zero();
+        for (int i = 0; i < W; ++i) {
+          const std::size_t node = st.off[0][i] + row.off;
+          const Vec<T, D> vt = vnew[node];
+          s0 += wx[i] * vt;
+          s1 += wr[i] * vt;
+          g0 += st.dw[0][i] * vt;
+          if constexpr (S == Scheme::flip) o0 += wx[i] * vold[node];
+        }
+        vpic += row.w * s0;
+        gradu.col(0) += row.w * g0;
+        for (int ax = 1; ax < D; ++ax) gradu.col(ax) += row.dw[ax] * s0;
+        if constexpr (S == Scheme::flip) vold_p += row.w * o0;
+        if constexpr (S == Scheme::apic || S == Scheme::rpic) {
+          Bsum.col(0) += row.w * s1;
+          for (int ax = 1; ax < D; ++ax) Bsum.col(ax) += (row.w * row.r[ax]) * s0;
+        }
+      });
+      if (lagged) gradv = gradu;
+    } else
     st.for_each([&](std::size_t i, T w, const Vec<T, D>& grad, const Vec<T, D>& r) {
       const Vec<T, D> vt = vnew[i];
       vpic += w * vt;
@@ -347,6 +395,7 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
     }
     // Particle update: positions on the moved grid (eq 39), F by eq 40.
     Vec<T, D> x = p_.x[q] + dt * ubar;
+    max_move = std::max(max_move, double((dt * ubar).cwiseAbs().maxCoeff()));
     for (int a = 0; a < D; ++a) {
       if (grid_.periodic[a]) {
         T L = hi[a] - lo[a];
@@ -358,9 +407,10 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
     }
     p_.x[q] = x;
     p_.F[q] = (Mat<T, D>::Identity() + dt * gradu) * p_.F[q];
-    if (!x.allFinite() || !p_.v[q].allFinite()) bad = true;
+    if (!std::isfinite(x.sum() + p_.v[q].sum())) bad = true;
   }
   non_finite_ = non_finite_ || bad;
+  drift_since_sort_ += std::isfinite(max_move) ? max_move * double(grid_.inv_dx) : 1e30;
 }
 
 template <class T, int D>

@@ -53,6 +53,38 @@ struct Stencil {
     }
   }
 
+  // The stencil as rows along axis 0: f(row) for every combination of the other axes, where
+  // row.off is the node offset of those axes, row.w = Π_{a≥1} w_a, row.dw[0] = row.w and
+  // row.dw[a] = row.w with axis a differentiated, row.r[a] = (x_i − x_p)_a (row.r[0] = 0).
+  // Tensor-product loops then cost a few operations per node (the hot P2G/G2P path).
+  struct Row {
+    std::size_t off;
+    T w;
+    Vec<T, D> dw, r;
+  };
+  template <class Fn>
+  void for_each_row(Fn&& f) const {
+    Row row;
+    if constexpr (D == 2) {
+      for (int j = 0; j < W; ++j) {
+        row.off = off[1][j];
+        row.w = w[1][j];
+        row.dw = Vec<T, 2>(w[1][j], dw[1][j]);
+        row.r = Vec<T, 2>(T(0), r[1][j]);
+        f(row);
+      }
+    } else {
+      for (int k = 0; k < W; ++k)
+        for (int j = 0; j < W; ++j) {
+          row.off = off[1][j] + off[2][k];
+          row.w = w[1][j] * w[2][k];
+          row.dw = Vec<T, 3>(row.w, dw[1][j] * w[2][k], w[1][j] * dw[2][k]);
+          row.r = Vec<T, 3>(T(0), r[1][j], r[2][k]);
+          f(row);
+        }
+    }
+  }
+
   // D_p = Σ w (x_i − x_p)(x_i − x_p)ᵀ (eq 25); diagonal for tensor-product kernels.
   Mat<T, D> inertia() const {
     Mat<T, D> Dp = Mat<T, D>::Zero();
