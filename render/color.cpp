@@ -1,0 +1,57 @@
+#include "render/color.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+namespace apiclab::render {
+
+ColorMode parse_color_mode(std::string_view key) {
+  if (key == "speed") return ColorMode::speed;
+  if (key == "material") return ColorMode::material;
+  if (key == "object") return ColorMode::object;
+  if (key == "noise") return ColorMode::noise;
+  throw std::invalid_argument("unknown color mode '" + std::string(key) +
+                              "' (expected speed|material|object|noise)");
+}
+
+std::string_view key_of(ColorMode mode) {
+  switch (mode) {
+    case ColorMode::speed: return "speed";
+    case ColorMode::material: return "material";
+    case ColorMode::object: return "object";
+    case ColorMode::noise: return "noise";
+  }
+  return "?";
+}
+
+Vec3 viridis(float t) {
+  // Degree-6 polynomial fit to matplotlib's table (Matt Zucker, CC0); error below 1%.
+  static const Vec3 c[7] = {{0.2777273272f, 0.0054073445f, 0.3340998053f},
+                            {0.1050930431f, 1.4046135299f, 1.3845901626f},
+                            {-0.3308618287f, 0.2148475595f, 0.0950951630f},
+                            {-4.6342304990f, -5.7991009734f, -19.3324409563f},
+                            {6.2282699363f, 14.1799333668f, 56.6905526007f},
+                            {4.7763849977f, -13.7451453777f, -65.3530326334f},
+                            {-5.4354558559f, 4.6458526122f, 26.3124352496f}};
+  t = std::clamp(t, 0.0f, 1.0f);
+  Vec3 r = c[6];
+  for (int i = 5; i >= 0; --i) r = c[i] + r * t;
+  return {std::clamp(r.x, 0.0f, 1.0f), std::clamp(r.y, 0.0f, 1.0f), std::clamp(r.z, 0.0f, 1.0f)};
+}
+
+Rgba8 category_color(int index) {
+  // Blue, vermillion, bluish green, orange, sky blue, reddish purple, yellow, black.
+  static const Rgba8 palette[] = {{0, 114, 178},  {213, 94, 0},    {0, 158, 115},
+                                  {230, 159, 0},  {86, 180, 233},  {204, 121, 167},
+                                  {240, 228, 66}, {60, 60, 60}};
+  constexpr int n = sizeof palette / sizeof palette[0];
+  return palette[((index % n) + n) % n];
+}
+
+Rgba8 to_rgba8(Vec3 c, float alpha) {
+  auto q = [](float v) { return std::uint8_t(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f); };
+  return {q(c.x), q(c.y), q(c.z), q(alpha)};
+}
+
+}  // namespace apiclab::render

@@ -1,0 +1,81 @@
+#include "render/image.hpp"
+
+#include <algorithm>
+#include <cstdlib>
+#include <stdexcept>
+
+#include <zlib.h>
+
+namespace {
+// zlib deflates about three times faster than stb's own compressor, for smaller files.
+unsigned char* deflate_with_zlib(unsigned char* data, int length, int* out_length, int) {
+  uLongf size = compressBound(uLong(length));
+  auto* out = static_cast<unsigned char*>(std::malloc(size));
+  if (out && compress2(out, &size, data, uLong(length), 4) == Z_OK) {
+    *out_length = int(size);
+    return out;
+  }
+  std::free(out);
+  return nullptr;
+}
+}  // namespace
+
+#define STBIW_ZLIB_COMPRESS deflate_with_zlib
+#define STB_IMAGE_WRITE_IMPLEMENTATION
+#define STB_IMAGE_IMPLEMENTATION
+#define STBI_ONLY_PNG
+#include <stb/stb_image.h>
+#include <stb/stb_image_write.h>
+
+namespace apiclab::render {
+
+void write_png(const Image& image, const std::string& path) {
+  // Unfiltered rows: trying all five filters per row costs more than it saves here.
+  stbi_write_force_png_filter = 0;
+  if (!stbi_write_png(path.c_str(), image.width, image.height, 4, image.rgba.data(),
+                      image.width * 4))
+    throw std::runtime_error("cannot write " + path);
+}
+
+Image read_png(const std::string& path) {
+  int w = 0, h = 0, channels = 0;
+  unsigned char* data = stbi_load(path.c_str(), &w, &h, &channels, 4);
+  if (!data) throw std::runtime_error("cannot read " + path + ": " + stbi_failure_reason());
+  Image image(w, h);
+  std::copy(data, data + image.rgba.size(), image.rgba.begin());
+  stbi_image_free(data);
+  return image;
+}
+
+ImageDifference compare_images(const Image& reference, const Image& actual, int tolerance) {
+  ImageDifference d;
+  if (reference.width != actual.width || reference.height != actual.height) {
+    d.differing_pixels = std::max(long(reference.width) * reference.height,
+                                  long(actual.width) * actual.height);
+    d.largest = 255;
+    d.visual = actual;
+    return d;
+  }
+  d.visual = Image(reference.width, reference.height);
+  for (int y = 0; y < reference.height; ++y)
+    for (int x = 0; x < reference.width; ++x) {
+      const std::uint8_t* a = reference.pixel(x, y);
+      const std::uint8_t* b = actual.pixel(x, y);
+      int largest = 0;
+      for (int c = 0; c < 4; ++c) largest = std::max(largest, std::abs(int(a[c]) - int(b[c])));
+      d.largest = std::max(d.largest, largest);
+      std::uint8_t* v = d.visual.pixel(x, y);
+      if (largest > tolerance) {
+        ++d.differing_pixels;
+        v[0] = 255, v[1] = 0, v[2] = 0;
+      } else {
+        // Faded reference, so the red pixels can be located in the picture.
+        std::uint8_t grey = std::uint8_t(180 + (a[0] + a[1] + a[2]) / 3 * 75 / 255);
+        v[0] = v[1] = v[2] = grey;
+      }
+      v[3] = 255;
+    }
+  return d;
+}
+
+}  // namespace apiclab::render

@@ -1,0 +1,509 @@
+#include "render/renderer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+
+#include "render/gl.hpp"
+#include "render/program.hpp"
+
+namespace apiclab::render {
+namespace {
+
+constexpr Rgba8 kArrow{20, 20, 20, 235};
+constexpr Rgba8 kBox{120, 120, 120, 255};
+constexpr Rgba8 kGrid{222, 222, 222, 255};
+constexpr Rgba8 kCollider{70, 70, 70, 255};
+constexpr Rgba8 kFloor{238, 238, 236, 255};
+
+Vec3 to_vec3(const Vec3d& v) { return {float(v[0]), float(v[1]), float(v[2])}; }
+
+// Vertex attribute of `count` floats (or normalized bytes) at `offset` in a `stride` record.
+void attribute(GLuint index, int count, GLenum type, std::size_t stride, std::size_t offset,
+               bool per_instance) {
+  gl::EnableVertexAttribArray(index);
+  gl::VertexAttribPointer(index, count, type, type == GL_UNSIGNED_BYTE ? GL_TRUE : GL_FALSE,
+                          GLsizei(stride), reinterpret_cast<const void*>(offset));
+  gl::VertexAttribDivisor(index, per_instance ? 1 : 0);
+}
+
+template <class T>
+void upload(GLuint vbo, const std::vector<T>& data) {
+  gl::BindBuffer(GL_ARRAY_BUFFER, vbo);
+  // Orphan, then fill: the driver need not wait for the previous draw.
+  gl::BufferData(GL_ARRAY_BUFFER, GLsizeiptr(data.size() * sizeof(T)), nullptr, GL_STREAM_DRAW);
+  gl::BufferData(GL_ARRAY_BUFFER, GLsizeiptr(data.size() * sizeof(T)), data.data(),
+                 GL_STREAM_DRAW);
+}
+
+// Corners of the plane n·(x − p) = 0 inside the box, in order around the polygon
+// (2 points in 2D, 3 to 6 in 3D); empty when the plane misses the box.
+std::vector<Vec3> plane_in_box(Vec3 p, Vec3 n, const Box3& box, int dim) {
+  const int corners = dim == 2 ? 4 : 8;
+  auto corner = [&](int i) {
+    return Vec3{i & 1 ? box.max.x : box.min.x, i & 2 ? box.max.y : box.min.y,
+                i & 4 ? box.max.z : box.min.z};
+  };
+  const float eps = 1e-5f * std::max(length(box.size()), 1e-12f);
+  std::vector<Vec3> points;
+  auto add = [&](Vec3 q) {
+    for (const Vec3& o : points)
+      if (length(o - q) < eps) return;
+    points.push_back(q);
+  };
+  for (int i = 0; i < corners; ++i) {
+    float si = dot(corner(i) - p, n);
+    if (std::abs(si) < eps) add(corner(i));
+    for (int axis = 0; axis < dim; ++axis) {
+      int j = i | (1 << axis);
+      if (j == i) continue;
+      float sj = dot(corner(j) - p, n);
+      if ((si < -eps && sj > eps) || (si > eps && sj < -eps))
+        add(corner(i) + (corner(j) - corner(i)) * (si / (si - sj)));
+    }
+  }
+  if (points.size() < 3) return points;
+  // Sort around the centroid in the plane.
+  Vec3 c;
+  for (const Vec3& q : points) c = c + q * (1.0f / float(points.size()));
+  Vec3 u = normalize(points[0] - c), v = cross(normalize(n), u);
+  std::sort(points.begin(), points.end(), [&](Vec3 a, Vec3 b) {
+    return std::atan2(dot(a - c, v), dot(a - c, u)) < std::atan2(dot(b - c, v), dot(b - c, u));
+  });
+  return points;
+}
+
+}  // namespace
+
+Box3 domain_box(const Snapshot& s) {
+  Box3 b{to_vec3(s.domain_min), to_vec3(s.domain_max)};
+  if (s.dim == 2) b.min.z = b.max.z = 0;
+  return b;
+}
+
+Rgba8 particle_color(const Snapshot& s, std::size_t i, const SceneStyle& style) {
+  switch (style.color) {
+    case ColorMode::material:
+      return category_color(i < s.material.size() ? s.material[i] : 0);
+    case ColorMode::object:
+      return category_color(i < s.object.size() ? s.object[i] : 0);
+    case ColorMode::noise:
+      return to_rgba8(viridis(i < s.noise.size() ? s.noise[i] / style.color_max : 0));
+    case ColorMode::speed: break;
+  }
+  const float* v = &s.velocities[i * s.dim];
+  float speed2 = 0;
+  for (int k = 0; k < s.dim; ++k) speed2 += v[k] * v[k];
+  return to_rgba8(viridis(std::sqrt(speed2) / style.color_max));
+}
+
+bool carries_arrow(std::size_t id, int every) {
+  if (every <= 1) return true;
+  // A 32-bit integer hash: a lattice's rows do not alias with `every`.
+  std::uint32_t x = std::uint32_t(id) + 0x9e3779b9u;
+  x ^= x >> 16, x *= 0x7feb352du, x ^= x >> 15, x *= 0x846ca68bu, x ^= x >> 16;
+  return x % std::uint32_t(every) == 0;
+}
+
+Renderer::Renderer() {
+  discs_ = std::make_unique<Program>("shaders/particles.vert", "shaders/disc.frag");
+  spheres_ = std::make_unique<Program>("shaders/particles.vert", "shaders/sphere.frag");
+  segments_ = std::make_unique<Program>("shaders/segments.vert", "shaders/flat.frag");
+  fills_ = std::make_unique<Program>("shaders/fill.vert", "shaders/fill.frag");
+  text_ = std::make_unique<Program>("shaders/text.vert", "shaders/text.frag");
+
+  const float quad[] = {-1, -1, 1, -1, -1, 1, 1, 1};  // triangle strip
+  gl::GenBuffers(1, &quad_vbo_);
+  gl::BindBuffer(GL_ARRAY_BUFFER, quad_vbo_);
+  gl::BufferData(GL_ARRAY_BUFFER, sizeof quad, quad, GL_STATIC_DRAW);
+  // Arrow template: shaft quad (two triangles) then head triangle; see segments.vert.
+  const float arrow[] = {0, -1, 0, 1, -1, 0, 1, 1, 0, 0, -1, 0, 1, 1, 0,
+                         0, 1,  0, 0, -1, 1, 0, 1, 1, 1, 0,  1};
+  gl::GenBuffers(1, &template_vbo_);
+  gl::BindBuffer(GL_ARRAY_BUFFER, template_vbo_);
+  gl::BufferData(GL_ARRAY_BUFFER, sizeof arrow, arrow, GL_STATIC_DRAW);
+
+  // Particles as instanced quads, and the same buffer as one point per particle.
+  gl::GenBuffers(1, &particle_vbo_);
+  gl::GenVertexArrays(2, particle_vao_);
+  using P = ParticleInstance;
+  for (int points = 0; points < 2; ++points) {
+    gl::BindVertexArray(particle_vao_[points]);
+    if (!points) {
+      gl::BindBuffer(GL_ARRAY_BUFFER, quad_vbo_);
+      attribute(0, 2, GL_FLOAT, 2 * sizeof(float), 0, false);
+    }
+    gl::BindBuffer(GL_ARRAY_BUFFER, particle_vbo_);
+    attribute(1, 3, GL_FLOAT, sizeof(P), offsetof(P, center), !points);
+    attribute(2, 1, GL_FLOAT, sizeof(P), offsetof(P, radius), !points);
+    attribute(3, 4, GL_UNSIGNED_BYTE, sizeof(P), offsetof(P, color), !points);
+  }
+  GLfloat point_sizes[2] = {1, 1};
+  gl::GetFloatv(GL_POINT_SIZE_RANGE, point_sizes);
+  max_point_size_ = point_sizes[1];
+
+  gl::GenVertexArrays(1, &segment_vao_);
+  gl::GenBuffers(1, &segment_vbo_);
+  gl::BindVertexArray(segment_vao_);
+  gl::BindBuffer(GL_ARRAY_BUFFER, template_vbo_);
+  attribute(0, 3, GL_FLOAT, 3 * sizeof(float), 0, false);
+  gl::BindBuffer(GL_ARRAY_BUFFER, segment_vbo_);
+  using S = SegmentInstance;
+  attribute(1, 3, GL_FLOAT, sizeof(S), offsetof(S, from), true);
+  attribute(2, 3, GL_FLOAT, sizeof(S), offsetof(S, to), true);
+  attribute(3, 4, GL_UNSIGNED_BYTE, sizeof(S), offsetof(S, color), true);
+  attribute(4, 3, GL_FLOAT, sizeof(S), offsetof(S, width), true);
+
+  gl::GenVertexArrays(1, &fill_vao_);
+  gl::GenBuffers(1, &fill_vbo_);
+  gl::BindVertexArray(fill_vao_);
+  gl::BindBuffer(GL_ARRAY_BUFFER, fill_vbo_);
+  using F = FillVertex;
+  attribute(0, 3, GL_FLOAT, sizeof(F), offsetof(F, position), false);
+  attribute(1, 4, GL_UNSIGNED_BYTE, sizeof(F), offsetof(F, color), false);
+
+  gl::GenVertexArrays(1, &text_vao_);
+  gl::GenBuffers(1, &text_vbo_);
+  gl::BindVertexArray(text_vao_);
+  gl::BindBuffer(GL_ARRAY_BUFFER, text_vbo_);
+  using T = TextVertex;
+  attribute(0, 2, GL_FLOAT, sizeof(T), offsetof(T, x), false);
+  attribute(1, 2, GL_FLOAT, sizeof(T), offsetof(T, u), false);
+  attribute(2, 4, GL_UNSIGNED_BYTE, sizeof(T), offsetof(T, color), false);
+  gl::BindVertexArray(0);
+}
+
+Renderer::~Renderer() {
+  for (auto& [size, entry] : fonts_) gl::DeleteTextures(1, &entry.texture);
+  unsigned vaos[] = {particle_vao_[0], particle_vao_[1], segment_vao_, fill_vao_, text_vao_};
+  unsigned vbos[] = {quad_vbo_, template_vbo_, particle_vbo_, segment_vbo_, fill_vbo_, text_vbo_};
+  gl::DeleteVertexArrays(5, vaos);
+  gl::DeleteBuffers(6, vbos);
+}
+
+void Renderer::begin_frame(int width, int height, Rgba8 background) {
+  width_ = width;
+  height_ = height;
+  gl::Viewport(0, 0, width, height);
+  gl::Disable(GL_SCISSOR_TEST);
+  gl::DepthMask(GL_TRUE);
+  gl::ClearColor(background.r / 255.0f, background.g / 255.0f, background.b / 255.0f,
+                 background.a / 255.0f);
+  gl::Clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  overlay_lines_.clear();
+  overlay_fills_.clear();
+  for (auto& [size, entry] : fonts_) entry.vertices.clear();
+}
+
+void Renderer::set_viewport(Rect r) {
+  const int x = int(std::lround(r.x)), w = int(std::lround(r.w)), h = int(std::lround(r.h));
+  const int y = height_ - int(std::lround(r.y)) - h;  // OpenGL counts rows from the bottom
+  gl::Viewport(x, y, w, h);
+  gl::Scissor(x, y, w, h);
+  gl::Enable(GL_SCISSOR_TEST);
+}
+
+void Renderer::draw_scene(const Snapshot& s, const Camera& camera, Rect rect,
+                          const SceneStyle& style) {
+  set_viewport(rect);
+  gl::Enable(GL_BLEND);
+  gl::BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+  gl::Clear(GL_DEPTH_BUFFER_BIT);
+  const Box3 box = domain_box(s);
+  const Vec2 viewport{rect.w, rect.h};
+  const float lw = style.line_px;
+  const bool three_d = s.dim == 3;
+  // World length of one pixel at the scene's centre: sizes hatches and scale bars.
+  const float ppu = camera.projection(1, 1) * 0.5f * rect.h /
+                    (camera.perspective ? length(box.center() - camera.eye) : 1.0f);
+  const float world_px = 1 / std::max(ppu, 1e-12f);
+  scene_lines_.clear();
+  scene_fills_.clear();
+  const Mat4 view_projection = camera.projection * camera.view;
+
+  // Underlay: 2D grid, or the 3D floor with its grid (depth-tested, under the particles).
+  int up = 1;
+  if (three_d) {
+    // The floor is the face at the minimum of the axis closest to the camera's up.
+    const Vec3 camera_up{camera.view(1, 0), camera.view(1, 1), camera.view(1, 2)};
+    for (int a = 0; a < 3; ++a)
+      if (std::abs(camera_up[a]) > std::abs(camera_up[up])) up = a;
+    const int a1 = (up + 1) % 3, a2 = (up + 2) % 3;
+    Vec3 q[4];
+    for (int k = 0; k < 4; ++k) {
+      q[k][up] = box.min[up];
+      q[k][a1] = (k == 1 || k == 2) ? box.max[a1] : box.min[a1];
+      q[k][a2] = (k >= 2) ? box.max[a2] : box.min[a2];
+    }
+    for (int k : {0, 1, 2, 0, 2, 3}) scene_fills_.push_back({q[k], kFloor});
+  }
+  if (style.grid && s.dx > 0) {
+    const float dx = float(s.dx);
+    const int plane_axes[2] = {three_d ? (up + 1) % 3 : 0, three_d ? (up + 2) % 3 : 1};
+    const float px_per_cell = dx * ppu;
+    if (px_per_cell >= 3) {
+      for (int k = 0; k < 2; ++k) {
+        const int a = plane_axes[k], b = plane_axes[1 - k];
+        const int cells = int(std::lround((box.max[a] - box.min[a]) / dx));
+        for (int i = 1; i < cells; ++i) {
+          Vec3 from = box.min, to = box.min;
+          from[a] = to[a] = box.min[a] + i * dx;
+          to[b] = box.max[b];
+          scene_lines_.push_back({from, to, kGrid, 0.8f * lw, 0, 0});
+        }
+      }
+    }
+  }
+  if (three_d) {
+    gl::Enable(GL_DEPTH_TEST);
+    gl::DepthFunc(GL_LEQUAL);
+    gl::DepthMask(GL_FALSE);  // the floor never hides a particle sitting on it
+  } else {
+    gl::Disable(GL_DEPTH_TEST);
+  }
+  draw_fills(scene_fills_, view_projection);
+  draw_segments(scene_lines_, camera.view, camera.projection, viewport);
+  scene_lines_.clear();
+  scene_fills_.clear();
+
+  if (three_d) gl::DepthMask(GL_TRUE);
+  draw_particles(s, camera, rect, style);
+
+  // Domain box and colliders over the particles (depth-tested in 3D).
+  if (style.box) {
+    const int corners = three_d ? 8 : 4;
+    for (int i = 0; i < corners; ++i)
+      for (int axis = 0; axis < s.dim; ++axis) {
+        int j = i | (1 << axis);
+        if (j == i) continue;
+        auto corner = [&](int c) {
+          return Vec3{c & 1 ? box.max.x : box.min.x, c & 2 ? box.max.y : box.min.y,
+                      c & 4 ? box.max.z : box.min.z};
+        };
+        scene_lines_.push_back({corner(i), corner(j), kBox, lw, 0, 0});
+      }
+  }
+  if (style.colliders) {
+    for (const ColliderDesc& c : s.colliders) {
+      Vec3 p = to_vec3(c.point), n = normalize(to_vec3(c.normal));
+      if (!three_d) p.z = 0, n.z = 0;
+      std::vector<Vec3> poly = plane_in_box(p, n, box, s.dim);
+      if (poly.size() < 2) continue;
+      if (!three_d) {
+        // The wall and hatches on its solid side, like an engineering drawing.
+        Vec3 a = poly[0], b = poly[1], t = normalize(b - a);
+        scene_lines_.push_back({a, b, kCollider, 1.6f * lw, 0, 0});
+        const float spacing = 7 * world_px * std::max(lw, 1.0f), depth = 5 * world_px * lw;
+        const Vec3 slant = normalize(t * 0.7f - n * 0.7f) * (depth / 0.7f);
+        const float len = length(b - a);
+        for (float u = 0.5f * spacing; u < len; u += spacing) {
+          Vec3 q = a + t * u;
+          scene_lines_.push_back({q, q + slant, kCollider, 0.8f * lw, 0, 0});
+        }
+      } else {
+        Vec3 c0;
+        for (const Vec3& q : poly) c0 = c0 + q * (1.0f / float(poly.size()));
+        for (std::size_t k = 0; k < poly.size(); ++k) {
+          const Vec3& a = poly[k];
+          const Vec3& b = poly[(k + 1) % poly.size()];
+          scene_fills_.push_back({c0, {90, 90, 90, 40}});
+          scene_fills_.push_back({a, {90, 90, 90, 40}});
+          scene_fills_.push_back({b, {90, 90, 90, 40}});
+          scene_lines_.push_back({a, b, kCollider, 1.2f * lw, 0, 0});
+        }
+      }
+    }
+  }
+  if (three_d) gl::DepthMask(GL_FALSE);
+  draw_fills(scene_fills_, view_projection);
+  draw_segments(scene_lines_, camera.view, camera.projection, viewport);
+
+  if (style.vectors && style.vector_scale > 0) {
+    std::vector<SegmentInstance>& arrows = scene_lines_;
+    arrows.clear();
+    const std::size_t n = s.count();
+    const float head = std::max(4.0f, 3.5f * lw);
+    const float fallback_radius = float(s.dx) * 0.25f;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!carries_arrow(i, style.vector_every)) continue;
+      Vec3 x, v;
+      for (int k = 0; k < s.dim; ++k) {
+        x[k] = s.positions[i * s.dim + k];
+        v[k] = s.velocities[i * s.dim + k];
+      }
+      float r = (i < s.radius.size() ? s.radius[i] : fallback_radius) * style.particle_scale;
+      arrows.push_back({x, x + v * style.vector_scale, kArrow, 0.9f * lw, head,
+                        three_d ? r : 0.0f});
+    }
+    draw_segments(arrows, camera.view, camera.projection, viewport);
+  }
+  gl::DepthMask(GL_TRUE);
+  gl::Disable(GL_DEPTH_TEST);
+  gl::Disable(GL_SCISSOR_TEST);
+  gl::Viewport(0, 0, width_, height_);
+}
+
+void Renderer::draw_particles(const Snapshot& s, const Camera& camera, Rect rect,
+                              const SceneStyle& style) {
+  const std::size_t n = s.count();
+  if (n == 0) return;
+  particles_.resize(n);
+  const float fallback_radius = float(s.dx) * 0.25f;
+  float largest = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    ParticleInstance& p = particles_[i];
+    p.center = {s.positions[i * s.dim], s.positions[i * s.dim + 1],
+                s.dim == 3 ? s.positions[i * s.dim + 2] : 0.0f};
+    p.radius = (i < s.radius.size() ? s.radius[i] : fallback_radius) * style.particle_scale;
+    p.color = particle_color(s, i, style);
+    largest = std::max(largest, p.radius);
+  }
+  upload(particle_vbo_, particles_);
+
+  // Points need one vertex instead of four; quads take over when a particle is larger than
+  // the largest point the driver draws (llvmpipe: 255 pixels).
+  const Box3 box = domain_box(s);
+  float nearest = 1;
+  if (camera.perspective)
+    nearest = std::max(length(box.center() - camera.eye) - length(box.size()) / 2 - largest,
+                       1e-6f);
+  const float largest_px = largest * camera.projection(1, 1) * 0.5f * rect.h / nearest;
+  const bool points = 2 * (1.3f * largest_px + 2) + 2 <= max_point_size_;
+
+  const bool three_d = s.dim == 3;
+  const Program& program = three_d ? *spheres_ : *discs_;
+  program.use();
+  program.set("u_view", camera.view);
+  program.set("u_projection", camera.projection);
+  program.set("u_perspective", camera.perspective ? 1 : 0);
+  program.set("u_points", points ? 1 : 0);
+  program.set("u_viewport_height", rect.h);
+  program.set("u_min_radius_px", 0.75f);
+  program.set("u_rim", 0.45f);
+  // 3D: alpha to coverage antialiases the silhouettes without sorting; 2D discs blend.
+  if (three_d) {
+    gl::Disable(GL_BLEND);
+    gl::Enable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+  }
+  gl::Enable(GL_PROGRAM_POINT_SIZE);
+  gl::BindVertexArray(particle_vao_[points]);
+  if (points)
+    gl::DrawArrays(GL_POINTS, 0, GLsizei(n));
+  else
+    gl::DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(n));
+  gl::BindVertexArray(0);
+  gl::Disable(GL_PROGRAM_POINT_SIZE);
+  if (three_d) {
+    gl::Disable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+    gl::Enable(GL_BLEND);
+  }
+}
+
+void Renderer::draw_segments(const std::vector<SegmentInstance>& segments, const Mat4& view,
+                             const Mat4& projection, Vec2 viewport) {
+  if (segments.empty()) return;
+  upload(segment_vbo_, segments);
+  segments_->use();
+  segments_->set("u_view", view);
+  segments_->set("u_projection", projection);
+  segments_->set("u_viewport", viewport.x, viewport.y);
+  gl::BindVertexArray(segment_vao_);
+  gl::DrawArraysInstanced(GL_TRIANGLES, 0, 9, GLsizei(segments.size()));
+  gl::BindVertexArray(0);
+}
+
+void Renderer::draw_fills(const std::vector<FillVertex>& vertices, const Mat4& matrix) {
+  if (vertices.empty()) return;
+  upload(fill_vbo_, vertices);
+  fills_->use();
+  fills_->set("u_matrix", matrix);
+  gl::BindVertexArray(fill_vao_);
+  gl::DrawArrays(GL_TRIANGLES, 0, GLsizei(vertices.size()));
+  gl::BindVertexArray(0);
+}
+
+void Renderer::fill_rect(Rect r, Rgba8 color) {
+  const Vec2 c[4] = {{r.x, r.y}, {r.x + r.w, r.y}, {r.x + r.w, r.y + r.h}, {r.x, r.y + r.h}};
+  const Rgba8 colors[4] = {color, color, color, color};
+  fill_quad(c, colors);
+}
+
+void Renderer::fill_quad(const Vec2 corners[4], const Rgba8 colors[4]) {
+  for (int k : {0, 1, 2, 0, 2, 3})
+    overlay_fills_.push_back({{corners[k].x, corners[k].y, 0}, colors[k]});
+}
+
+void Renderer::line(Vec2 a, Vec2 b, float width, Rgba8 color, float head) {
+  overlay_lines_.push_back({{a.x, a.y, 0}, {b.x, b.y, 0}, color, width, head, 0});
+}
+
+Renderer::FontEntry& Renderer::font_entry(float size) {
+  const int key = std::max(6, int(std::lround(size)));
+  auto it = fonts_.find(key);
+  if (it != fonts_.end()) return it->second;
+  FontEntry& e = fonts_[key];
+  e.font = std::make_unique<Font>(float(key));
+  gl::GenTextures(1, &e.texture);
+  gl::BindTexture(GL_TEXTURE_2D, e.texture);
+  gl::PixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  gl::TexImage2D(GL_TEXTURE_2D, 0, GL_R8, e.font->atlas_width(), e.font->atlas_height(), 0, GL_RED,
+                 GL_UNSIGNED_BYTE, e.font->atlas().data());
+  gl::TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  gl::TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  gl::TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  gl::TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  return e;
+}
+
+const Font& Renderer::font(float size) { return *font_entry(size).font; }
+
+float Renderer::text_width(std::string_view utf8, float size) {
+  return font_entry(size).font->width(utf8);
+}
+
+float Renderer::text(std::string_view utf8, float x, float y, float size, Rgba8 color,
+                     float align) {
+  FontEntry& e = font_entry(size);
+  const float w = e.font->width(utf8);
+  // Whole-pixel pen and baseline keep glyph stems sharp.
+  const float x0 = std::round(x - align * w), y0 = std::round(y);
+  std::vector<Font::Quad> quads;
+  e.font->layout(utf8, x0, y0, quads);
+  for (const Font::Quad& q : quads) {
+    const TextVertex v[4] = {{q.x0, q.y0, q.s0, q.t0, color},
+                             {q.x1, q.y0, q.s1, q.t0, color},
+                             {q.x1, q.y1, q.s1, q.t1, color},
+                             {q.x0, q.y1, q.s0, q.t1, color}};
+    for (int k : {0, 1, 2, 0, 2, 3}) e.vertices.push_back(v[k]);
+  }
+  return w;
+}
+
+void Renderer::end_frame() {
+  gl::Viewport(0, 0, width_, height_);
+  gl::Disable(GL_DEPTH_TEST);
+  gl::Disable(GL_SCISSOR_TEST);
+  gl::Enable(GL_BLEND);
+  gl::BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+  // Pixel space with y down, origin at the top-left corner.
+  const Mat4 pixels = ortho(0, float(width_), float(height_), 0, -1, 1);
+  draw_fills(overlay_fills_, pixels);
+  draw_segments(overlay_lines_, Mat4{}, pixels, {float(width_), float(height_)});
+  text_->use();
+  text_->set("u_viewport", float(width_), float(height_));
+  text_->set("u_atlas", 0);
+  gl::ActiveTexture(GL_TEXTURE0);
+  for (auto& [size, e] : fonts_) {
+    if (e.vertices.empty()) continue;
+    upload(text_vbo_, e.vertices);
+    gl::BindTexture(GL_TEXTURE_2D, e.texture);
+    gl::BindVertexArray(text_vao_);
+    gl::DrawArrays(GL_TRIANGLES, 0, GLsizei(e.vertices.size()));
+    e.vertices.clear();
+  }
+  gl::BindVertexArray(0);
+  overlay_lines_.clear();
+  overlay_fills_.clear();
+}
+
+}  // namespace apiclab::render

@@ -1,0 +1,27 @@
+// A multisampled offscreen framebuffer of a fixed size and its read-back to an Image.
+#pragma once
+#include "render/image.hpp"
+
+namespace apiclab::render {
+
+class RenderTarget {
+ public:
+  // Needs a current context. samples is clamped to what the driver offers (llvmpipe: 4).
+  RenderTarget(int width, int height, int samples = 8);
+  ~RenderTarget();
+  RenderTarget(const RenderTarget&) = delete;
+  RenderTarget& operator=(const RenderTarget&) = delete;
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+  int samples() const { return samples_; }
+  void bind();           // draw into it
+  Image read();          // resolves the samples and copies the pixels out (top row first)
+
+ private:
+  int width_, height_, samples_ = 1;
+  unsigned msaa_fbo_ = 0, color_rb_ = 0, depth_rb_ = 0;
+  unsigned resolve_fbo_ = 0, resolve_rb_ = 0;
+};
+
+}  // namespace apiclab::render
