@@ -74,6 +74,13 @@ class MpmSimulation final : public Simulation {
   template <class K, bool affine, bool with_forces> void p2g_impl();
   template <class K, Scheme S> void g2p_impl(T dt);
   template <class K> void velocity_noise(std::vector<float>& out) const;
+  template <class K> void implicit_velocity_update(T dt);  // sim/implicit.hpp
+  template <class Fn> void for_each_particle_coloured(Fn&& fn);
+  template <class K> std::vector<Stencil<T, D, K>>& stencils() {
+    if constexpr (K::type == KernelType::linear) return stencils_linear_;
+    else if constexpr (K::type == KernelType::quadratic) return stencils_quadratic_;
+    else return stencils_cubic_;
+  }
   double choose_dt(double t_limit) const;
   void build_constraints();
   double energy_reference() const;
@@ -92,6 +99,24 @@ class MpmSimulation final : public Simulation {
   std::vector<std::vector<std::uint32_t>> color_blocks_;
   std::array<int, D> blocks_per_axis_{};
   bool non_finite_ = false;
+  // Implicit solve state, allocated once and reused every step.
+  std::vector<Stencil<T, D, LinearKernel>> stencils_linear_;
+  std::vector<Stencil<T, D, QuadraticKernel>> stencils_quadratic_;
+  std::vector<Stencil<T, D, CubicKernel>> stencils_cubic_;
+  std::vector<std::uint32_t> active_;
+  std::vector<ConstrainedNode<T, D>> active_constraints_;
+  std::vector<Vec<T, D>> dv_, grad_, dir_, cg_r_, cg_p_, cg_s_, work_;
+  std::vector<Mat<T, D>> Fy_;
+  std::vector<Eigen::Matrix<T, D * D, D * D>> hess_;
+  int last_newton_iters_ = 0, last_cg_iters_ = 0;
+  double last_residual_ = 0;
+  bool last_converged_ = true;
+
+ public:
+  // Newton residuals (mass-weighted RMS of M⁻¹g) of the last implicit step, in order.
+  std::vector<double> residuals_;
+
+ private:
   double drift_since_sort_ = 1e30;  // cells moved since the last block sort
 };
 

@@ -9,6 +9,7 @@
 #include <ostream>
 
 #include "mpm.hpp"
+#include "implicit.hpp"
 #include "sampling.hpp"
 
 namespace apiclab {
@@ -16,9 +17,6 @@ namespace apiclab {
 template <class T, int D>
 MpmSimulation<T, D>::MpmSimulation(const SceneDesc& scene) : scene_(scene) {
   if (scene.dim != D) throw SceneError(scene.source + ": key 'dim': internal dimension mismatch");
-  if (scene.solver.integrator != Integrator::symplectic)
-    throw SceneError(scene.source + ": key 'solver.integrator': '" + std::string(key_of(scene.solver.integrator)) +
-                     "' is not available in this build (symplectic only)");
   grid_.init(scene);
   for (auto& m : scene.materials) {
     materials_.push_back({m.model, {T(m.mu()), T(m.lambda())}});
@@ -433,10 +431,24 @@ void MpmSimulation<T, D>::grid_to_particles(T dt) {
 
 template <class T, int D>
 void MpmSimulation<T, D>::step_fixed(double dt) {
+  const SolverDesc& sv = scene_.solver;
+  const double lambda = sv.integrator_lambda();
+  const bool implicit = sv.integrator == Integrator::backward || (lambda > 0 && lambda < 1);
   sort_particles();
   clear_grid();
-  particles_to_grid(true);
-  grid_velocity_update(T(dt));
+  if (!implicit && lambda == 0) {
+    particles_to_grid(true);  // forces at F^n, fused into the transfer
+    grid_velocity_update(T(dt));
+    last_newton_iters_ = last_cg_iters_ = 0;
+    last_residual_ = 0;
+  } else {
+    particles_to_grid(false);
+    switch (sv.kernel) {
+      case KernelType::linear: implicit_velocity_update<LinearKernel>(T(dt)); break;
+      case KernelType::quadratic: implicit_velocity_update<QuadraticKernel>(T(dt)); break;
+      case KernelType::cubic: implicit_velocity_update<CubicKernel>(T(dt)); break;
+    }
+  }
   apply_boundary_conditions();
   grid_to_particles(T(dt));
   time_ += dt;
@@ -496,7 +508,11 @@ std::optional<Failure> MpmSimulation<T, D>::step(double t_limit, DiagnosticsRow*
     msg << "simulation blew up at step " << steps_ << ", t = " << time_ << ": " << quantity << " " << detail;
     failure_ = Failure{steps_, time_, quantity, msg.str()};
   };
-  if (non_finite_ || !std::isfinite(r.total) || !std::isfinite(r.kinetic)) {
+  if (!last_converged_ && scene_.solver.stop_on_nonconvergence) {
+    std::ostringstream d;
+    d << "did not converge in " << last_newton_iters_ << " Newton iterations (residual " << last_residual_ << ")";
+    fail("implicit solve", d.str());
+  } else if (non_finite_ || !std::isfinite(r.total) || !std::isfinite(r.kinetic)) {
     fail("particle state", "became non-finite (NaN or Inf)");
   } else if (r.kinetic + elastic_energy() > scene_.solver.blowup_energy_factor * energy_ref_) {
     std::ostringstream d;
@@ -527,6 +543,9 @@ DiagnosticsRow MpmSimulation<T, D>::measure() const {
   r.step = steps_;
   r.t = time_;
   r.kinetic_grid = kinetic_grid_;
+  r.newton_iters = last_newton_iters_;
+  r.cg_iters = last_cg_iters_;
+  r.residual = last_residual_;
   const bool affine = scene_.solver.scheme == Scheme::apic || scene_.solver.scheme == Scheme::rpic;
   double kin = 0, grav = 0, px = 0, py = 0, pz = 0, Lx = 0, Ly = 0, Lz = 0;
   const std::ptrdiff_t n = std::ptrdiff_t(p_.size());
