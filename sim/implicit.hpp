@@ -23,7 +23,7 @@ template <class Fn>
 void MpmSimulation<T, D>::for_each_particle_coloured(Fn&& fn) {
   for (const auto& blocks : color_blocks_) {
     const std::ptrdiff_t nb = std::ptrdiff_t(blocks.size());
-#pragma omp parallel for schedule(dynamic, 1)
+#pragma omp parallel for schedule(dynamic, 1) if (parallel_worthwhile())
     for (std::ptrdiff_t bi = 0; bi < nb; ++bi) {
       const std::uint32_t b = blocks[std::size_t(bi)];
       for (std::uint32_t q = block_start_[b]; q < block_start_[b + 1]; ++q) fn(q);
@@ -67,7 +67,7 @@ void MpmSimulation<T, D>::implicit_velocity_update(T dt) {
   // Weights once per step (the Hessian-vector products reuse them).
   auto& st = stencils<K>();
   st.resize(p_.size());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (parallel_worthwhile())
   for (std::ptrdiff_t q = 0; q < np; ++q) st[std::size_t(q)].compute(p_.x[std::size_t(q)], grid_);
 
   // Active nodes and the velocity v_i^n.
@@ -116,7 +116,7 @@ void MpmSimulation<T, D>::implicit_velocity_update(T dt) {
   auto evaluate = [&](const std::vector<Vec<T, D>>& dv, bool gradient) -> double {
     double phi = 0;
     bool inverted = false;
-#pragma omp parallel for schedule(static) reduction(+ : phi) reduction(|| : inverted)
+#pragma omp parallel for schedule(static) reduction(+ : phi) reduction(|| : inverted) if (parallel_worthwhile())
     for (std::ptrdiff_t q = 0; q < np; ++q) {
       Mat<T, D> G = Mat<T, D>::Zero();
       st[std::size_t(q)].for_each([&](std::size_t i, T, const Vec<T, D>& gw, const Vec<T, D>&) {
@@ -189,7 +189,7 @@ void MpmSimulation<T, D>::implicit_velocity_update(T dt) {
     residual = std::sqrt(r2 / std::max(msum, 1e-300));
     residuals_.push_back(residual);
     if (residual <= tol || newton >= scene_.solver.newton_max_iterations) break;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (parallel_worthwhile())
     for (std::ptrdiff_t q = 0; q < np; ++q) {
       const MaterialParams<T>& mat = materials_[std::size_t(p_.material[std::size_t(q)])];
       hess_[std::size_t(q)] = projected_stress_hessian<T, D>(mat.model, Fy_[std::size_t(q)], mat.lame);

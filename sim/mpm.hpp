@@ -82,6 +82,8 @@ class MpmSimulation final : public Simulation {
     else return stencils_cubic_;
   }
   double choose_dt(double t_limit) const;
+  // Below this many particles an OpenMP region costs more than it saves.
+  bool parallel_worthwhile() const { return p_.size() >= parallel_min_particles(); }
   void build_constraints();
   double energy_reference() const;
 

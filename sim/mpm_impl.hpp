@@ -163,7 +163,7 @@ void MpmSimulation<T, D>::sort_particles() {
 template <class T, int D>
 void MpmSimulation<T, D>::clear_grid() {
   const std::ptrdiff_t n = std::ptrdiff_t(grid_.size());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (parallel_worthwhile())
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     grid_.mass[i] = T(0);
     grid_.velocity[i].setZero();
@@ -179,7 +179,7 @@ void MpmSimulation<T, D>::p2g_impl() {
   Vec<T, D>* force = grid_.force.data();
   for (const auto& blocks : color_blocks_) {
     const std::ptrdiff_t nb = std::ptrdiff_t(blocks.size());
-#pragma omp parallel for schedule(dynamic, 1)
+#pragma omp parallel for schedule(dynamic, 1) if (parallel_worthwhile())
     for (std::ptrdiff_t bi = 0; bi < nb; ++bi) {
       const std::uint32_t b = blocks[std::size_t(bi)];
       Stencil<T, D, K> st;
@@ -246,7 +246,7 @@ void MpmSimulation<T, D>::grid_velocity_update(T dt) {
   for (int a = 0; a < D; ++a) g[a] = T(scene_.gravity[a]);
   const std::ptrdiff_t n = std::ptrdiff_t(grid_.size());
   double kinetic = 0, vmax2 = 0;
-#pragma omp parallel for schedule(static) reduction(+ : kinetic) reduction(max : vmax2)
+#pragma omp parallel for schedule(static) reduction(+ : kinetic) reduction(max : vmax2) if (parallel_worthwhile())
   for (std::ptrdiff_t i = 0; i < n; ++i) {
     const T m = grid_.mass[i];
     if (m > T(0)) {
@@ -296,7 +296,7 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
   double max_move = 0;
   Vec<T, D> lo, hi;
   for (int a = 0; a < D; ++a) { lo[a] = T(scene_.domain.min[a]); hi[a] = T(scene_.domain.max[a]); }
-#pragma omp parallel for schedule(static) reduction(|| : bad) reduction(max : max_move)
+#pragma omp parallel for schedule(static) reduction(|| : bad) reduction(max : max_move) if (parallel_worthwhile())
   for (std::ptrdiff_t q = 0; q < n; ++q) {
     Stencil<T, D, K> st;
     st.compute(p_.x[q], grid_);
@@ -465,7 +465,7 @@ double MpmSimulation<T, D>::choose_dt(double t_limit) const {
     double vmax = 0, cterm = 0;
     const double k6 = 6.0 * std::sqrt(double(D)) * std::max(inertia_factor(scene_.solver.kernel), 0.25) * dx;
     const std::ptrdiff_t n = std::ptrdiff_t(p_.size());
-#pragma omp parallel for reduction(max : vmax, cterm)
+#pragma omp parallel for reduction(max : vmax, cterm) if (parallel_worthwhile())
     for (std::ptrdiff_t q = 0; q < n; ++q) {
       double v = double(p_.v[q].norm());
       vmax = std::max(vmax, v);
@@ -479,7 +479,7 @@ double MpmSimulation<T, D>::choose_dt(double t_limit) const {
     // Sec 6.7: dt* = max(dt_min, min(dt_max, ν Δx / max(v_max, v_τ))) with grid speeds.
     double vmax = 0;
     const std::ptrdiff_t n = std::ptrdiff_t(p_.size());
-#pragma omp parallel for reduction(max : vmax)
+#pragma omp parallel for reduction(max : vmax) if (parallel_worthwhile())
     for (std::ptrdiff_t q = 0; q < n; ++q) vmax = std::max(vmax, double(p_.v[q].norm()));
     vmax = std::max(vmax, max_grid_speed_);
     dt_star = std::max(tm.dt_min, std::min(tm.dt, tm.nu * dx / std::max(vmax, tm.v_tau)));
@@ -527,7 +527,7 @@ template <class T, int D>
 double MpmSimulation<T, D>::elastic_energy() const {
   double e = 0;
   const std::ptrdiff_t n = std::ptrdiff_t(p_.size());
-#pragma omp parallel for reduction(+ : e)
+#pragma omp parallel for reduction(+ : e) if (parallel_worthwhile())
   for (std::ptrdiff_t q = 0; q < n; ++q) {
     const MaterialParams<T>& mat = materials_[std::size_t(p_.material[q])];
     e += double(p_.volume0[q]) * double(energy_density<T, D>(mat.model, p_.F[q], mat.lame));
@@ -551,7 +551,7 @@ DiagnosticsRow MpmSimulation<T, D>::measure() const {
   const std::ptrdiff_t n = std::ptrdiff_t(p_.size());
   const KernelType kernel = scene_.solver.kernel;
   const Vec3d g = scene_.gravity;
-#pragma omp parallel for reduction(+ : kin, grav, px, py, pz, Lx, Ly, Lz)
+#pragma omp parallel for reduction(+ : kin, grav, px, py, pz, Lx, Ly, Lz) if (parallel_worthwhile())
   for (std::ptrdiff_t q = 0; q < n; ++q) {
     const double m = double(p_.mass[q]);
     const Vec<T, D>& v = p_.v[q];

@@ -46,6 +46,13 @@ class Simulation {
   virtual void write_particles_csv(std::ostream& out) const = 0;
 };
 
+// Scenes with fewer particles than this run their loops on one thread (an OpenMP region
+// costs more than it saves there). Tests set it to 0 to exercise the parallel paths.
+inline std::size_t& parallel_min_particles() {
+  static std::size_t n = 20000;
+  return n;
+}
+
 // Builds the initial particles from the scene. Throws SceneError for scenes it cannot build.
 std::unique_ptr<Simulation> make_simulation(const SceneDesc& scene,
                                             Precision precision = Precision::dbl);
