@@ -44,7 +44,7 @@ Eigen::Matrix<T, D * D, D * D> projected_stress_hessian(MaterialModel model, con
     Mat<T, D> dP = first_piola_differential<T, D>(model, F, E, l);
     H.col(c) = Eigen::Map<const Eigen::Matrix<T, N, 1>>(dP.data());
   }
-  H = T(0.5) * (H + H.transpose());
+  H = (T(0.5) * (H + H.transpose())).eval();  // eval: H aliases Hᵀ
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix<T, N, N>> eig(H);
   Eigen::Matrix<T, N, 1> ev = eig.eigenvalues();
   if (ev.minCoeff() >= T(0)) return H;
@@ -54,15 +54,15 @@ Eigen::Matrix<T, D * D, D * D> projected_stress_hessian(MaterialModel model, con
 
 template <class T, int D>
 template <class K>
-void MpmSimulation<T, D>::implicit_velocity_update(T dt) {
+void MpmSimulation<T, D>::implicit_begin(T dt) {
   const bool backward = scene_.solver.integrator == Integrator::backward;
   const T lambda = T(scene_.solver.integrator_lambda());
-  const T a = backward ? T(1) : lambda;
-  const T b = backward ? T(1) : lambda * (T(1) - lambda);
+  imp_dt_ = dt;
+  imp_a_ = backward ? T(1) : lambda;
+  imp_b_ = backward ? T(1) : lambda * (T(1) - lambda);
   const std::size_t nn = grid_.size();
   const std::ptrdiff_t np = std::ptrdiff_t(p_.size());
-  Vec<T, D> gravity;
-  for (int ax = 0; ax < D; ++ax) gravity[ax] = T(scene_.gravity[ax]);
+  for (int ax = 0; ax < D; ++ax) imp_gravity_[ax] = T(scene_.gravity[ax]);
 
   // Weights once per step (the Hessian-vector products reuse them).
   auto& st = stencils<K>();
@@ -80,14 +80,18 @@ void MpmSimulation<T, D>::implicit_velocity_update(T dt) {
       grid_.velocity[i].setZero();
     }
   }
-  double kinetic = 0, vref2 = 0, msum = 0;
+  double kinetic = 0, vref2 = 0;
+  imp_msum_ = 0;
   for (std::uint32_t i : active_) {
     kinetic += 0.5 * double(grid_.mass[i]) * double(grid_.velocity[i].squaredNorm());
     vref2 += double(grid_.mass[i]) * double(grid_.velocity[i].squaredNorm());
-    msum += double(grid_.mass[i]);
+    imp_msum_ += double(grid_.mass[i]);
   }
   kinetic_grid_ = kinetic;
+  imp_vref_ = std::sqrt(vref2 / std::max(imp_msum_, 1e-300));
   for (auto* v : {&dv_, &grad_, &dir_, &cg_r_, &cg_p_, &cg_s_, &work_}) v->assign(nn, Vec<T, D>::Zero());
+  Fy_.resize(p_.size());
+  hess_.resize(p_.size());
 
   // Boundary conditions as linear constraints on ṽ: Δv = P z + d. Separating walls act as slip
   // where the material moves into them at the start of the step, and are free otherwise.
@@ -97,111 +101,144 @@ void MpmSimulation<T, D>::implicit_velocity_update(T dt) {
     if (c.condition == BoundaryCondition::separate && grid_.velocity[c.node].dot(c.normal) >= T(0)) continue;
     active_constraints_.push_back(c);
   }
-  auto project = [&](std::vector<Vec<T, D>>& z) {
-    for (const auto& c : active_constraints_) {
-      Vec<T, D>& v = z[c.node];
-      if (c.condition == BoundaryCondition::sticky) v.setZero();
-      else v -= v.dot(c.normal) * c.normal;
-    }
-  };
   for (const auto& c : active_constraints_) {  // d: makes ṽ = v + d satisfy the constraints
     Vec<T, D> v = grid_.velocity[c.node] + dv_[c.node];
     if (c.condition == BoundaryCondition::sticky) v.setZero();
     else v -= v.dot(c.normal) * c.normal;
     dv_[c.node] = v - grid_.velocity[c.node];
   }
+}
 
-  // F at the force position y and E(Δv); the gradient is filled when `gradient` is set.
-  Fy_.resize(p_.size());
-  auto evaluate = [&](const std::vector<Vec<T, D>>& dv, bool gradient) -> double {
-    double phi = 0;
-    bool inverted = false;
+template <class T, int D>
+void MpmSimulation<T, D>::implicit_project(std::vector<Vec<T, D>>& z) const {
+  for (const auto& c : active_constraints_) {
+    Vec<T, D>& v = z[c.node];
+    if (c.condition == BoundaryCondition::sticky) v.setZero();
+    else v -= v.dot(c.normal) * c.normal;
+  }
+}
+
+// E(Δv) with F evaluated at the force position y (kept in Fy_); fills grad_ when asked.
+template <class T, int D>
+template <class K>
+double MpmSimulation<T, D>::implicit_energy(const std::vector<Vec<T, D>>& dv, bool gradient) {
+  const auto& st = stencils<K>();
+  const T a = imp_a_, b = imp_b_, dt = imp_dt_;
+  const std::ptrdiff_t np = std::ptrdiff_t(p_.size());
+  double phi = 0;
+  bool inverted = false;
 #pragma omp parallel for schedule(static) reduction(+ : phi) reduction(|| : inverted) if (parallel_worthwhile())
-    for (std::ptrdiff_t q = 0; q < np; ++q) {
-      Mat<T, D> G = Mat<T, D>::Zero();
-      st[std::size_t(q)].for_each([&](std::size_t i, T, const Vec<T, D>& gw, const Vec<T, D>&) {
-        G += (a * grid_.velocity[i] + b * dv[i]) * gw.transpose();
-      });
-      Mat<T, D> F = (Mat<T, D>::Identity() + dt * G) * p_.F[std::size_t(q)];
-      Fy_[std::size_t(q)] = F;
-      const MaterialParams<T>& mat = materials_[std::size_t(p_.material[std::size_t(q)])];
-      T psi = energy_density<T, D>(mat.model, F, mat.lame);
-      if (!std::isfinite(double(psi))) inverted = true;
-      phi += double(p_.volume0[std::size_t(q)]) * double(psi);
-    }
-    if (inverted) return std::numeric_limits<double>::infinity();
-    double e = b > T(0) ? phi / double(b) : 0.0;
-    for (std::uint32_t i : active_)
-      e += double(grid_.mass[i]) * (0.5 * double(dv[i].squaredNorm()) - double(dt) * double(gravity.dot(dv[i])));
-    if (gradient) {
-      // g = M Δv − Δt M g − Δt f(y), f_i = −Σ V P(F_y) F^nᵀ ∇w (eq 34).
-      for (std::uint32_t i : active_) grad_[i] = grid_.mass[i] * (dv[i] - dt * gravity);
-      for_each_particle_coloured([&](std::uint32_t q) {
-        const MaterialParams<T>& mat = materials_[std::size_t(p_.material[q])];
-        Mat<T, D> stress = (dt * p_.volume0[q]) * first_piola<T, D>(mat.model, Fy_[q], mat.lame) * p_.F[q].transpose();
-        st[q].for_each([&](std::size_t i, T, const Vec<T, D>& gw, const Vec<T, D>&) { grad_[i] += stress * gw; });
-      });
-    }
-    return e;
-  };
-  // H δ = M δ + b Δt² K δ with the per-particle PSD-projected ∂P/∂F (eqs 35-36).
-  constexpr int N = D * D;
-  auto hessian_apply = [&](const std::vector<Vec<T, D>>& in, std::vector<Vec<T, D>>& out) {
-    for (std::uint32_t i : active_) out[i] = grid_.mass[i] * in[i];
-    for_each_particle_coloured([&](std::uint32_t q) {
-      Mat<T, D> G = Mat<T, D>::Zero();
-      st[q].for_each([&](std::size_t i, T, const Vec<T, D>& gw, const Vec<T, D>&) { G += in[i] * gw.transpose(); });
-      Mat<T, D> dF = (b * dt) * G * p_.F[q];
-      Mat<T, D> dP;
-      Eigen::Map<Eigen::Matrix<T, N, 1>>(dP.data()) = hess_[q] * Eigen::Map<const Eigen::Matrix<T, N, 1>>(dF.data());
-      Mat<T, D> s = (dt * p_.volume0[q]) * dP * p_.F[q].transpose();
-      st[q].for_each([&](std::size_t i, T, const Vec<T, D>& gw, const Vec<T, D>&) { out[i] += s * gw; });
+  for (std::ptrdiff_t q = 0; q < np; ++q) {
+    Mat<T, D> G = Mat<T, D>::Zero();
+    st[std::size_t(q)].for_each([&](std::size_t i, T, const Vec<T, D>& gw, const Vec<T, D>&) {
+      G += (a * grid_.velocity[i] + b * dv[i]) * gw.transpose();
     });
-  };
-  auto dot_m = [&](const std::vector<Vec<T, D>>& u, const std::vector<Vec<T, D>>& w) {
-    double s = 0;
-    for (std::uint32_t i : active_) s += double(grid_.mass[i]) * double(u[i].dot(w[i]));
-    return s;
-  };
+    Mat<T, D> F = (Mat<T, D>::Identity() + dt * G) * p_.F[std::size_t(q)];
+    Fy_[std::size_t(q)] = F;
+    const MaterialParams<T>& mat = materials_[std::size_t(p_.material[std::size_t(q)])];
+    T psi = energy_density<T, D>(mat.model, F, mat.lame);
+    if (!std::isfinite(double(psi))) inverted = true;
+    phi += double(p_.volume0[std::size_t(q)]) * double(psi);
+  }
+  if (inverted) return std::numeric_limits<double>::infinity();
+  double e = b > T(0) ? phi / double(b) : 0.0;
+  for (std::uint32_t i : active_)
+    e += double(grid_.mass[i]) * (0.5 * double(dv[i].squaredNorm()) - double(dt) * double(imp_gravity_.dot(dv[i])));
+  if (gradient) {
+    // g = M Δv − Δt M g − Δt f(y), f_i = −Σ V P(F_y) F^nᵀ ∇w (eq 34).
+    for (std::uint32_t i : active_) grad_[i] = grid_.mass[i] * (dv[i] - dt * imp_gravity_);
+    for_each_particle_coloured([&](std::uint32_t q) {
+      const MaterialParams<T>& mat = materials_[std::size_t(p_.material[q])];
+      Mat<T, D> stress = (dt * p_.volume0[q]) * first_piola<T, D>(mat.model, Fy_[q], mat.lame) * p_.F[q].transpose();
+      st[q].for_each([&](std::size_t i, T, const Vec<T, D>& gw, const Vec<T, D>&) { grad_[i] += stress * gw; });
+    });
+  }
+  return e;
+}
 
-  if (b == T(0)) {  // λ = 1: explicit, forces at y = x + Δt v
-    evaluate(dv_, true);
+template <class T, int D>
+void MpmSimulation<T, D>::implicit_update_hessian(bool project_definite) {
+  const std::ptrdiff_t np = std::ptrdiff_t(p_.size());
+  constexpr int N = D * D;
+#pragma omp parallel for schedule(static) if (parallel_worthwhile())
+  for (std::ptrdiff_t q = 0; q < np; ++q) {
+    const MaterialParams<T>& mat = materials_[std::size_t(p_.material[std::size_t(q)])];
+    const Mat<T, D>& F = Fy_[std::size_t(q)];
+    if (project_definite) {
+      hess_[std::size_t(q)] = projected_stress_hessian<T, D>(mat.model, F, mat.lame);
+    } else {
+      for (int c = 0; c < N; ++c) {
+        Mat<T, D> E = Mat<T, D>::Zero();
+        E(c % D, c / D) = T(1);
+        Mat<T, D> dP = first_piola_differential<T, D>(mat.model, F, E, mat.lame);
+        hess_[std::size_t(q)].col(c) = Eigen::Map<const Eigen::Matrix<T, N, 1>>(dP.data());
+      }
+    }
+  }
+}
+
+// out = H in = M in + b Δt² K in with the per-particle ∂P/∂F in hess_ (eqs 35-36).
+template <class T, int D>
+template <class K>
+void MpmSimulation<T, D>::implicit_hessian_apply(const std::vector<Vec<T, D>>& in, std::vector<Vec<T, D>>& out) {
+  constexpr int N = D * D;
+  const auto& st = stencils<K>();
+  const T b = imp_b_, dt = imp_dt_;
+  for (std::uint32_t i : active_) out[i] = grid_.mass[i] * in[i];
+  for_each_particle_coloured([&](std::uint32_t q) {
+    Mat<T, D> G = Mat<T, D>::Zero();
+    st[q].for_each([&](std::size_t i, T, const Vec<T, D>& gw, const Vec<T, D>&) { G += in[i] * gw.transpose(); });
+    Mat<T, D> dF = (b * dt) * G * p_.F[q];
+    Mat<T, D> dP;
+    Eigen::Map<Eigen::Matrix<T, N, 1>>(dP.data()) = hess_[q] * Eigen::Map<const Eigen::Matrix<T, N, 1>>(dF.data());
+    Mat<T, D> s = (dt * p_.volume0[q]) * dP * p_.F[q].transpose();
+    st[q].for_each([&](std::size_t i, T, const Vec<T, D>& gw, const Vec<T, D>&) { out[i] += s * gw; });
+  });
+}
+
+template <class T, int D>
+template <class K>
+void MpmSimulation<T, D>::implicit_velocity_update(T dt) {
+  implicit_begin<K>(dt);
+  const std::size_t nn = grid_.size();
+  if (imp_b_ == T(0)) {  // λ = 1: explicit, forces at y = x + Δt v
+    implicit_energy<K>(dv_, true);
     for (std::uint32_t i : active_) dv_[i] = -grad_[i] / grid_.mass[i];
-    project(dv_);
+    implicit_project(dv_);
     for (std::size_t i = 0; i < nn; ++i) grid_.velocity_new[i] = grid_.velocity[i] + dv_[i];
     last_newton_iters_ = last_cg_iters_ = 0;
     last_residual_ = 0;
     last_converged_ = true;
     return;
   }
-  const double vref = std::max({std::sqrt(vref2 / std::max(msum, 1e-300)), double(gravity.norm() * dt), 1e-12});
+  auto dot_m = [&](const std::vector<Vec<T, D>>& u, const std::vector<Vec<T, D>>& w) {
+    double s = 0;
+    for (std::uint32_t i : active_) s += double(grid_.mass[i]) * double(u[i].dot(w[i]));
+    return s;
+  };
+  const double vref = std::max({imp_vref_, double(imp_gravity_.norm() * dt), 1e-12});
   const double tol = scene_.solver.newton_tolerance * vref;
-  double energy = evaluate(dv_, true);
+  double energy = implicit_energy<K>(dv_, true);
   int newton = 0, cg_total = 0;
   double residual = 0;
-  hess_.resize(p_.size());
   residuals_.clear();
   for (;; ++newton) {
-    project(grad_);
+    implicit_project(grad_);
     // Residual: mass-weighted RMS of M⁻¹g, a velocity.
     double r2 = 0;
     for (std::uint32_t i : active_) r2 += double(grad_[i].squaredNorm()) / double(grid_.mass[i]);
-    residual = std::sqrt(r2 / std::max(msum, 1e-300));
+    residual = std::sqrt(r2 / std::max(imp_msum_, 1e-300));
     residuals_.push_back(residual);
     if (residual <= tol || newton >= scene_.solver.newton_max_iterations) break;
-#pragma omp parallel for schedule(static) if (parallel_worthwhile())
-    for (std::ptrdiff_t q = 0; q < np; ++q) {
-      const MaterialParams<T>& mat = materials_[std::size_t(p_.material[std::size_t(q)])];
-      hess_[std::size_t(q)] = projected_stress_hessian<T, D>(mat.model, Fy_[std::size_t(q)], mat.lame);
-    }
+    implicit_update_hessian(true);
     // CG on A = M⁻¹ P H P, rhs = −M⁻¹ P g, inner product <u, w> = uᵀ M w (Algorithm 1).
     for (std::uint32_t i : active_) { dir_[i].setZero(); cg_r_[i] = -grad_[i] / grid_.mass[i]; cg_p_[i] = cg_r_[i]; }
     double gamma = dot_m(cg_r_, cg_r_), rhs_norm = std::sqrt(gamma);
     for (int k = 0; k < scene_.solver.cg_max_iterations; ++k) {
       if (std::sqrt(gamma) <= scene_.solver.cg_tolerance * rhs_norm) break;
-      hessian_apply(cg_p_, cg_s_);
+      implicit_hessian_apply<K>(cg_p_, cg_s_);
       for (std::uint32_t i : active_) cg_s_[i] /= grid_.mass[i];
-      project(cg_s_);
+      implicit_project(cg_s_);
       double ps = dot_m(cg_p_, cg_s_);
       ++cg_total;
       if (!(ps > 0)) break;
@@ -223,12 +260,12 @@ void MpmSimulation<T, D>::implicit_velocity_update(T dt) {
     double step = 1, trial = 0;
     for (int ls = 0; ls < 30; ++ls, step *= 0.5) {
       for (std::uint32_t i : active_) work_[i] = dv_[i] + T(step) * dir_[i];
-      trial = evaluate(work_, false);
+      trial = implicit_energy<K>(work_, false);
       if (trial <= energy + 1e-4 * step * slope) break;
     }
     if (!(trial <= energy + 1e-4 * step * slope)) break;  // no progress possible at this precision
     for (std::uint32_t i : active_) dv_[i] = work_[i];
-    energy = evaluate(dv_, true);
+    energy = implicit_energy<K>(dv_, true);
   }
   last_newton_iters_ = newton;
   last_cg_iters_ = cg_total;

@@ -71,7 +71,7 @@ struct FixedCorotated {
     Mat<T, D> R, S;
     polar_decomposition<T, D>(F, R, S);
     Mat<T, D> A = R.transpose() * dF;
-    A = A - A.transpose();
+    A = (A - A.transpose()).eval();  // eval: A aliases A.transpose()
     Mat<T, D> W;
     if constexpr (D == 2) {
       T tr = S.trace();

@@ -44,6 +44,11 @@ class MpmSimulation final : public Simulation {
   std::optional<Failure> step(double t_limit, DiagnosticsRow* row) override;
   void step_fixed(double dt) override;
   DiagnosticsRow measure() const override;
+  double total_mass() const override {
+    double m = 0;
+    for (T x : p_.mass) m += double(x);
+    return m;
+  }
   const std::optional<Failure>& failure() const override { return failure_; }
   void set_scheme(Scheme scheme, double flip_alpha) override;
   std::shared_ptr<Snapshot> snapshot(bool with_noise) const override;
@@ -70,11 +75,22 @@ class MpmSimulation final : public Simulation {
   Eigen::Vector3d total_force() const;
   double elastic_energy() const;
 
+  // Implicit solve (sim/implicit.hpp), public so tests can check E, ∇E and H against finite
+  // differences: implicit_begin after particles_to_grid(false), then energy/Hessian at Δv.
+  template <class K> void implicit_velocity_update(T dt);
+  template <class K> void implicit_begin(T dt);
+  template <class K> double implicit_energy(const std::vector<Vec<T, D>>& dv, bool gradient);
+  void implicit_update_hessian(bool project_definite);
+  template <class K> void implicit_hessian_apply(const std::vector<Vec<T, D>>& in, std::vector<Vec<T, D>>& out);
+  void implicit_project(std::vector<Vec<T, D>>& z) const;
+  const std::vector<std::uint32_t>& active_nodes() const { return active_; }
+  const std::vector<Vec<T, D>>& implicit_gradient() const { return grad_; }
+  const std::vector<Vec<T, D>>& implicit_dv() const { return dv_; }
+
  private:
   template <class K, bool affine, bool with_forces> void p2g_impl();
   template <class K, Scheme S> void g2p_impl(T dt);
   template <class K> void velocity_noise(std::vector<float>& out) const;
-  template <class K> void implicit_velocity_update(T dt);  // sim/implicit.hpp
   template <class Fn> void for_each_particle_coloured(Fn&& fn);
   template <class K> std::vector<Stencil<T, D, K>>& stencils() {
     if constexpr (K::type == KernelType::linear) return stencils_linear_;
@@ -112,6 +128,9 @@ class MpmSimulation final : public Simulation {
   std::vector<Eigen::Matrix<T, D * D, D * D>> hess_;
   int last_newton_iters_ = 0, last_cg_iters_ = 0;
   double last_residual_ = 0;
+  T imp_dt_ = 0, imp_a_ = 0, imp_b_ = 0;
+  Vec<T, D> imp_gravity_ = Vec<T, D>::Zero();
+  double imp_msum_ = 0, imp_vref_ = 0;
   bool last_converged_ = true;
 
  public:

@@ -386,7 +386,7 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
           }
           C = Cr;
         } else {
-          C = T(0.5) * (C - C.transpose());  // RPIC: the skew part, ω = K⁻¹ l (Sec 5.6.3)
+          C = (T(0.5) * (C - C.transpose())).eval();  // RPIC: the skew part, ω = K⁻¹ l (Sec 5.6.3)
         }
       }
       p_.C[q] = C;
@@ -614,7 +614,7 @@ void MpmSimulation<T, D>::set_scheme(Scheme scheme, double flip_alpha) {
   if (scheme == Scheme::pic || scheme == Scheme::flip) {
     for (auto& C : p_.C) C.setZero();
   } else if (scheme == Scheme::rpic && was_affine) {
-    for (auto& C : p_.C) C = T(0.5) * (C - C.transpose());
+    for (auto& C : p_.C) C = (T(0.5) * (C - C.transpose())).eval();  // eval: C aliases Cᵀ
   }
 }
 

@@ -46,7 +46,7 @@ RoundTripResult run(Scheme scheme, int n, std::uint64_t seed) {
     });
     Mat<T, D> C = Mat<T, D>::Zero();
     if (affine) C = K::type == KernelType::linear ? G : Mat<T, D>(B / k);
-    if (scheme == Scheme::rpic) C = 0.5 * (C - C.transpose());
+    if (scheme == Scheme::rpic) C = (0.5 * (C - C.transpose())).eval();  // eval: C aliases Cᵀ
     // P2G with unit particle mass (eqs 24, 26).
     st.for_each([&](std::size_t i, T w, const Vec<T, D>&, const Vec<T, D>& r) {
       mass[i] += w;

@@ -34,7 +34,8 @@ class Simulation {
   // One step of exactly dt, without diagnostics or blow-up checks (benchmarks, tests).
   virtual void step_fixed(double dt) = 0;
 
-  virtual DiagnosticsRow measure() const = 0;  // energies and momenta of the current state
+  virtual DiagnosticsRow measure() const = 0;
+  virtual double total_mass() const = 0;  // energies and momenta of the current state
   virtual const std::optional<Failure>& failure() const = 0;
 
   // Switches the transfer scheme live, from the current state (PIC/FLIP drop C_p).
