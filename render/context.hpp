@@ -29,6 +29,8 @@ class OffscreenContext {
 };
 
 // Creates a context, makes it current and loads the gl:: functions. Throws ContextError.
+// APICLAB_EGL_LIBRARY and APICLAB_OSMESA_LIBRARY name other libraries to load (tests use
+// them to play a machine without either).
 std::unique_ptr<OffscreenContext> create_offscreen_context(Backend backend);
 
 // The two halves (context.cpp picks); each throws ContextError with its own reason.

@@ -5,6 +5,7 @@
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
 
+#include <cstdlib>
 #include <cstring>
 #include <functional>
 #include <vector>
@@ -37,8 +38,10 @@ struct Egl {
 // The one loaded libEGL (never unloaded: drivers register exit handlers).
 const Egl& egl_library() {
   static const Egl egl = [] {
-    void* lib = dlopen("libEGL.so.1", RTLD_NOW | RTLD_LOCAL);
-    if (!lib) throw ContextError("libEGL.so.1 not found");
+    const char* override_name = std::getenv("APICLAB_EGL_LIBRARY");
+    const std::string name = override_name ? override_name : "libEGL.so.1";
+    void* lib = dlopen(name.c_str(), RTLD_NOW | RTLD_LOCAL);
+    if (!lib) throw ContextError(name + " not found");
     Egl e;
     auto sym = [&](auto& fn, const char* name) {
       fn = reinterpret_cast<std::remove_reference_t<decltype(fn)>>(dlsym(lib, name));

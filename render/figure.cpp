@@ -266,7 +266,9 @@ void draw_legend(Renderer& r, const Layout& l, const SceneStyle& s, const Snapsh
     }
     y += 1.0f * f;
   }
-  if (s.vectors && s.vector_scale > 0 && pixels_per_unit > 0) {
+  // The arrow key needs four lines; small images go without it.
+  if (s.vectors && s.vector_scale > 0 && pixels_per_unit > 0 &&
+      y + 4 * f <= l.legend.y + l.legend.h) {
     // A reference arrow of a round speed, about four text heights long.
     const float px_per_speed = s.vector_scale * pixels_per_unit;
     const float speed = nice_floor(4 * f / px_per_speed);
@@ -330,13 +332,19 @@ void draw_figure(Renderer& r, int width, int height, const std::vector<const Sna
   }
 
   if (style.header) {
+    // Scene, scheme (one pane), kernel and integrator on the left, time on the right; the
+    // details give way first when the image is narrow.
     const float baseline = std::round(0.5f * l.pad + r.font(f).ascent() + 0.2f * f);
+    const std::string name = first.scene_name.empty() ? "scene" : first.scene_name;
+    const std::string scheme = panes.size() == 1 ? "  " + scheme_label(first) : "";
+    const std::string details = "  " + first.kernel + " \u00B7 " + first.integrator;
+    const std::string time = "t = " + format("%.3f", first.time);
+    const float room = float(width) - 2 * l.pad - r.text_width(time, f) - f;
     float x = l.pad;
-    x += r.text(first.scene_name.empty() ? "scene" : first.scene_name, x, baseline, f, kText);
-    if (panes.size() == 1) x += r.text("  " + scheme_label(first), x, baseline, f, kText);
-    std::string details = "  " + first.kernel + " \u00B7 " + first.integrator;
-    r.text(details, x, baseline, f, kMuted);
-    r.text("t = " + format("%.3f", first.time), float(width) - l.pad, baseline, f, kText, 1);
+    x += r.text(name, x, baseline, f, kText);
+    if (r.text_width(name + scheme, f) <= room) x += r.text(scheme, x, baseline, f, kText);
+    if (r.text_width(name + scheme + details, f) <= room) r.text(details, x, baseline, f, kMuted);
+    r.text(time, float(width) - l.pad, baseline, f, kText, 1);
   }
   if (style.legend) draw_legend(r, l, scene, first, pixels_per_unit);
   r.end_frame();

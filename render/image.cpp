@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <stdexcept>
 
+#ifdef APICLAB_HAVE_ZLIB
 #include <zlib.h>
 
 namespace {
@@ -21,6 +22,7 @@ unsigned char* deflate_with_zlib(unsigned char* data, int length, int* out_lengt
 }  // namespace
 
 #define STBIW_ZLIB_COMPRESS deflate_with_zlib
+#endif
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #define STB_IMAGE_IMPLEMENTATION
 #define STBI_ONLY_PNG

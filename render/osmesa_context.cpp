@@ -2,6 +2,8 @@
 // dlopen'ed; the context draws into our own framebuffer object, so its buffer is tiny.
 #include <dlfcn.h>
 
+#include <cstdlib>
+#include <string>
 #include <vector>
 
 #include "render/context.hpp"
@@ -22,9 +24,12 @@ struct OsMesa {
 const OsMesa& osmesa_library() {
   static const OsMesa osmesa = [] {
     void* lib = nullptr;
-    for (const char* name : {"libOSMesa.so.8", "libOSMesa.so.6", "libOSMesa.so"})
-      if ((lib = dlopen(name, RTLD_NOW | RTLD_LOCAL))) break;
-    if (!lib) throw ContextError("libOSMesa.so.8 not found");
+    const char* override_name = std::getenv("APICLAB_OSMESA_LIBRARY");
+    std::vector<std::string> names = {"libOSMesa.so.8", "libOSMesa.so.6", "libOSMesa.so"};
+    if (override_name) names = {override_name};
+    for (const std::string& name : names)
+      if ((lib = dlopen(name.c_str(), RTLD_NOW | RTLD_LOCAL))) break;
+    if (!lib) throw ContextError(names.front() + " not found");
     OsMesa o;
     auto sym = [&](auto& fn, const char* name) {
       fn = reinterpret_cast<std::remove_reference_t<decltype(fn)>>(dlsym(lib, name));
