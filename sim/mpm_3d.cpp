@@ -1,7 +1,19 @@
-// Explicit instantiations of the 3D solver, float and double.
+// Explicit instantiations of the 3D solver, float and double, with the implicit-solve
+// phases that tests call directly.
 #include "mpm_impl.hpp"
 
 namespace apiclab {
+
+#define APICLAB_INSTANTIATE(T, K)                                                                     \
+  template void MpmSimulation<T, 3>::implicit_begin<K>(T);                                        \
+  template double MpmSimulation<T, 3>::implicit_energy<K>(const std::vector<Vec<T, 3>>&, bool); \
+  template void MpmSimulation<T, 3>::implicit_hessian_apply<K>(const std::vector<Vec<T, 3>>&,    \
+                                                               std::vector<Vec<T, 3>>&);
+
 template class MpmSimulation<float, 3>;
 template class MpmSimulation<double, 3>;
+APICLAB_INSTANTIATE(double, LinearKernel)
+APICLAB_INSTANTIATE(double, QuadraticKernel)
+APICLAB_INSTANTIATE(double, CubicKernel)
+
 }  // namespace apiclab
