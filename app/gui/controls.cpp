@@ -1,0 +1,247 @@
+// The control column: scene, playback, panes and schemes (live), solver and material values
+// (restart), view options, and throughput. Every combo is built from the registry's keys.
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+
+#include "app/gui/viewer_state.hpp"
+#include "render/color.hpp"
+
+namespace apiclab::gui {
+namespace {
+
+const ImVec4 kError{0.80f, 0.12f, 0.12f, 1};
+const ImVec4 kMuted{0.42f, 0.42f, 0.45f, 1};
+const ImVec4 kNote{0.70f, 0.42f, 0.0f, 1};
+
+// A combo over a registry list; the hovered choice shows its help line.
+template <class E>
+bool choice_combo(const char* label, E& value, const std::vector<Choice<E>>& choices) {
+  bool changed = false;
+  if (ImGui::BeginCombo(label, std::string(choice_key(choices, value)).c_str())) {
+    for (auto& c : choices) {
+      if (ImGui::Selectable(std::string(c.key).c_str(), c.value == value) && c.value != value)
+        value = c.value, changed = true;
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", std::string(c.help).c_str());
+    }
+    ImGui::EndCombo();
+  }
+  return changed;
+}
+
+// The same with a first entry meaning "the scene's value".
+template <class E>
+bool optional_combo(const char* label, std::optional<E>& value, const std::vector<Choice<E>>& choices) {
+  bool changed = false;
+  const std::string shown = value ? std::string(choice_key(choices, *value)) : "scene";
+  if (ImGui::BeginCombo(label, shown.c_str())) {
+    if (ImGui::Selectable("scene", !value) && value) value.reset(), changed = true;
+    for (auto& c : choices) {
+      if (ImGui::Selectable(std::string(c.key).c_str(), value && *value == c.value) && !(value && *value == c.value))
+        value = c.value, changed = true;
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", std::string(c.help).c_str());
+    }
+    ImGui::EndCombo();
+  }
+  return changed;
+}
+
+void section(const char* title) {
+  ImGui::Spacing();
+  ImGui::TextColored(ImVec4(0.15f, 0.30f, 0.55f, 1), "%s", title);
+  ImGui::Separator();
+}
+
+void restart_because(ViewerState& st, SimWorker& worker, const std::string& what) {
+  st.notice = what + " changed: restarted from t = 0";
+  restart(st, worker);
+}
+
+std::string human(double v, const char* unit) {
+  char buf[64];
+  const char* prefix[] = {"", "k", "M", "G", "T"};
+  int k = 0;
+  while (v >= 1000 && k < 4) v /= 1000, ++k;
+  std::snprintf(buf, sizeof buf, "%.3g %s%s", v, prefix[k], unit);
+  return buf;
+}
+
+void scene_section(ViewerState& st, SimWorker& worker) {
+  section("Scene");
+  const std::string current = std::filesystem::path(st.scene_path).stem().string();
+  ImGui::SetNextItemWidth(-1);
+  if (ImGui::BeginCombo("##scene", current.c_str())) {
+    for (auto& f : st.scene_files) {
+      const std::string name = std::filesystem::path(f).stem().string();
+      if (ImGui::Selectable(name.c_str(), f == st.scene_path)) load_scene_file(st, worker, f);
+    }
+    ImGui::EndCombo();
+  }
+  ImGui::SetNextItemWidth(-60);
+  const bool enter = ImGui::InputTextWithHint("##open", "path/to/scene.json", st.open_path, sizeof st.open_path,
+                                              ImGuiInputTextFlags_EnterReturnsTrue);
+  ImGui::SameLine();
+  if ((ImGui::Button("Open", ImVec2(-1, 0)) || enter) && st.open_path[0]) load_scene_file(st, worker, st.open_path);
+  if (!st.load_error.empty()) {
+    ImGui::PushStyleColor(ImGuiCol_Text, kError);
+    ImGui::TextWrapped("%s", st.load_error.c_str());
+    ImGui::PopStyleColor();
+  }
+  if (st.scene_loaded && !st.scene.description.empty()) {
+    ImGui::PushStyleColor(ImGuiCol_Text, kMuted);
+    ImGui::TextWrapped("%s", st.scene.description.c_str());
+    ImGui::PopStyleColor();
+  }
+}
+
+void playback_section(ViewerState& st, const Published& pub, SimWorker& worker) {
+  section("Run");
+  const float w = (ImGui::GetContentRegionAvail().x - 2 * ImGui::GetStyle().ItemSpacing.x) / 3;
+  if (ImGui::Button(pub.playing ? "Pause" : "Play", ImVec2(w, 0))) worker.play(!pub.playing);
+  ImGui::SameLine();
+  if (ImGui::Button("Step", ImVec2(w, 0))) worker.step_frame();
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("advance one frame (1/fps of simulated time)");
+  ImGui::SameLine();
+  if (ImGui::Button("Reset", ImVec2(w, 0))) worker.reset(), st.notice.clear();
+  if (ImGui::RadioButton("real time", st.realtime)) st.realtime = true, worker.set_realtime(true);
+  ImGui::SameLine();
+  if (ImGui::RadioButton("as fast as possible", !st.realtime)) st.realtime = false, worker.set_realtime(false);
+  const double t = pub.panes.empty() ? 0 : pub.panes[0].snapshot->time;
+  const double end = pub.scene ? pub.scene->time.end : 0;
+  ImGui::ProgressBar(end > 0 ? float(t / end) : 0, ImVec2(-1, 0),
+                     (std::to_string(t).substr(0, 7) + " / " + std::to_string(end).substr(0, 7) + " s").c_str());
+  ImGui::Text("%s sim s / wall s", human(pub.sim_seconds_per_wall_second, "").c_str());
+  ImGui::Text("%s particle-steps/s", human(pub.particle_steps_per_second, "").c_str());
+  ImGui::Text("display %.0f fps (%.1f ms/frame, GUI CPU %.1f ms)", st.frame_ms > 0 ? 1000 / st.frame_ms : 0,
+              st.frame_ms, st.frame_cpu_ms);
+  if (!pub.error.empty()) {
+    ImGui::PushStyleColor(ImGuiCol_Text, kError);
+    ImGui::TextWrapped("%s", pub.error.c_str());
+    ImGui::PopStyleColor();
+  }
+  if (!st.notice.empty()) {
+    ImGui::PushStyleColor(ImGuiCol_Text, kNote);
+    ImGui::TextWrapped("%s", st.notice.c_str());
+    ImGui::PopStyleColor();
+  }
+}
+
+void panes_section(ViewerState& st, const Published& pub, SimWorker& worker) {
+  section("Panes: scheme switches live");
+  for (std::size_t k = 0; k < st.panes.size(); ++k) {
+    PaneConfig& c = st.panes[k];
+    ImGui::PushID(int(k));
+    ImGui::ColorButton("##c", ImGui::ColorConvertU32ToFloat4(pane_color(k)), ImGuiColorEditFlags_NoTooltip, ImVec2(12, 12));
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(80);
+    if (choice_combo("##scheme", c.scheme, scheme_choices())) worker.set_scheme(k, c.scheme, c.flip_alpha);
+    if (c.scheme == Scheme::flip) {
+      ImGui::SameLine();
+      ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x - (st.panes.size() > 1 ? 30 : 0));
+      float a = float(c.flip_alpha);
+      if (ImGui::SliderFloat("##alpha", &a, 0, 1, "alpha %.2f")) c.flip_alpha = a, worker.set_scheme(k, c.scheme, a);
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("FLIP/PIC blend (eq 3): 1 = pure FLIP, 0 = PIC");
+    }
+    if (st.panes.size() > 1) {
+      ImGui::SameLine(ImGui::GetWindowContentRegionMax().x - 22);
+      if (ImGui::SmallButton("x")) {
+        st.panes.erase(st.panes.begin() + std::ptrdiff_t(k));
+        restart_because(st, worker, "Panes");
+        ImGui::PopID();
+        break;
+      }
+    }
+    ImGui::Indent(18);
+    const float half = (ImGui::GetContentRegionAvail().x - ImGui::GetStyle().ItemSpacing.x) / 2;
+    ImGui::SetNextItemWidth(half);
+    if (optional_combo("##kernel", c.kernel, kernel_choices())) restart_because(st, worker, "Pane kernel");
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("kernel for this pane (restarts)");
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(half);
+    if (optional_combo("##integrator", c.integrator, integrator_choices())) restart_because(st, worker, "Pane integrator");
+    if (ImGui::IsItemHovered()) ImGui::SetTooltip("integrator for this pane (restarts)");
+    ImGui::Unindent(18);
+    ImGui::PopID();
+  }
+  if (st.panes.size() < 4 && ImGui::Button("+ add pane (restarts)", ImVec2(-1, 0))) {
+    PaneConfig next = st.panes.empty() ? PaneConfig{} : st.panes.back();
+    next.scheme = Scheme((int(next.scheme) + 1) % int(scheme_choices().size()));
+    st.panes.push_back(next);
+    restart_because(st, worker, "Panes");
+  }
+}
+
+void solver_section(ViewerState& st, SimWorker& worker) {
+  section("Solver (changes restart)");
+  SceneDesc& s = st.scene;
+  ImGui::PushItemWidth(-110);
+  if (choice_combo("kernel", s.solver.kernel, kernel_choices())) restart_because(st, worker, "Kernel");
+  if (choice_combo("integrator", s.solver.integrator, integrator_choices())) restart_because(st, worker, "Integrator");
+  if (choice_combo("time step", s.time.rule, dt_rule_choices())) restart_because(st, worker, "Time-step rule");
+  if (s.time.rule == DtRule::fixed) {
+    ImGui::InputDouble("dt [s]", &s.time.dt, 0, 0, "%.3g");
+    if (ImGui::IsItemDeactivatedAfterEdit()) restart_because(st, worker, "dt");
+  } else {
+    ImGui::InputDouble("Courant nu", &s.time.nu, 0, 0, "%.3g");
+    if (ImGui::IsItemDeactivatedAfterEdit()) restart_because(st, worker, "Courant number");
+  }
+  for (std::size_t m = 0; m < s.materials.size(); ++m) {
+    MaterialDesc& mat = s.materials[m];
+    ImGui::PushID(int(m));
+    ImGui::TextColored(kMuted, "material '%s'", mat.name.c_str());
+    if (choice_combo("model", mat.model, material_choices())) restart_because(st, worker, "Material model");
+    ImGui::InputDouble("E [Pa]", &mat.E, 0, 0, "%.4g");
+    if (ImGui::IsItemDeactivatedAfterEdit()) restart_because(st, worker, "Young's modulus");
+    ImGui::InputDouble("nu", &mat.nu, 0, 0, "%.4g");
+    if (ImGui::IsItemDeactivatedAfterEdit()) restart_because(st, worker, "Poisson ratio");
+    ImGui::InputDouble("rho [kg/m^d]", &mat.rho, 0, 0, "%.4g");
+    if (ImGui::IsItemDeactivatedAfterEdit()) restart_because(st, worker, "Density");
+    ImGui::PopID();
+  }
+  ImGui::PopItemWidth();
+}
+
+void view_section(ViewerState& st, const Published& pub, SimWorker& worker) {
+  section("View");
+  ImGui::PushItemWidth(-110);
+  const char* modes[] = {"speed", "material", "object", "noise"};
+  int mode = int(st.color);
+  if (ImGui::Combo("color", &mode, modes, 4)) {
+    st.color = render::ColorMode(mode);
+    st.color_max = 0, st.scaled_for = nullptr;
+    worker.set_noise(st.color == render::ColorMode::noise);
+  }
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("noise: |v_p - PIC-interpolated grid velocity|, FLIP's null modes");
+  if (render::is_scalar(st.color)) {
+    ImGui::Checkbox("auto scale", &st.auto_scale);
+    ImGui::SameLine();
+    ImGui::SetNextItemWidth(-1);
+    if (ImGui::DragFloat("##cmax", &st.color_max, st.color_max * 0.01f + 1e-6f, 0, 1e9f, "max %.3g")) st.auto_scale = false;
+  }
+  ImGui::Checkbox("velocity vectors", &st.vectors);
+  ImGui::SameLine();
+  ImGui::Checkbox("grid", &st.grid);
+  ImGui::SliderFloat("arrow length", &st.vector_gain, 0.1f, 10, "x%.2f", ImGuiSliderFlags_Logarithmic);
+  ImGui::SliderFloat("particle size", &st.particle_scale, 0.25f, 4, "x%.2f", ImGuiSliderFlags_Logarithmic);
+  ImGui::PopItemWidth();
+  if (ImGui::Button("Frame domain", ImVec2(-1, 0))) st.framed_generation = ~std::uint64_t(0);
+  (void)pub;
+}
+
+}  // namespace
+
+void draw_controls(ViewerState& st, const Published& pub, SimWorker& worker) {
+  ImGui::Begin("Controls", nullptr, ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoMove |
+                                         ImGuiWindowFlags_NoBringToFrontOnFocus);
+  ImGui::TextColored(ImVec4(0.1f, 0.1f, 0.1f, 1), "apiclab");
+  ImGui::SameLine();
+  ImGui::TextColored(kMuted, "MPM transfers: PIC / FLIP / APIC / RPIC");
+  scene_section(st, worker);
+  playback_section(st, pub, worker);
+  panes_section(st, pub, worker);
+  if (st.scene_loaded) solver_section(st, worker);
+  view_section(st, pub, worker);
+  ImGui::End();
+}
+
+}  // namespace apiclab::gui

@@ -1,0 +1,38 @@
+// One small line-plot widget drawn with ImDrawList (Debian packages no ImPlot): ticks with
+// labels, grid, legend, automatic ranges, linear or log y, and a hover readout. Every plot
+// in the GUI (and the figures later) goes through it.
+#pragma once
+#include <imgui.h>
+
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace apiclab::gui {
+
+struct PlotSeries {
+  std::string label;
+  ImU32 color = IM_COL32(0, 114, 178, 255);
+  std::size_t count = 0;
+  std::function<double(std::size_t)> x, y;  // point i; x must not decrease
+  float thickness = 1.6f;
+};
+
+struct PlotOptions {
+  std::string title;
+  std::string x_label = "t [s]";
+  bool log_y = false;  // non-positive values are left out
+  bool legend = true;
+};
+
+// Lays out `size` pixels at the cursor (width or height <= 0: what is left) and draws.
+void plot(const char* id, ImVec2 size, const PlotOptions& options,
+          const std::vector<PlotSeries>& series);
+
+// Round tick positions covering [lo, hi], about `target` of them; log: powers of ten.
+std::vector<double> nice_ticks(double lo, double hi, int target);
+std::vector<double> log_ticks(double lo, double hi);
+std::string tick_label(double v, double step);  // no more digits than the step needs
+
+}  // namespace apiclab::gui

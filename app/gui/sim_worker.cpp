@@ -1,0 +1,278 @@
+#include "app/gui/sim_worker.hpp"
+
+#include <chrono>
+
+namespace apiclab::gui {
+namespace {
+
+double now_seconds() {
+  using namespace std::chrono;
+  return duration<double>(steady_clock::now().time_since_epoch()).count();
+}
+constexpr double kPublishInterval = 1.0 / 120;  // while playing: no faster than a fast display
+constexpr double kRateWindow = 0.5;             // seconds of wall time per throughput reading
+
+}  // namespace
+
+void History::push(const DiagnosticsRow& row) {
+  tail_.push_back(row);
+  if (tail_.size() == kChunk) {
+    full_.push_back(std::make_shared<const std::vector<DiagnosticsRow>>(std::move(tail_)));
+    tail_ = {};
+    tail_.reserve(kChunk);
+  }
+}
+
+SimWorker::SimWorker() : published_(std::make_shared<Published>()), thread_([this] { run(); }) {}
+
+SimWorker::~SimWorker() {
+  {
+    std::lock_guard lock(mutex_);
+    stop_ = true;
+  }
+  wake_.notify_all();
+  thread_.join();
+}
+
+void SimWorker::enqueue(std::function<void()> command) {
+  {
+    std::lock_guard lock(mutex_);
+    queue_.push_back(std::move(command));
+    ++queued_;
+  }
+  wake_.notify_all();
+}
+
+void SimWorker::load(SceneDesc scene, std::vector<PaneConfig> panes, Precision precision) {
+  enqueue([this, scene = std::move(scene), panes = std::move(panes), precision]() mutable {
+    auto previous = std::move(panes_);
+    auto previous_scene = scene_;
+    scene_ = std::make_shared<const SceneDesc>(std::move(scene));
+    precision_ = precision;
+    panes_.clear();
+    for (auto& c : panes) panes_.push_back(Pane{c, nullptr, nullptr, {}});
+    try {
+      restart_panes();
+      error_.clear();
+    } catch (const std::exception& e) {  // keep showing what ran before
+      error_ = e.what();
+      panes_ = std::move(previous);
+      scene_ = previous_scene;
+    }
+  });
+}
+
+void SimWorker::restart_panes() {
+  for (auto& p : panes_) {
+    SceneDesc s = *scene_;
+    s.solver.scheme = p.config.scheme;
+    s.solver.flip_alpha = p.config.flip_alpha;
+    if (p.config.kernel) s.solver.kernel = *p.config.kernel;
+    if (p.config.integrator) s.solver.integrator = *p.config.integrator;
+    p.initial = make_simulation(s, precision_);  // throws SceneError
+  }
+  for (auto& p : panes_) {
+    p.sim = p.initial->clone();
+    p.history = {};
+    p.history.push(p.sim->measure());
+  }
+  playing_ = false;
+  pending_frames_ = 0;
+  target_ = 0;
+  frame_ = 0;
+  ++generation_;
+}
+
+void SimWorker::play(bool on) {
+  enqueue([this, on] {
+    playing_ = on && !panes_.empty();
+    rate_wall0_ = 0;  // the throughput window starts now, not before the pause
+    rt_wall0_ = now_seconds();
+    rt_sim0_ = target_;
+  });
+}
+
+void SimWorker::step_frame() {
+  enqueue([this] {
+    playing_ = false;
+    if (!panes_.empty()) ++pending_frames_;
+  });
+}
+
+void SimWorker::reset() {
+  enqueue([this] {
+    for (auto& p : panes_) {
+      p.sim = p.initial->clone();
+      // The initial state under the pane's current scheme (PIC/FLIP drop C_p).
+      p.sim->set_scheme(p.config.scheme, p.config.flip_alpha);
+      p.history = {};
+      p.history.push(p.sim->measure());
+    }
+    playing_ = false;
+    pending_frames_ = 0;
+    target_ = 0;
+    frame_ = 0;
+    ++generation_;
+  });
+}
+
+void SimWorker::set_realtime(bool on) {
+  enqueue([this, on] {
+    realtime_ = on;
+    rt_wall0_ = now_seconds();
+    rt_sim0_ = target_;
+  });
+}
+
+void SimWorker::set_scheme(std::size_t pane, Scheme scheme, double flip_alpha) {
+  enqueue([this, pane, scheme, flip_alpha] {
+    if (pane >= panes_.size()) return;
+    panes_[pane].config.scheme = scheme;
+    panes_[pane].config.flip_alpha = flip_alpha;
+    panes_[pane].sim->set_scheme(scheme, flip_alpha);
+  });
+}
+
+void SimWorker::set_noise(bool on) {
+  enqueue([this, on] { noise_ = on; });
+}
+
+std::shared_ptr<const Published> SimWorker::latest() const {
+  std::lock_guard lock(mutex_);
+  return published_;
+}
+
+void SimWorker::sync(std::optional<long> frames_done) {
+  std::unique_lock lock(mutex_);
+  const std::uint64_t wanted = queued_;
+  // A worker with nothing left to do (paused, end of scene, every pane failed) ends the wait.
+  done_.wait(lock, [&] {
+    return stop_ || (ran_ >= wanted && (!frames_done || published_->frame >= *frames_done ||
+                                        !published_->busy));
+  });
+}
+
+double SimWorker::frame_dt() const { return 1.0 / scene_->time.fps; }
+
+bool SimWorker::run_commands() {
+  std::deque<std::function<void()>> batch;
+  {
+    std::lock_guard lock(mutex_);
+    batch.swap(queue_);
+  }
+  for (auto& c : batch) c();
+  return !batch.empty();
+}
+
+void SimWorker::run() {
+  for (;;) {
+    {
+      std::unique_lock lock(mutex_);
+      const bool busy = playing_ || pending_frames_ > 0;
+      if (!busy) wake_.wait(lock, [&] { return stop_ || !queue_.empty(); });
+      if (stop_) return;
+    }
+    if (run_commands()) {
+      publish();
+      std::lock_guard lock(mutex_);
+      ran_ = queued_ - queue_.size();
+      done_.notify_all();
+    }
+    if (playing_ || pending_frames_ > 0) advance();
+  }
+}
+
+void SimWorker::advance() {
+  auto reached = [&](const Pane& p) { return p.sim->failure() || p.sim->time() >= target_; };
+  bool at_target = true;
+  for (auto& p : panes_) at_target = at_target && reached(p);
+  if (at_target) {  // start the next frame, or stop at the scene's end
+    const double next = double(frame_ + 1) * frame_dt();
+    if (next > scene_->time.end + 1e-9 * frame_dt()) {
+      playing_ = false;
+      pending_frames_ = 0;
+      publish();
+      return;
+    }
+    if (realtime_ && pending_frames_ == 0) {  // wait for the wall clock, waking on commands
+      const double due = rt_wall0_ + (next - rt_sim0_);
+      const double now = now_seconds();
+      if (due > now + 1e-4) {
+        std::unique_lock lock(mutex_);
+        wake_.wait_for(lock, std::chrono::duration<double>(due - now),
+                       [&] { return stop_ || !queue_.empty(); });
+        return;
+      }
+      if (now - due > 0.25) {  // the solver cannot keep up: drop the debt instead of sprinting
+        rt_wall0_ = now;
+        rt_sim0_ = target_;
+      }
+    }
+    target_ = next;
+  }
+  // Round-robin one step per pane so every pane reaches the frame time together.
+  const double t0 = now_seconds();
+  double particle_steps = 0;
+  for (bool stepped = true; stepped;) {
+    stepped = false;
+    for (auto& p : panes_) {
+      if (reached(p)) continue;
+      DiagnosticsRow row;
+      if (!p.sim->step(target_, &row)) p.history.push(row);
+      particle_steps += double(p.sim->particle_count());
+      stepped = true;
+    }
+    std::lock_guard lock(mutex_);
+    if (!queue_.empty() || stop_) break;  // commands first; the frame resumes afterwards
+  }
+  const double t1 = now_seconds();
+  rate_work_ += particle_steps;
+  at_target = true;
+  for (auto& p : panes_) at_target = at_target && reached(p);
+  if (at_target) {
+    ++frame_;
+    if (pending_frames_ > 0) --pending_frames_;
+    bool all_failed = true;
+    for (auto& p : panes_) all_failed = all_failed && p.sim->failure().has_value();
+    if (all_failed) playing_ = false, pending_frames_ = 0;
+  }
+  // Throughput over windows of wall time, so the readout is steady.
+  if (rate_wall0_ == 0) rate_wall0_ = t0, rate_sim0_ = target_;
+  if (t1 - rate_wall0_ >= kRateWindow) {
+    double sim_now = 0;
+    for (auto& p : panes_) sim_now = std::max(sim_now, p.sim->time());
+    sim_rate_ = (sim_now - rate_sim0_) / (t1 - rate_wall0_);
+    pstep_rate_ = rate_work_ / (t1 - rate_wall0_);
+    rate_wall0_ = t1, rate_sim0_ = sim_now, rate_work_ = 0;
+  }
+  const bool busy = playing_ || pending_frames_ > 0;
+  if (at_target && (!busy || t1 - last_publish_ >= kPublishInterval)) publish();
+}
+
+void SimWorker::publish() {
+  auto out = std::make_shared<Published>();
+  out->scene = scene_;
+  for (auto& p : panes_) {
+    PaneState s;
+    s.config = p.config;
+    s.snapshot = p.sim->snapshot(noise_);
+    s.history = p.history;
+    s.failure = p.sim->failure();
+    out->panes.push_back(std::move(s));
+  }
+  out->playing = playing_;
+  out->busy = playing_ || pending_frames_ > 0;
+  out->realtime = realtime_;
+  out->noise = noise_;
+  out->sim_seconds_per_wall_second = sim_rate_;
+  out->particle_steps_per_second = pstep_rate_;
+  out->frame = frame_;
+  out->generation = generation_;
+  out->error = error_;
+  last_publish_ = now_seconds();
+  std::lock_guard lock(mutex_);
+  published_ = std::move(out);
+  done_.notify_all();
+}
+
+}  // namespace apiclab::gui

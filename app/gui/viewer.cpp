@@ -1,0 +1,225 @@
+#include "app/gui/viewer.hpp"
+
+#include "render/gl.hpp"  // before GLFW, which must not pull in the system <GL/gl.h>
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <imgui.h>
+#include <imgui_impl_glfw.h>
+#include <imgui_impl_opengl3.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+
+#include "app/gui/scene_view.hpp"
+#include "app/gui/viewer_state.hpp"
+#include "render/gl.hpp"
+#include "render/image.hpp"
+#include "render/renderer.hpp"
+
+namespace apiclab::gui {
+namespace {
+
+constexpr float kSidebar = 350;     // control column width, pixels
+constexpr float kSceneShare = 0.6f; // of the height right of the column; plots below
+
+double now_seconds() {
+  using namespace std::chrono;
+  return duration<double>(steady_clock::now().time_since_epoch()).count();
+}
+
+void setup_style() {
+  ImGui::StyleColorsLight();
+  ImGuiStyle& s = ImGui::GetStyle();
+  s.WindowRounding = 0;
+  s.FrameRounding = 3;
+  s.GrabRounding = 3;
+  s.WindowBorderSize = 0;
+  s.FramePadding = ImVec2(6, 4);
+  s.ItemSpacing = ImVec2(8, 6);
+  s.Colors[ImGuiCol_WindowBg] = ImVec4(0.955f, 0.96f, 0.965f, 1);
+  const char* font = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+  if (std::filesystem::exists(font)) ImGui::GetIO().Fonts->AddFontFromFileTTF(font, 14.5f);
+}
+
+// The window's back buffer as an image, top row first.
+render::Image read_window(int w, int h) {
+  render::Image img(w, h);
+  std::vector<std::uint8_t> rows(std::size_t(w) * h * 4);
+  gl::PixelStorei(GL_PACK_ALIGNMENT, 1);
+  gl::ReadBuffer(GL_BACK);
+  gl::ReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rows.data());
+  for (int y = 0; y < h; ++y)
+    std::copy_n(&rows[std::size_t(h - 1 - y) * w * 4], std::size_t(w) * 4, img.pixel(0, y));
+  for (std::size_t i = 3; i < img.rgba.size(); i += 4) img.rgba[i] = 255;
+  return img;
+}
+
+void* gl_proc(const char* name) { return reinterpret_cast<void*>(glfwGetProcAddress(name)); }
+
+}  // namespace
+
+ImU32 pane_color(std::size_t pane) {
+  static const ImU32 colors[4] = {IM_COL32(0, 114, 178, 255), IM_COL32(213, 94, 0, 255),
+                                  IM_COL32(0, 158, 115, 255), IM_COL32(204, 121, 167, 255)};
+  return colors[pane % 4];
+}
+
+std::string pane_label(const PaneState& p) {
+  std::string s(key_of(p.config.scheme));
+  for (auto& c : s) c = char(std::toupper(static_cast<unsigned char>(c)));
+  if (p.config.scheme == Scheme::flip && p.config.flip_alpha != 1.0) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, " a=%.2f", p.config.flip_alpha);
+    s += buf;
+  }
+  return s;
+}
+
+void restart(ViewerState& st, SimWorker& worker) {
+  worker.load(st.scene, st.panes, st.precision);
+  worker.set_noise(st.color == render::ColorMode::noise);
+}
+
+void load_scene_file(ViewerState& st, SimWorker& worker, const std::string& path,
+                     const std::vector<std::string>& overrides) {
+  try {
+    st.scene = load_scene(resolve_scene_path(path), overrides);
+    st.scene_path = resolve_scene_path(path);
+    st.scene_loaded = true;
+    st.load_error.clear();
+    st.notice.clear();
+    if (st.panes.empty()) st.panes.push_back({st.scene.solver.scheme, st.scene.solver.flip_alpha, {}, {}});
+    restart(st, worker);
+    worker.play(true);
+  } catch (const std::exception& e) {  // the window stays up and shows why
+    st.load_error = e.what();
+  }
+}
+
+bool display_available() {
+  const char* x = std::getenv("DISPLAY");
+  const char* w = std::getenv("WAYLAND_DISPLAY");
+  if (!(x && *x) && !(w && *w)) return false;
+  glfwSetErrorCallback(nullptr);
+  if (!glfwInit()) return false;
+  glfwTerminate();
+  return true;
+}
+
+int run_viewer(const ViewerOptions& opt) {
+  glfwSetErrorCallback([](int code, const char* msg) { std::fprintf(stderr, "apiclab: GLFW %d: %s\n", code, msg); });
+  if (!glfwInit()) {
+    std::fprintf(stderr, "apiclab: cannot open a window (no display?); try `apiclab render`\n");
+    return 2;
+  }
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GL_TRUE);
+  glfwWindowHint(GLFW_SAMPLES, 4);
+  GLFWwindow* window = glfwCreateWindow(opt.width, opt.height, "apiclab", nullptr, nullptr);
+  if (!window) {
+    glfwTerminate();
+    std::fprintf(stderr, "apiclab: cannot create an OpenGL 3.3 window\n");
+    return 2;
+  }
+  glfwMakeContextCurrent(window);
+  glfwSwapInterval(1);
+  if (std::string err = gl::load(gl_proc); !err.empty()) {
+    std::fprintf(stderr, "apiclab: %s\n", err.c_str());
+    glfwDestroyWindow(window);
+    glfwTerminate();
+    return 2;
+  }
+
+  IMGUI_CHECKVERSION();
+  ImGui::CreateContext();
+  ImGui::GetIO().IniFilename = nullptr;  // the layout is fixed; no imgui.ini litter
+  setup_style();
+  ImGui_ImplGlfw_InitForOpenGL(window, true);
+  ImGui_ImplOpenGL3_Init("#version 330 core");
+  int status = 0;
+  {
+    render::Renderer renderer;
+    SimWorker worker;
+    ViewerState st;
+    st.realtime = opt.realtime && opt.screenshot.empty();
+    st.vectors = opt.vectors;
+    st.color = render::parse_color_mode(opt.color);
+    st.precision = parse_choice(precision_choices(), opt.precision, "precision");
+    for (auto& s : opt.schemes) st.panes.push_back({parse_choice(scheme_choices(), s, "scheme"), 1.0, {}, {}});
+    std::error_code ec;
+    for (auto& e : std::filesystem::directory_iterator(scenes_directory(), ec))
+      if (e.path().extension() == ".json") st.scene_files.push_back(e.path().string());
+    std::sort(st.scene_files.begin(), st.scene_files.end());
+    worker.set_realtime(st.realtime);
+    load_scene_file(st, worker, opt.scene, opt.overrides);
+    if (!st.load_error.empty()) std::fprintf(stderr, "apiclab: %s\n", st.load_error.c_str());
+    if (!opt.screenshot.empty() || opt.paused) worker.play(false);
+
+    long frame = 0;
+    double last = now_seconds();
+    while (!glfwWindowShouldClose(window)) {
+      const double t0 = now_seconds();
+      glfwPollEvents();
+      // Screenshots are deterministic: each displayed frame is one more simulated frame.
+      if (!opt.screenshot.empty()) {
+        worker.step_frame();
+        worker.sync(frame + 1);
+      }
+      const auto pub = worker.latest();
+      ImGui_ImplOpenGL3_NewFrame();
+      ImGui_ImplGlfw_NewFrame();
+      ImGui::NewFrame();
+      int fw, fh;
+      glfwGetFramebufferSize(window, &fw, &fh);
+      const float W = float(fw), H = float(fh);
+      ImGui::SetNextWindowPos(ImVec2(0, 0));
+      ImGui::SetNextWindowSize(ImVec2(kSidebar, H));
+      draw_controls(st, *pub, worker);
+      const float scene_h = std::round(H * kSceneShare);
+      draw_plots(st, *pub, ImVec2(kSidebar, scene_h), ImVec2(W - kSidebar, H - scene_h));
+      renderer.begin_frame(fw, fh, {255, 255, 255, 255});
+      draw_scene_panes(renderer, st, *pub, {kSidebar, 0, W - kSidebar, scene_h});
+      renderer.end_frame();
+      ImGui::Render();
+      gl::Viewport(0, 0, fw, fh);
+      ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+      ++frame;
+      if (!opt.screenshot.empty() && frame >= std::max(opt.frames, 1)) {
+        const auto rects = pane_scene_rects({kSidebar, 0, W - kSidebar, scene_h - 44}, pub->panes.size());
+        for (std::size_t k = 0; k < rects.size(); ++k)  // where each pane is, for the smoke test
+          std::printf("pane %zu: %.0f %.0f %.0f %.0f\n", k, rects[k].x, rects[k].y, rects[k].w, rects[k].h);
+        try {
+          render::write_png(read_window(fw, fh), opt.screenshot);
+          std::printf("screenshot: %s (%dx%d, %ld frames, t = %.4g s)\n", opt.screenshot.c_str(), fw, fh, frame,
+                      pub->panes.empty() ? 0.0 : pub->panes[0].snapshot->time);
+        } catch (const std::exception& e) {
+          std::fprintf(stderr, "apiclab: %s\n", e.what());
+          status = 2;
+        }
+        glfwSetWindowShouldClose(window, 1);
+      }
+      const double t1 = now_seconds();
+      glfwSwapBuffers(window);
+      // Without vsync (e.g. Xvfb) hold about 60 fps so the GUI leaves the cores to the solver.
+      const double spent = now_seconds() - t0;
+      if (opt.screenshot.empty() && spent < 1.0 / 62) glfwWaitEventsTimeout(1.0 / 62 - spent);
+      const double now = now_seconds();
+      st.frame_ms = st.frame_ms == 0 ? (now - last) * 1000 : 0.9 * st.frame_ms + 0.1 * (now - last) * 1000;
+      st.frame_cpu_ms = 0.9 * st.frame_cpu_ms + 0.1 * (t1 - t0) * 1000;
+      last = now;
+    }
+  }
+  ImGui_ImplOpenGL3_Shutdown();
+  ImGui_ImplGlfw_Shutdown();
+  ImGui::DestroyContext();
+  glfwDestroyWindow(window);
+  glfwTerminate();
+  return status;
+}
+
+}  // namespace apiclab::gui

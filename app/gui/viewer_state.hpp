@@ -1,0 +1,63 @@
+// What the GUI thread keeps between frames: user choices, the camera, automatic scales.
+// Shared by the viewer's parts (controls, scene panes, plots); never touched by the worker.
+#pragma once
+#include <imgui.h>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "app/gui/sim_worker.hpp"
+#include "render/camera.hpp"
+#include "render/color.hpp"
+#include "sim/scene.hpp"
+
+namespace apiclab::gui {
+
+struct ViewerState {
+  // Scene and panes; scene is the editable copy restarts are built from.
+  std::vector<std::string> scene_files;  // shipped scenes
+  std::string scene_path;
+  SceneDesc scene;
+  bool scene_loaded = false;
+  std::string load_error, notice;
+  std::vector<PaneConfig> panes;
+  Precision precision = Precision::dbl;
+  char open_path[512] = "";
+
+  // Playback.
+  bool realtime = true;
+
+  // View: one camera linked across panes.
+  render::View view;
+  std::uint64_t framed_generation = ~std::uint64_t(0);
+  render::ColorMode color = render::ColorMode::speed;
+  bool vectors = false, grid = false, auto_scale = true;
+  float color_max = 0;       // speed or noise at the top of the colormap (grows only)
+  float vector_gain = 1;     // multiplies the automatic arrow length
+  float particle_scale = 1;
+  const Snapshot* scaled_for = nullptr;  // snapshot the scales were last updated from
+
+  // Plots: which component each plot shows when several panes share it.
+  int energy_component = 2;    // kinetic, potential, total
+  int momentum_component = 0;  // x, y, z
+  int angular_component = 2;   // x, y, z (2D: z only)
+
+  // Frame timing (GUI thread), exponential averages.
+  double frame_ms = 0, frame_cpu_ms = 0;
+};
+
+// Palette for panes in plots and labels (Okabe & Ito, as the renderer's categories).
+ImU32 pane_color(std::size_t pane);
+std::string pane_label(const PaneState& p);
+
+// Parts of the window, each in its own file.
+void draw_controls(ViewerState& st, const Published& pub, SimWorker& worker);
+void draw_plots(ViewerState& st, const Published& pub, ImVec2 pos, ImVec2 size);
+// Loads st.scene_path into st.scene and restarts the worker; errors land in st.load_error.
+void load_scene_file(ViewerState& st, SimWorker& worker, const std::string& path,
+                     const std::vector<std::string>& overrides = {});
+void restart(ViewerState& st, SimWorker& worker);
+
+}  // namespace apiclab::gui

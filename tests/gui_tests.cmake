@@ -1,0 +1,28 @@
+# GUI tests. Label "gui": the headless worker tests (scheme switch, reset, blow-up, handoff)
+# and the Xvfb smoke test (skips with a message when xvfb-run is missing).
+# Label "slow": the worker's handoff test in a ThreadSanitizer build of its own; by hand:
+#   cmake -S . -B build-tsan -G Ninja -DAPICLAB_TSAN=ON && ninja -C build-tsan test_gui_worker &&
+#   build-tsan/tests/test_gui_worker
+if(NOT TARGET apiclab_gui_worker)
+  return()
+endif()
+
+add_executable(test_gui_worker test_gui_worker.cpp)
+target_link_libraries(test_gui_worker PRIVATE apiclab_gui_worker GTest::gtest_main)
+target_compile_definitions(test_gui_worker PRIVATE APICLAB_SOURCE_DIR="${CMAKE_SOURCE_DIR}")
+gtest_discover_tests(test_gui_worker DISCOVERY_TIMEOUT 60 TEST_PREFIX "gui." PROPERTIES LABELS "gui")
+
+add_executable(gui_screenshot_check test_gui_screenshot_check.cpp)
+target_link_libraries(gui_screenshot_check PRIVATE apiclab_render)
+add_test(NAME gui.smoke
+         COMMAND ${CMAKE_COMMAND} -E env APICLAB=$<TARGET_FILE:apiclab> CHECK=$<TARGET_FILE:gui_screenshot_check>
+                 bash ${CMAKE_CURRENT_SOURCE_DIR}/test_gui_smoke.sh ${CMAKE_CURRENT_BINARY_DIR}/gui-smoke)
+set_tests_properties(gui.smoke PROPERTIES LABELS "gui" TIMEOUT 120 SKIP_REGULAR_EXPRESSION "^SKIP:")
+
+if(NOT APICLAB_TSAN)
+  add_test(NAME gui.tsan_handoff
+           COMMAND bash -c "cmake -S '${CMAKE_SOURCE_DIR}' -B '${CMAKE_BINARY_DIR}/tsan' -G Ninja -DAPICLAB_TSAN=ON \
+-DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null && cmake --build '${CMAKE_BINARY_DIR}/tsan' --target test_gui_worker -j2 \
+&& TSAN_OPTIONS=halt_on_error=1 '${CMAKE_BINARY_DIR}/tsan/tests/test_gui_worker'")
+  set_tests_properties(gui.tsan_handoff PROPERTIES LABELS "slow" TIMEOUT 1800)
+endif()
