@@ -26,7 +26,7 @@ View frame_view(View v, const Box3& box, float aspect, float margin) {
     v.half_height = std::max(half, 1e-6f) / (1 - 2 * margin);
     return v;
   }
-  // Smallest distance at which all eight corners lie inside the frustum (with margin).
+  // Smallest distance at which all eight corners lie inside the frustum (with margin)...
   Vec3 right, up, back;
   orbit_axes(v, right, up, back);
   const float tan_y = std::tan(radians(v.fov_y) / 2) * (1 - 2 * margin);
@@ -42,6 +42,24 @@ View frame_view(View v, const Box3& box, float aspect, float margin) {
   }
   v.target = c;
   v.distance = std::max(distance, 1e-6f);
+  // ...then, as perspective makes the picture lopsided, centre the projected box and let it
+  // fill the frame: a few fixed-point steps.
+  for (int iteration = 0; iteration < 4; ++iteration) {
+    const Camera cam = make_camera(v, aspect, box);
+    float lo[2] = {1e30f, 1e30f}, hi[2] = {-1e30f, -1e30f};
+    for (int i = 0; i < 8; ++i) {
+      Vec4 p = cam.projection * (cam.view * Vec4{i & 1 ? box.max.x : box.min.x,
+                                                 i & 2 ? box.max.y : box.min.y,
+                                                 i & 4 ? box.max.z : box.min.z, 1});
+      lo[0] = std::min(lo[0], p.x / p.w), hi[0] = std::max(hi[0], p.x / p.w);
+      lo[1] = std::min(lo[1], p.y / p.w), hi[1] = std::max(hi[1], p.y / p.w);
+    }
+    const float half_tan_y = std::tan(radians(v.fov_y) / 2);
+    v.target = v.target + right * ((lo[0] + hi[0]) / 2 * half_tan_y * aspect * v.distance) +
+               up * ((lo[1] + hi[1]) / 2 * half_tan_y * v.distance);
+    const float fill = std::max(hi[0] - lo[0], hi[1] - lo[1]) / 2 / (1 - 2 * margin);
+    v.distance *= std::clamp(fill, 0.5f, 2.0f);
+  }
   return v;
 }
 

@@ -256,7 +256,7 @@ void draw_legend(Renderer& r, const Layout& l, const SceneStyle& s, const Snapsh
                       : object_count(first);
     for (int k = 0; k < n; ++k) {
       y += 0.3f * f;
-      r.fill_rect({x, y, bar_w, bar_w}, category_color(k));
+      r.fill_rect({x, std::round(y), std::round(bar_w), std::round(bar_w)}, category_color(k));
       std::string name = s.color == ColorMode::material && k < int(first.material_names.size())
                              ? first.material_names[k]
                              : (s.color == ColorMode::material ? "material " : "object ") +

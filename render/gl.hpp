@@ -17,6 +17,7 @@ namespace apiclab::gl {
   X(BindRenderbuffer, PFNGLBINDRENDERBUFFERPROC)                         \
   X(BindTexture, PFNGLBINDTEXTUREPROC)                                   \
   X(BindVertexArray, PFNGLBINDVERTEXARRAYPROC)                           \
+  X(BlendEquation, PFNGLBLENDEQUATIONPROC)                               \
   X(BlendFuncSeparate, PFNGLBLENDFUNCSEPARATEPROC)                       \
   X(BlitFramebuffer, PFNGLBLITFRAMEBUFFERPROC)                           \
   X(BufferData, PFNGLBUFFERDATAPROC)                                     \

@@ -19,6 +19,7 @@ class Program {
   void set(const char* name, int value) const;
   void set(const char* name, float value) const;
   void set(const char* name, float x, float y) const;
+  void set(const char* name, Vec3 v) const;
   void set(const char* name, const Mat4& m) const;
 
  private:

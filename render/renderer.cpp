@@ -108,6 +108,7 @@ bool carries_arrow(std::size_t id, int every) {
 Renderer::Renderer() {
   discs_ = std::make_unique<Program>("shaders/particles.vert", "shaders/disc.frag");
   spheres_ = std::make_unique<Program>("shaders/particles.vert", "shaders/sphere.frag");
+  shadows_ = std::make_unique<Program>("shaders/particles.vert", "shaders/shadow.frag");
   segments_ = std::make_unique<Program>("shaders/segments.vert", "shaders/flat.frag");
   fills_ = std::make_unique<Program>("shaders/fill.vert", "shaders/fill.frag");
   text_ = std::make_unique<Program>("shaders/text.vert", "shaders/text.frag");
@@ -262,12 +263,43 @@ void Renderer::draw_scene(const Snapshot& s, const Camera& camera, Rect rect,
     gl::Disable(GL_DEPTH_TEST);
   }
   draw_fills(scene_fills_, view_projection);
+  const bool points = upload_particles(s, camera, rect, style);
+  if (three_d) {
+    // Contact shadows on the floor, under the grid lines and the particles.
+    gl::Disable(GL_DEPTH_TEST);
+    gl::BlendEquation(GL_MIN);
+    Vec3 up_world;
+    up_world[up] = 1;
+    const Vec4 n = camera.view * Vec4{up_world.x, up_world.y, up_world.z, 0};
+    shadows_->use();
+    shadows_->set("u_flatten_axis", up);
+    shadows_->set("u_flatten_to", box.min[up]);
+    shadows_->set("u_floor_normal", Vec3{n.x, n.y, n.z});
+    shadows_->set("u_shadow_reach", std::max(box.size()[up], 1e-6f));
+    shadows_->set("u_radius_scale", 2.5f);
+    shadows_->set("u_floor_color", Vec3{kFloor.r / 255.0f, kFloor.g / 255.0f, kFloor.b / 255.0f});
+    draw_particles(*shadows_, camera, rect, points);
+    gl::BlendEquation(GL_FUNC_ADD);
+    gl::Enable(GL_DEPTH_TEST);
+  }
   draw_segments(scene_lines_, camera.view, camera.projection, viewport);
   scene_lines_.clear();
   scene_fills_.clear();
 
-  if (three_d) gl::DepthMask(GL_TRUE);
-  draw_particles(s, camera, rect, style);
+  if (three_d) {
+    // Alpha to coverage antialiases the sphere silhouettes without sorting; 2D discs blend.
+    gl::DepthMask(GL_TRUE);
+    gl::Disable(GL_BLEND);
+    gl::Enable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+  }
+  (three_d ? spheres_ : discs_)->use();
+  (three_d ? spheres_ : discs_)->set("u_flatten_axis", -1);
+  (three_d ? spheres_ : discs_)->set("u_radius_scale", 1.0f);
+  draw_particles(three_d ? *spheres_ : *discs_, camera, rect, points);
+  if (three_d) {
+    gl::Disable(GL_SAMPLE_ALPHA_TO_COVERAGE);
+    gl::Enable(GL_BLEND);
+  }
 
   // Domain box and colliders over the particles (depth-tested in 3D).
   if (style.box) {
@@ -343,10 +375,9 @@ void Renderer::draw_scene(const Snapshot& s, const Camera& camera, Rect rect,
   gl::Viewport(0, 0, width_, height_);
 }
 
-void Renderer::draw_particles(const Snapshot& s, const Camera& camera, Rect rect,
-                              const SceneStyle& style) {
+bool Renderer::upload_particles(const Snapshot& s, const Camera& camera, Rect rect,
+                                const SceneStyle& style) {
   const std::size_t n = s.count();
-  if (n == 0) return;
   particles_.resize(n);
   const float fallback_radius = float(s.dx) * 0.25f;
   float largest = 0;
@@ -359,7 +390,6 @@ void Renderer::draw_particles(const Snapshot& s, const Camera& camera, Rect rect
     largest = std::max(largest, p.radius);
   }
   upload(particle_vbo_, particles_);
-
   // Points need one vertex instead of four; quads take over when a particle is larger than
   // the largest point the driver draws (llvmpipe: 255 pixels).
   const Box3 box = domain_box(s);
@@ -368,10 +398,12 @@ void Renderer::draw_particles(const Snapshot& s, const Camera& camera, Rect rect
     nearest = std::max(length(box.center() - camera.eye) - length(box.size()) / 2 - largest,
                        1e-6f);
   const float largest_px = largest * camera.projection(1, 1) * 0.5f * rect.h / nearest;
-  const bool points = 2 * (1.3f * largest_px + 2) + 2 <= max_point_size_;
+  return 2 * (2.5f * 1.3f * largest_px + 2) + 2 <= max_point_size_;  // shadows are 2.5x wider
+}
 
-  const bool three_d = s.dim == 3;
-  const Program& program = three_d ? *spheres_ : *discs_;
+void Renderer::draw_particles(const Program& program, const Camera& camera, Rect rect,
+                              bool points) {
+  if (particles_.empty()) return;
   program.use();
   program.set("u_view", camera.view);
   program.set("u_projection", camera.projection);
@@ -380,23 +412,14 @@ void Renderer::draw_particles(const Snapshot& s, const Camera& camera, Rect rect
   program.set("u_viewport_height", rect.h);
   program.set("u_min_radius_px", 0.75f);
   program.set("u_rim", 0.45f);
-  // 3D: alpha to coverage antialiases the silhouettes without sorting; 2D discs blend.
-  if (three_d) {
-    gl::Disable(GL_BLEND);
-    gl::Enable(GL_SAMPLE_ALPHA_TO_COVERAGE);
-  }
   gl::Enable(GL_PROGRAM_POINT_SIZE);
   gl::BindVertexArray(particle_vao_[points]);
   if (points)
-    gl::DrawArrays(GL_POINTS, 0, GLsizei(n));
+    gl::DrawArrays(GL_POINTS, 0, GLsizei(particles_.size()));
   else
-    gl::DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(n));
+    gl::DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(particles_.size()));
   gl::BindVertexArray(0);
   gl::Disable(GL_PROGRAM_POINT_SIZE);
-  if (three_d) {
-    gl::Disable(GL_SAMPLE_ALPHA_TO_COVERAGE);
-    gl::Enable(GL_BLEND);
-  }
 }
 
 void Renderer::draw_segments(const std::vector<SegmentInstance>& segments, const Mat4& view,

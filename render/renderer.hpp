@@ -91,7 +91,9 @@ class Renderer {
     std::vector<TextVertex> vertices;
   };
 
-  void draw_particles(const Snapshot& s, const Camera& camera, Rect rect, const SceneStyle& style);
+  // Fills and uploads the particle buffer; returns whether point sprites can draw it.
+  bool upload_particles(const Snapshot& s, const Camera& camera, Rect rect, const SceneStyle& style);
+  void draw_particles(const Program& program, const Camera& camera, Rect rect, bool points);
   void draw_segments(const std::vector<SegmentInstance>& segments, const Mat4& view,
                      const Mat4& projection, Vec2 viewport);
   void draw_fills(const std::vector<FillVertex>& vertices, const Mat4& matrix);
@@ -99,7 +101,7 @@ class Renderer {
   FontEntry& font_entry(float size);
 
   int width_ = 0, height_ = 0;
-  std::unique_ptr<Program> discs_, spheres_, segments_, fills_, text_;
+  std::unique_ptr<Program> discs_, spheres_, shadows_, segments_, fills_, text_;
   unsigned quad_vbo_ = 0, template_vbo_ = 0;
   unsigned particle_vao_[2] = {0, 0}, particle_vbo_ = 0;  // [1]: points
   float max_point_size_ = 1;

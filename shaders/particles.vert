@@ -14,22 +14,32 @@ uniform bool u_points;
 uniform float u_viewport_height;  // pixels
 uniform float u_min_radius_px;    // tiny particles stay visible
 uniform float u_rim;              // 2D: strength of the darker rim
+uniform int u_flatten_axis;       // shadows: particles moved onto the floor along this axis
+uniform float u_flatten_to;
+uniform float u_radius_scale;     // shadows: wider than the particles
 
 out vec2 v_offset;       // quads: position in the quad in units of the drawn radius
 flat out vec3 v_center;  // view space
 flat out float v_radius;
 flat out float v_pad;    // half the sprite's side in units of the radius
 flat out float v_rim;
+flat out float v_height;  // shadows: how far above the floor the particle is
 flat out vec4 v_color;
 
 void main() {
-  vec4 center = u_view * vec4(a_center, 1.0);
+  vec3 world = a_center;
+  v_height = 0.0;
+  if (u_flatten_axis >= 0) {
+    v_height = world[u_flatten_axis] - u_flatten_to;
+    world[u_flatten_axis] = u_flatten_to;
+  }
+  vec4 center = u_view * vec4(world, 1.0);
   float depth = u_perspective ? -center.z : 1.0;
   float pixels_per_unit = u_projection[1][1] * 0.5 * u_viewport_height / depth;
-  float radius_px = max(a_radius * pixels_per_unit, 1e-6);
+  float radius_px = max(a_radius * u_radius_scale * pixels_per_unit, 1e-6);
   // Discs of a few pixels grow a little, so a dense block reads as solid, not as moire.
   float grow = mix(1.25, 1.0, clamp((radius_px - 1.5) / 3.0, 0.0, 1.0));
-  float radius = a_radius * grow * max(1.0, u_min_radius_px / (grow * radius_px));
+  float radius = a_radius * u_radius_scale * grow * max(1.0, u_min_radius_px / (grow * radius_px));
   radius_px = max(grow * radius_px, u_min_radius_px);
   // Room for the antialiased edge (a pixel) and for the perspective silhouette,
   // which is a little wider than the sphere's radius.
