@@ -225,9 +225,9 @@ void draw_scene_panes(render::Renderer& r, ViewerState& st, const Published& pub
   style.grid = st.grid;
   style.particle_scale = st.particle_scale;
   style.vectors = st.vectors;
-  // Arrow of the top-of-scale speed spans about three cells.
-  style.vector_scale = float(3 * first.dx) / style.color_max * st.vector_gain;
-  style.vector_every = int(std::max<std::size_t>(1, first.count() / 700));
+  // An arrow of the top-of-scale speed spans about 1.6 cells.
+  style.vector_scale = float(1.6 * first.dx) / style.color_max * st.vector_gain;
+  style.vector_every = int(std::max<std::size_t>(1, first.count() / 450));
 
   const ImVec2 mouse = ImGui::GetIO().MousePos;
   for (std::size_t k = 0; k < pub.panes.size(); ++k) {

@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <thread>
 
 #include "app/gui/scene_view.hpp"
 #include "app/gui/viewer_state.hpp"
@@ -111,8 +112,15 @@ bool display_available() {
 
 int run_viewer(const ViewerOptions& opt) {
   glfwSetErrorCallback([](int code, const char* msg) { std::fprintf(stderr, "apiclab: GLFW %d: %s\n", code, msg); });
-  if (!glfwInit()) {
-    std::fprintf(stderr, "apiclab: cannot open a window (no display?); try `apiclab render`\n");
+  // A display server that has just started (xvfb-run on a busy machine) may need a moment.
+  bool up = glfwInit();
+  for (int i = 0; i < 5 && !up && std::getenv("DISPLAY"); ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    up = glfwInit();
+  }
+  if (!up) {
+    std::fprintf(stderr, "apiclab: cannot open a window (no display? set DISPLAY or use xvfb-run); "
+                         "headless frames: apiclab render\n");
     return 2;
   }
   glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
@@ -201,6 +209,12 @@ int run_viewer(const ViewerOptions& opt) {
           std::fprintf(stderr, "apiclab: %s\n", e.what());
           status = 2;
         }
+        glfwSetWindowShouldClose(window, 1);
+      }
+      if (opt.screenshot.empty() && opt.frames > 0 && frame >= opt.frames) {  // timed run: report, exit
+        std::printf("%ld frames, display %.1f fps (%.2f ms/frame, GUI CPU %.2f ms), %.3g sim s/wall s, "
+                    "%.3g particle-steps/s\n", frame, 1000 / st.frame_ms, st.frame_ms, st.frame_cpu_ms,
+                    pub->sim_seconds_per_wall_second, pub->particle_steps_per_second);
         glfwSetWindowShouldClose(window, 1);
       }
       const double t1 = now_seconds();

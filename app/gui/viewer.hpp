@@ -15,7 +15,7 @@ struct ViewerOptions {
   bool vectors = false, realtime = true, paused = false;
   int width = 1600, height = 900;
   std::string screenshot;  // save the window as PNG after `frames` frames, then exit
-  int frames = 0;
+  int frames = 0;          // without a screenshot: run live this many frames, print timings, exit
 };
 
 // Opens the window and runs until it closes. Returns the process exit code.
