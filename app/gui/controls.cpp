@@ -163,7 +163,7 @@ void panes_section(ViewerState& st, const Published& pub, SimWorker& worker) {
     ImGui::Unindent(18);
     ImGui::PopID();
   }
-  if (st.panes.size() < 4 && ImGui::Button("+ add pane (restarts)", ImVec2(-1, 0))) {
+  if (st.scene_loaded && st.panes.size() < 4 && ImGui::Button("+ add pane (restarts)", ImVec2(-1, 0))) {
     PaneConfig next = st.panes.empty() ? PaneConfig{} : st.panes.back();
     next.scheme = Scheme((int(next.scheme) + 1) % int(scheme_choices().size()));
     st.panes.push_back(next);

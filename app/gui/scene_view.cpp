@@ -261,11 +261,13 @@ void draw_scene_panes(render::Renderer& r, ViewerState& st, const Published& pub
     if (p.failure) {  // the pane is frozen: say where and why
       const Failure& f = *p.failure;
       std::snprintf(buf, sizeof buf, "BLEW UP at step %ld, t = %.5g s: %s", f.step, f.t, f.quantity.c_str());
-      const ImVec2 b0(sr.x + 8, sr.y + 8), b1(sr.x + sr.w - 8, sr.y + 14 + 2 * ImGui::GetFontSize() + 6);
+      const float wrap = sr.w - 32, fh = ImGui::GetFontSize();
+      const float msg_h = ImGui::CalcTextSize(f.message.c_str(), nullptr, false, wrap).y;
+      const ImVec2 b0(sr.x + 8, sr.y + 8), b1(sr.x + sr.w - 8, sr.y + 20 + fh + msg_h);
       dl->AddRectFilled(b0, b1, IM_COL32(200, 30, 30, 230), 4);
       dl->AddText(ImVec2(b0.x + 8, b0.y + 4), IM_COL32(255, 255, 255, 255), buf);
       dl->AddText(nullptr, 0, ImVec2(b0.x + 8, b0.y + 6 + ImGui::GetFontSize()), IM_COL32(255, 230, 230, 255),
-                  f.message.c_str(), nullptr, b1.x - b0.x - 16);
+                  f.message.c_str(), nullptr, wrap);
     }
     if (inside(sr, mouse) && !ImGui::GetIO().WantCaptureMouse && !ImGui::IsMouseDown(ImGuiMouseButton_Left)) {
       const long i = pick(s, cam, sr, mouse);

@@ -209,6 +209,7 @@ int run_viewer(const ViewerOptions& opt) {
           std::fprintf(stderr, "apiclab: %s\n", e.what());
           status = 2;
         }
+        if (!st.load_error.empty()) status = 2;  // scripts see that the scene did not load
         glfwSetWindowShouldClose(window, 1);
       }
       if (opt.screenshot.empty() && opt.frames > 0 && frame >= opt.frames) {  // timed run: report, exit
