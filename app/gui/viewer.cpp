@@ -127,21 +127,35 @@ int run_viewer(const ViewerOptions& opt) {
   glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
   glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
   glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GL_TRUE);
-  glfwWindowHint(GLFW_SAMPLES, 4);
-  GLFWwindow* window = glfwCreateWindow(opt.width, opt.height, "apiclab", nullptr, nullptr);
+  // 4x MSAA smooths the arrows on a GPU; a software rasterizer (llvmpipe under Xvfb) pays
+  // about 4x per frame for it, so there the window is made again without (APICLAB_MSAA overrides).
+  const char* msaa_env = std::getenv("APICLAB_MSAA");
+  int samples = msaa_env ? std::atoi(msaa_env) : 4;
+  GLFWwindow* window = nullptr;
+  for (int attempt = 0; attempt < 2; ++attempt) {
+    glfwWindowHint(GLFW_SAMPLES, samples);
+    window = glfwCreateWindow(opt.width, opt.height, "apiclab", nullptr, nullptr);
+    if (!window) break;
+    glfwMakeContextCurrent(window);
+    if (std::string err = gl::load(gl_proc); !err.empty()) {
+      std::fprintf(stderr, "apiclab: %s\n", err.c_str());
+      glfwDestroyWindow(window);
+      glfwTerminate();
+      return 2;
+    }
+    const std::string renderer = gl::describe_current_context();
+    const bool software = renderer.find("llvmpipe") != std::string::npos ||
+                          renderer.find("softpipe") != std::string::npos;
+    if (attempt > 0 || msaa_env || !software || samples == 0) break;
+    glfwDestroyWindow(window);
+    samples = 0;
+  }
   if (!window) {
     glfwTerminate();
     std::fprintf(stderr, "apiclab: cannot create an OpenGL 3.3 window\n");
     return 2;
   }
-  glfwMakeContextCurrent(window);
   glfwSwapInterval(1);
-  if (std::string err = gl::load(gl_proc); !err.empty()) {
-    std::fprintf(stderr, "apiclab: %s\n", err.c_str());
-    glfwDestroyWindow(window);
-    glfwTerminate();
-    return 2;
-  }
 
   IMGUI_CHECKVERSION();
   ImGui::CreateContext();
