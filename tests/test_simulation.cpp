@@ -18,7 +18,10 @@ namespace {
 
 const std::string kDisk = std::string(APICLAB_SOURCE_DIR) + "/assets/scenes/rotating-disk.json";
 
+// The disk with symplectic Euler and the explicit elastic time-step limit (the scene itself
+// runs the paper's midpoint rule; tests/test_implicit.cpp covers that).
 SceneDesc disk(const std::string& scheme, std::vector<std::string> extra = {}) {
+  extra.insert(extra.begin(), {"solver.integrator=symplectic", R"(time.dt={"rule":"elastic","nu":0.3})"});
   extra.push_back("solver.scheme=" + scheme);
   return load_scene(kDisk, extra);
 }
