@@ -18,6 +18,7 @@ struct DiagnosticsRow {
   std::array<double, 3> L{0, 0, 0};  // angular momentum about the origin, with m (B : ε)
   double wall_seconds = 0;           // cost of the step
   double newton_iters = 0, cg_iters = 0, residual = 0;  // implicit integrators
+  bool converged = true;  // the implicit solve met its tolerance within its caps
 };
 
 inline const char* diagnostics_header() {

@@ -441,6 +441,7 @@ void MpmSimulation<T, D>::step_fixed(double dt) {
     grid_velocity_update(T(dt));
     last_newton_iters_ = last_cg_iters_ = 0;
     last_residual_ = 0;
+    last_converged_ = true;
   } else {
     particles_to_grid(false);
     switch (sv.kernel) {
@@ -546,6 +547,7 @@ DiagnosticsRow MpmSimulation<T, D>::measure() const {
   r.newton_iters = last_newton_iters_;
   r.cg_iters = last_cg_iters_;
   r.residual = last_residual_;
+  r.converged = last_converged_;
   const bool affine = scene_.solver.scheme == Scheme::apic || scene_.solver.scheme == Scheme::rpic;
   double kin = 0, grav = 0, px = 0, py = 0, pz = 0, Lx = 0, Ly = 0, Lz = 0;
   const std::ptrdiff_t n = std::ptrdiff_t(p_.size());
