@@ -43,6 +43,7 @@ namespace apiclab::gl {
   X(EnableVertexAttribArray, PFNGLENABLEVERTEXATTRIBARRAYPROC)           \
   X(Finish, PFNGLFINISHPROC)                                             \
   X(FramebufferRenderbuffer, PFNGLFRAMEBUFFERRENDERBUFFERPROC)           \
+  X(FramebufferTexture2D, PFNGLFRAMEBUFFERTEXTURE2DPROC)                 \
   X(GenBuffers, PFNGLGENBUFFERSPROC)                                     \
   X(GenFramebuffers, PFNGLGENFRAMEBUFFERSPROC)                           \
   X(GenRenderbuffers, PFNGLGENRENDERBUFFERSPROC)                         \

@@ -108,7 +108,8 @@ bool carries_arrow(std::size_t id, int every) {
 Renderer::Renderer() {
   discs_ = std::make_unique<Program>("shaders/particles.vert", "shaders/disc.frag");
   spheres_ = std::make_unique<Program>("shaders/particles.vert", "shaders/sphere.frag");
-  shadows_ = std::make_unique<Program>("shaders/particles.vert", "shaders/shadow.frag");
+  shadow_map_ = std::make_unique<Program>("shaders/particles.vert", "shaders/shadow_map.frag");
+  floor_ = std::make_unique<Program>("shaders/floor.vert", "shaders/floor.frag");
   segments_ = std::make_unique<Program>("shaders/segments.vert", "shaders/flat.frag");
   fills_ = std::make_unique<Program>("shaders/fill.vert", "shaders/fill.frag");
   text_ = std::make_unique<Program>("shaders/text.vert", "shaders/text.frag");
@@ -175,6 +176,8 @@ Renderer::Renderer() {
 }
 
 Renderer::~Renderer() {
+  if (shadow_texture_) gl::DeleteTextures(1, &shadow_texture_);
+  if (shadow_fbo_) gl::DeleteFramebuffers(1, &shadow_fbo_);
   for (auto& [size, entry] : fonts_) gl::DeleteTextures(1, &entry.texture);
   unsigned vaos[] = {particle_vao_[0], particle_vao_[1], segment_vao_, fill_vao_, text_vao_};
   unsigned vbos[] = {quad_vbo_, template_vbo_, particle_vbo_, segment_vbo_, fill_vbo_, text_vbo_};
@@ -222,21 +225,20 @@ void Renderer::draw_scene(const Snapshot& s, const Camera& camera, Rect rect,
   scene_fills_.clear();
   const Mat4 view_projection = camera.projection * camera.view;
 
-  // Underlay: 2D grid, or the 3D floor with its grid (depth-tested, under the particles).
+  // Underlay: the 3D floor with its shadows, the grid lines (under the particles).
+  const bool points = upload_particles(s, camera, rect, style);
   int up = 1;
   if (three_d) {
     // The floor is the face at the minimum of the axis closest to the camera's up.
     const Vec3 camera_up{camera.view(1, 0), camera.view(1, 1), camera.view(1, 2)};
     for (int a = 0; a < 3; ++a)
       if (std::abs(camera_up[a]) > std::abs(camera_up[up])) up = a;
-    const int a1 = (up + 1) % 3, a2 = (up + 2) % 3;
-    Vec3 q[4];
-    for (int k = 0; k < 4; ++k) {
-      q[k][up] = box.min[up];
-      q[k][a1] = (k == 1 || k == 2) ? box.max[a1] : box.min[a1];
-      q[k][a2] = (k >= 2) ? box.max[a2] : box.min[a2];
-    }
-    for (int k : {0, 1, 2, 0, 2, 3}) scene_fills_.push_back({q[k], kFloor});
+    gl::Enable(GL_DEPTH_TEST);
+    gl::DepthFunc(GL_LEQUAL);
+    gl::DepthMask(GL_FALSE);  // the floor never hides a particle sitting on it
+    draw_floor(box, up, view_projection, rect);
+  } else {
+    gl::Disable(GL_DEPTH_TEST);
   }
   if (style.grid && s.dx > 0) {
     const float dx = float(s.dx);
@@ -254,33 +256,6 @@ void Renderer::draw_scene(const Snapshot& s, const Camera& camera, Rect rect,
         }
       }
     }
-  }
-  if (three_d) {
-    gl::Enable(GL_DEPTH_TEST);
-    gl::DepthFunc(GL_LEQUAL);
-    gl::DepthMask(GL_FALSE);  // the floor never hides a particle sitting on it
-  } else {
-    gl::Disable(GL_DEPTH_TEST);
-  }
-  draw_fills(scene_fills_, view_projection);
-  const bool points = upload_particles(s, camera, rect, style);
-  if (three_d) {
-    // Contact shadows on the floor, under the grid lines and the particles.
-    gl::Disable(GL_DEPTH_TEST);
-    gl::BlendEquation(GL_MIN);
-    Vec3 up_world;
-    up_world[up] = 1;
-    const Vec4 n = camera.view * Vec4{up_world.x, up_world.y, up_world.z, 0};
-    shadows_->use();
-    shadows_->set("u_flatten_axis", up);
-    shadows_->set("u_flatten_to", box.min[up]);
-    shadows_->set("u_floor_normal", Vec3{n.x, n.y, n.z});
-    shadows_->set("u_shadow_reach", std::max(box.size()[up], 1e-6f));
-    shadows_->set("u_radius_scale", 2.5f);
-    shadows_->set("u_floor_color", Vec3{kFloor.r / 255.0f, kFloor.g / 255.0f, kFloor.b / 255.0f});
-    draw_particles(*shadows_, camera, rect, points);
-    gl::BlendEquation(GL_FUNC_ADD);
-    gl::Enable(GL_DEPTH_TEST);
   }
   draw_segments(scene_lines_, camera.view, camera.projection, viewport);
   scene_lines_.clear();
@@ -390,6 +365,7 @@ bool Renderer::upload_particles(const Snapshot& s, const Camera& camera, Rect re
     largest = std::max(largest, p.radius);
   }
   upload(particle_vbo_, particles_);
+  largest_radius_ = largest;
   // Points need one vertex instead of four; quads take over when a particle is larger than
   // the largest point the driver draws (llvmpipe: 255 pixels).
   const Box3 box = domain_box(s);
@@ -398,7 +374,80 @@ bool Renderer::upload_particles(const Snapshot& s, const Camera& camera, Rect re
     nearest = std::max(length(box.center() - camera.eye) - length(box.size()) / 2 - largest,
                        1e-6f);
   const float largest_px = largest * camera.projection(1, 1) * 0.5f * rect.h / nearest;
-  return 2 * (2.5f * 1.3f * largest_px + 2) + 2 <= max_point_size_;  // shadows are 2.5x wider
+  return 2 * (1.3f * largest_px + 2) + 2 <= max_point_size_;
+}
+
+void Renderer::draw_floor(const Box3& box, int up, const Mat4& view_projection, Rect rect) {
+  const int a1 = (up + 1) % 3, a2 = (up + 2) % 3;
+  constexpr int kMap = 128;  // shadow map side: soft shadows come from its coarseness
+  GLint previous = 0;  // the caller's framebuffer (ours, or the GUI's window)
+  gl::GetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &previous);
+  if (!shadow_texture_) {
+    gl::GenTextures(1, &shadow_texture_);
+    gl::BindTexture(GL_TEXTURE_2D, shadow_texture_);
+    gl::TexImage2D(GL_TEXTURE_2D, 0, GL_R8, kMap, kMap, 0, GL_RED, GL_UNSIGNED_BYTE, nullptr);
+    gl::TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    gl::TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    gl::TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    gl::TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    gl::GenFramebuffers(1, &shadow_fbo_);
+    gl::BindFramebuffer(GL_FRAMEBUFFER, shadow_fbo_);
+    gl::FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, shadow_texture_, 0);
+  }
+  // 1. The shadow map: the particles seen from straight above, u along a1 and v along a2.
+  gl::BindFramebuffer(GL_FRAMEBUFFER, shadow_fbo_);
+  gl::Viewport(0, 0, kMap, kMap);
+  gl::Disable(GL_SCISSOR_TEST);
+  gl::Disable(GL_DEPTH_TEST);
+  gl::ClearColor(0, 0, 0, 0);
+  gl::Clear(GL_COLOR_BUFFER_BIT);
+  const Vec3 c = box.center(), size = box.size();
+  Camera top;  // rows pick the world axes a1, a2, up; the map's far side is the floor
+  top.view(0, 0) = top.view(1, 1) = top.view(2, 2) = 0;
+  top.view(0, a1) = 1, top.view(0, 3) = -c[a1];
+  top.view(1, a2) = 1, top.view(1, 3) = -c[a2];
+  top.view(2, up) = 1, top.view(2, 3) = -(box.max[up] + 1);
+  top.projection = ortho(-size[a1] / 2, size[a1] / 2, -size[a2] / 2, size[a2] / 2, 0.5f,
+                         size[up] + 2);
+  const float map_px = largest_radius_ * kMap / std::max(std::min(size[a1], size[a2]), 1e-6f);
+  gl::BlendEquation(GL_MAX);
+  shadow_map_->use();
+  shadow_map_->set("u_flatten_axis", up);
+  shadow_map_->set("u_flatten_to", box.min[up]);
+  shadow_map_->set("u_radius_scale", 1.2f);
+  shadow_map_->set("u_shadow_reach", std::max(size[up], 1e-6f));
+  draw_particles(*shadow_map_, top, {0, 0, float(kMap), float(kMap)},
+                 2 * (1.6f * map_px + 2) + 2 <= max_point_size_);
+  gl::BlendEquation(GL_FUNC_ADD);
+  gl::BindFramebuffer(GL_FRAMEBUFFER, GLuint(previous));
+  set_viewport(rect);
+  gl::Enable(GL_DEPTH_TEST);
+
+  // 2. The floor face, darkened where the map says.
+  Vec3 q[4];
+  for (int k = 0; k < 4; ++k) {
+    q[k][up] = box.min[up];
+    q[k][a1] = (k == 1 || k == 2) ? box.max[a1] : box.min[a1];
+    q[k][a2] = (k >= 2) ? box.max[a2] : box.min[a2];
+  }
+  std::vector<FillVertex> floor;
+  for (int k : {0, 1, 2, 0, 2, 3}) floor.push_back({q[k], kFloor});
+  upload(fill_vbo_, floor);
+  Vec3 axis_u, axis_v;
+  axis_u[a1] = 1 / std::max(size[a1], 1e-12f);
+  axis_v[a2] = 1 / std::max(size[a2], 1e-12f);
+  floor_->use();
+  floor_->set("u_matrix", view_projection);
+  floor_->set("u_shadow", 0);
+  floor_->set("u_origin", box.min);
+  floor_->set("u_axis_u", axis_u);
+  floor_->set("u_axis_v", axis_v);
+  floor_->set("u_texel", 1.0f / kMap);
+  gl::ActiveTexture(GL_TEXTURE0);
+  gl::BindTexture(GL_TEXTURE_2D, shadow_texture_);
+  gl::BindVertexArray(fill_vao_);
+  gl::DrawArrays(GL_TRIANGLES, 0, 6);
+  gl::BindVertexArray(0);
 }
 
 void Renderer::draw_particles(const Program& program, const Camera& camera, Rect rect,

@@ -94,6 +94,8 @@ class Renderer {
   // Fills and uploads the particle buffer; returns whether point sprites can draw it.
   bool upload_particles(const Snapshot& s, const Camera& camera, Rect rect, const SceneStyle& style);
   void draw_particles(const Program& program, const Camera& camera, Rect rect, bool points);
+  // The floor of a 3D domain (the face at the minimum of axis `up`) with contact shadows.
+  void draw_floor(const Box3& box, int up, const Mat4& view_projection, Rect rect);
   void draw_segments(const std::vector<SegmentInstance>& segments, const Mat4& view,
                      const Mat4& projection, Vec2 viewport);
   void draw_fills(const std::vector<FillVertex>& vertices, const Mat4& matrix);
@@ -101,7 +103,9 @@ class Renderer {
   FontEntry& font_entry(float size);
 
   int width_ = 0, height_ = 0;
-  std::unique_ptr<Program> discs_, spheres_, shadows_, segments_, fills_, text_;
+  std::unique_ptr<Program> discs_, spheres_, shadow_map_, floor_, segments_, fills_, text_;
+  unsigned shadow_fbo_ = 0, shadow_texture_ = 0;
+  float largest_radius_ = 0;
   unsigned quad_vbo_ = 0, template_vbo_ = 0;
   unsigned particle_vao_[2] = {0, 0}, particle_vbo_ = 0;  // [1]: points
   float max_point_size_ = 1;

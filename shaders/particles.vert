@@ -41,9 +41,9 @@ void main() {
   float grow = mix(1.25, 1.0, clamp((radius_px - 1.5) / 3.0, 0.0, 1.0));
   float radius = a_radius * u_radius_scale * grow * max(1.0, u_min_radius_px / (grow * radius_px));
   radius_px = max(grow * radius_px, u_min_radius_px);
-  // Room for the antialiased edge (a pixel) and for the perspective silhouette,
-  // which is a little wider than the sphere's radius.
-  float pad = 1.0 + 1.0 / radius_px + (u_perspective ? 0.25 * radius / depth + 0.02 : 0.0);
+  // Room for the antialiased edge (coverage ends half a pixel out) and for the perspective
+  // silhouette, which is a little wider than the sphere's radius.
+  float pad = 1.0 + 0.6 / radius_px + (u_perspective ? 0.25 * radius / depth + 0.02 : 0.0);
   v_center = center.xyz;
   v_radius = radius;
   v_pad = pad;

@@ -44,6 +44,9 @@ long differing_pixels(const Image& a, const Image& b) { return compare_images(a,
 // Differs from the golden image by at most `tolerance` per channel in all but 0.5% of the
 // pixels: llvmpipe builds may round an edge differently, a real change moves far more.
 void expect_matches_golden(const Image& actual, const std::string& name) {
+  long inked = 0;  // a blank frame must never become a golden image
+  for (std::size_t i = 0; i < actual.rgba.size(); i += 4) inked += actual.rgba[i] < 200;
+  ASSERT_GT(inked, long(actual.width) * actual.height / 20) << name << " is nearly blank";
   const fs::path golden = fs::path(APICLAB_SOURCE_DIR) / "tests" / "golden" / (name + ".png");
   if (std::getenv("APICLAB_REGENERATE_GOLDEN")) {
     write_png(actual, golden.string());
