@@ -319,15 +319,22 @@ void draw_figure(Renderer& r, int width, int height, const std::vector<const Sna
     pixels_per_unit = s.dim == 2 ? rect.h / (2 * v.half_height)
                                  : camera.projection(1, 1) * 0.5f * rect.h / v.distance;
     r.draw_scene(s, camera, rect, scene);
-    if (panes.size() > 1)
-      r.text(scheme_label(s), l.panes[i].x + 0.2f * f, l.panes[i].y + 1.1f * f, f, kText);
+    // Labels line up with the domain box (2D) or the pane (3D).
+    float left = rect.x, top = rect.y, bottom = rect.y + rect.h;
+    if (s.dim == 2 && !view) {
+      const Vec3 size = domain_box(s).size();
+      left = std::round(rect.x + rect.w / 2 - size.x * pixels_per_unit / 2);
+      top = std::round(rect.y + rect.h / 2 - size.y * pixels_per_unit / 2);
+      bottom = std::round(rect.y + rect.h / 2 + size.y * pixels_per_unit / 2);
+    }
+    if (panes.size() > 1) r.text(scheme_label(s), left, top - 0.45f * f, f, kText);
     if (s.failure) {
       const std::string what =
           "stopped at t = " + format("%.4g", s.failure->t) + ": " + s.failure->quantity;
       const float w = r.text_width(what, f);
-      r.fill_rect({rect.x + 0.3f * f, rect.y + rect.h - 1.9f * f, w + 0.8f * f, 1.5f * f},
+      r.fill_rect({left + 0.3f * f, bottom - 1.9f * f, w + 0.8f * f, 1.5f * f},
                   {255, 255, 255, 215});
-      r.text(what, rect.x + 0.7f * f, rect.y + rect.h - 0.85f * f, f, kFailure);
+      r.text(what, left + 0.7f * f, bottom - 0.85f * f, f, kFailure);
     }
   }
 

@@ -11,6 +11,7 @@ namespace apiclab::render {
 namespace {
 
 constexpr Rgba8 kArrow{20, 20, 20, 235};
+constexpr Rgba8 kArrowHalo{255, 255, 255, 140};
 constexpr Rgba8 kBox{120, 120, 120, 255};
 constexpr Rgba8 kGrid{222, 222, 222, 255};
 constexpr Rgba8 kCollider{70, 70, 70, 255};
@@ -342,6 +343,15 @@ void Renderer::draw_scene(const Snapshot& s, const Camera& camera, Rect rect,
       arrows.push_back({x, x + v * style.vector_scale, kArrow, 0.9f * lw, head,
                         three_d ? r : 0.0f});
     }
+    // A pale halo under every arrow first, so dark arrows read on dark particles too.
+    std::vector<SegmentInstance> halos = arrows;
+    const float halo = std::max(0.75f, 0.6f * lw);
+    for (SegmentInstance& h : halos) {
+      h.color = kArrowHalo;
+      h.width += 2 * halo;
+      h.head += 2 * halo;
+    }
+    draw_segments(halos, camera.view, camera.projection, viewport);
     draw_segments(arrows, camera.view, camera.projection, viewport);
   }
   gl::DepthMask(GL_TRUE);
