@@ -216,18 +216,14 @@ void Renderer::draw_scene(const Snapshot& s, const Camera& camera, Rect rect,
   gl::Clear(GL_DEPTH_BUFFER_BIT);
   const Box3 box = domain_box(s);
   const Vec2 viewport{rect.w, rect.h};
-  const float lw = style.line_px;
   const bool three_d = s.dim == 3;
-  // World length of one pixel at the scene's centre: sizes hatches and scale bars.
+  // Pixels per world unit at the scene's centre: sizes grid cells and hatches.
   const float ppu = camera.projection(1, 1) * 0.5f * rect.h /
                     (camera.perspective ? length(box.center() - camera.eye) : 1.0f);
-  const float world_px = 1 / std::max(ppu, 1e-12f);
-  scene_lines_.clear();
-  scene_fills_.clear();
   const Mat4 view_projection = camera.projection * camera.view;
-
-  // Underlay: the 3D floor with its shadows, the grid lines (under the particles).
   const bool points = upload_particles(s, camera, rect, style);
+
+  // 1. Underlay: the 3D floor with its shadows, then the grid lines.
   int up = 1;
   if (three_d) {
     // The floor is the face at the minimum of the axis closest to the camera's up.
@@ -241,123 +237,126 @@ void Renderer::draw_scene(const Snapshot& s, const Camera& camera, Rect rect,
   } else {
     gl::Disable(GL_DEPTH_TEST);
   }
-  if (style.grid && s.dx > 0) {
-    const float dx = float(s.dx);
-    const int plane_axes[2] = {three_d ? (up + 1) % 3 : 0, three_d ? (up + 2) % 3 : 1};
-    const float px_per_cell = dx * ppu;
-    if (px_per_cell >= 3) {
-      for (int k = 0; k < 2; ++k) {
-        const int a = plane_axes[k], b = plane_axes[1 - k];
-        const int cells = int(std::lround((box.max[a] - box.min[a]) / dx));
-        for (int i = 1; i < cells; ++i) {
-          Vec3 from = box.min, to = box.min;
-          from[a] = to[a] = box.min[a] + i * dx;
-          to[b] = box.max[b];
-          scene_lines_.push_back({from, to, kGrid, 0.8f * lw, 0, 0});
-        }
-      }
-    }
-  }
-  draw_segments(scene_lines_, camera.view, camera.projection, viewport);
   scene_lines_.clear();
   scene_fills_.clear();
+  if (style.grid && s.dx > 0 && s.dx * ppu >= 3)
+    add_grid(box, float(s.dx), three_d ? (up + 1) % 3 : 0, three_d ? (up + 2) % 3 : 1, style.line_px);
+  draw_segments(scene_lines_, camera.view, camera.projection, viewport);
 
+  // 2. Particles. Alpha to coverage antialiases sphere silhouettes without sorting; 2D
+  //    discs blend.
+  const Program& particles = three_d ? *spheres_ : *discs_;
+  particles.use();
+  particles.set("u_flatten_axis", -1);
+  particles.set("u_radius_scale", 1.0f);
   if (three_d) {
-    // Alpha to coverage antialiases the sphere silhouettes without sorting; 2D discs blend.
     gl::DepthMask(GL_TRUE);
     gl::Disable(GL_BLEND);
     gl::Enable(GL_SAMPLE_ALPHA_TO_COVERAGE);
   }
-  (three_d ? spheres_ : discs_)->use();
-  (three_d ? spheres_ : discs_)->set("u_flatten_axis", -1);
-  (three_d ? spheres_ : discs_)->set("u_radius_scale", 1.0f);
-  draw_particles(three_d ? *spheres_ : *discs_, camera, rect, points);
+  draw_particles(particles, camera, rect, points);
   if (three_d) {
     gl::Disable(GL_SAMPLE_ALPHA_TO_COVERAGE);
     gl::Enable(GL_BLEND);
+    gl::DepthMask(GL_FALSE);
   }
 
-  // Domain box and colliders over the particles (depth-tested in 3D).
-  if (style.box) {
-    const int corners = three_d ? 8 : 4;
-    for (int i = 0; i < corners; ++i)
-      for (int axis = 0; axis < s.dim; ++axis) {
-        int j = i | (1 << axis);
-        if (j == i) continue;
-        auto corner = [&](int c) {
-          return Vec3{c & 1 ? box.max.x : box.min.x, c & 2 ? box.max.y : box.min.y,
-                      c & 4 ? box.max.z : box.min.z};
-        };
-        scene_lines_.push_back({corner(i), corner(j), kBox, lw, 0, 0});
-      }
-  }
-  if (style.colliders) {
-    for (const ColliderDesc& c : s.colliders) {
-      Vec3 p = to_vec3(c.point), n = normalize(to_vec3(c.normal));
-      if (!three_d) p.z = 0, n.z = 0;
-      std::vector<Vec3> poly = plane_in_box(p, n, box, s.dim);
-      if (poly.size() < 2) continue;
-      if (!three_d) {
-        // The wall and hatches on its solid side, like an engineering drawing.
-        Vec3 a = poly[0], b = poly[1], t = normalize(b - a);
-        scene_lines_.push_back({a, b, kCollider, 1.6f * lw, 0, 0});
-        const float spacing = 7 * world_px * std::max(lw, 1.0f), depth = 5 * world_px * lw;
-        const Vec3 slant = normalize(t * 0.7f - n * 0.7f) * (depth / 0.7f);
-        const float len = length(b - a);
-        for (float u = 0.5f * spacing; u < len; u += spacing) {
-          Vec3 q = a + t * u;
-          scene_lines_.push_back({q, q + slant, kCollider, 0.8f * lw, 0, 0});
-        }
-      } else {
-        Vec3 c0;
-        for (const Vec3& q : poly) c0 = c0 + q * (1.0f / float(poly.size()));
-        for (std::size_t k = 0; k < poly.size(); ++k) {
-          const Vec3& a = poly[k];
-          const Vec3& b = poly[(k + 1) % poly.size()];
-          scene_fills_.push_back({c0, {90, 90, 90, 40}});
-          scene_fills_.push_back({a, {90, 90, 90, 40}});
-          scene_fills_.push_back({b, {90, 90, 90, 40}});
-          scene_lines_.push_back({a, b, kCollider, 1.2f * lw, 0, 0});
-        }
-      }
-    }
-  }
-  if (three_d) gl::DepthMask(GL_FALSE);
+  // 3. Domain box and colliders over the particles (depth-tested in 3D), then the arrows.
+  scene_lines_.clear();
+  if (style.box) add_box(box, s.dim, style.line_px);
+  if (style.colliders)
+    for (const ColliderDesc& c : s.colliders) add_collider(c, box, s.dim, style.line_px, ppu);
   draw_fills(scene_fills_, view_projection);
   draw_segments(scene_lines_, camera.view, camera.projection, viewport);
+  if (style.vectors && style.vector_scale > 0) draw_arrows(s, camera, viewport, style);
 
-  if (style.vectors && style.vector_scale > 0) {
-    std::vector<SegmentInstance>& arrows = scene_lines_;
-    arrows.clear();
-    const std::size_t n = s.count();
-    const float head = std::max(4.0f, 3.5f * lw);
-    const float fallback_radius = float(s.dx) * 0.25f;
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!carries_arrow(i, style.vector_every)) continue;
-      Vec3 x, v;
-      for (int k = 0; k < s.dim; ++k) {
-        x[k] = s.positions[i * s.dim + k];
-        v[k] = s.velocities[i * s.dim + k];
-      }
-      float r = (i < s.radius.size() ? s.radius[i] : fallback_radius) * style.particle_scale;
-      arrows.push_back({x, x + v * style.vector_scale, kArrow, 0.9f * lw, head,
-                        three_d ? r : 0.0f});
-    }
-    // A pale halo under every arrow first, so dark arrows read on dark particles too.
-    std::vector<SegmentInstance> halos = arrows;
-    const float halo = std::max(0.75f, 0.6f * lw);
-    for (SegmentInstance& h : halos) {
-      h.color = kArrowHalo;
-      h.width += 2 * halo;
-      h.head += 2 * halo;
-    }
-    draw_segments(halos, camera.view, camera.projection, viewport);
-    draw_segments(arrows, camera.view, camera.projection, viewport);
-  }
   gl::DepthMask(GL_TRUE);
   gl::Disable(GL_DEPTH_TEST);
   gl::Disable(GL_SCISSOR_TEST);
   gl::Viewport(0, 0, width_, height_);
+}
+
+void Renderer::add_grid(const Box3& box, float dx, int axis_a, int axis_b, float line_px) {
+  for (int k = 0; k < 2; ++k) {
+    const int a = k ? axis_b : axis_a, b = k ? axis_a : axis_b;
+    const int cells = int(std::lround((box.max[a] - box.min[a]) / dx));
+    for (int i = 1; i < cells; ++i) {
+      Vec3 from = box.min, to = box.min;
+      from[a] = to[a] = box.min[a] + float(i) * dx;
+      to[b] = box.max[b];
+      scene_lines_.push_back({from, to, kGrid, 0.8f * line_px, 0, 0});
+    }
+  }
+}
+
+void Renderer::add_box(const Box3& box, int dim, float line_px) {
+  auto corner = [&](int c) {
+    return Vec3{c & 1 ? box.max.x : box.min.x, c & 2 ? box.max.y : box.min.y,
+                c & 4 ? box.max.z : box.min.z};
+  };
+  for (int i = 0; i < (dim == 3 ? 8 : 4); ++i)
+    for (int axis = 0; axis < dim; ++axis)
+      if (!(i & (1 << axis)))
+        scene_lines_.push_back({corner(i), corner(i | (1 << axis)), kBox, line_px, 0, 0});
+}
+
+void Renderer::add_collider(const ColliderDesc& c, const Box3& box, int dim, float line_px,
+                            float pixels_per_unit) {
+  Vec3 p = to_vec3(c.point), n = normalize(to_vec3(c.normal));
+  if (dim == 2) p.z = 0, n.z = 0;
+  const std::vector<Vec3> poly = plane_in_box(p, n, box, dim);
+  if (poly.size() < 2) return;
+  if (dim == 2) {
+    // The wall, and hatches on its solid side like an engineering drawing.
+    const Vec3 a = poly[0], b = poly[1], t = normalize(b - a);
+    scene_lines_.push_back({a, b, kCollider, 1.6f * line_px, 0, 0});
+    const float px = 1 / std::max(pixels_per_unit, 1e-12f);
+    const float spacing = 7 * px * std::max(line_px, 1.0f), depth = 5 * px * line_px;
+    const Vec3 slant = normalize(t - n) * (depth * 1.4142f);
+    for (float u = 0.5f * spacing; u < length(b - a); u += spacing)
+      scene_lines_.push_back({a + t * u, a + t * u + slant, kCollider, 0.8f * line_px, 0, 0});
+    return;
+  }
+  // 3D: the plane's polygon inside the domain, translucent, with its outline.
+  Vec3 centre;
+  for (const Vec3& q : poly) centre = centre + q * (1.0f / float(poly.size()));
+  const Rgba8 fill{90, 90, 90, 40};
+  for (std::size_t k = 0; k < poly.size(); ++k) {
+    const Vec3& a = poly[k];
+    const Vec3& b = poly[(k + 1) % poly.size()];
+    scene_fills_.insert(scene_fills_.end(), {{centre, fill}, {a, fill}, {b, fill}});
+    scene_lines_.push_back({a, b, kCollider, 1.2f * line_px, 0, 0});
+  }
+}
+
+void Renderer::draw_arrows(const Snapshot& s, const Camera& camera, Vec2 viewport,
+                           const SceneStyle& style) {
+  std::vector<SegmentInstance>& arrows = scene_lines_;
+  arrows.clear();
+  const float lw = style.line_px, head = std::max(4.0f, 3.5f * lw);
+  const float fallback_radius = float(s.dx) * 0.25f;
+  for (std::size_t i = 0; i < s.count(); ++i) {
+    if (!carries_arrow(i, style.vector_every)) continue;
+    Vec3 x, v;
+    for (int k = 0; k < s.dim; ++k) {
+      x[k] = s.positions[i * s.dim + k];
+      v[k] = s.velocities[i * s.dim + k];
+    }
+    // 3D arrows start on the sphere's surface facing the eye, not hidden inside it.
+    const float r = (i < s.radius.size() ? s.radius[i] : fallback_radius) * style.particle_scale;
+    arrows.push_back({x, x + v * style.vector_scale, kArrow, 0.9f * lw, head,
+                      s.dim == 3 ? r : 0.0f});
+  }
+  // A pale halo under every arrow first, so dark arrows read on dark particles too.
+  std::vector<SegmentInstance> halos = arrows;
+  const float halo = std::max(0.75f, 0.6f * lw);
+  for (SegmentInstance& h : halos) {
+    h.color = kArrowHalo;
+    h.width += 2 * halo;
+    h.head += 2 * halo;
+  }
+  draw_segments(halos, camera.view, camera.projection, viewport);
+  draw_segments(arrows, camera.view, camera.projection, viewport);
 }
 
 bool Renderer::upload_particles(const Snapshot& s, const Camera& camera, Rect rect,

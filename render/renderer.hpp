@@ -94,6 +94,12 @@ class Renderer {
   // Fills and uploads the particle buffer; returns whether point sprites can draw it.
   bool upload_particles(const Snapshot& s, const Camera& camera, Rect rect, const SceneStyle& style);
   void draw_particles(const Program& program, const Camera& camera, Rect rect, bool points);
+  // Scene geometry into scene_lines_ / scene_fills_.
+  void add_grid(const Box3& box, float dx, int axis_a, int axis_b, float line_px);
+  void add_box(const Box3& box, int dim, float line_px);
+  void add_collider(const ColliderDesc& c, const Box3& box, int dim, float line_px,
+                    float pixels_per_unit);
+  void draw_arrows(const Snapshot& s, const Camera& camera, Vec2 viewport, const SceneStyle& style);
   // The floor of a 3D domain (the face at the minimum of axis `up`) with contact shadows.
   void draw_floor(const Box3& box, int up, const Mat4& view_projection, Rect rect);
   void draw_segments(const std::vector<SegmentInstance>& segments, const Mat4& view,
