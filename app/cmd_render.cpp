@@ -252,6 +252,7 @@ int compare(const RenderOptions& o) {
     }
   }
   if (schemes.empty()) throw UsageError("--schemes needs at least one scheme, e.g. pic,flip,apic");
+  if (!o.run.scheme.empty()) throw UsageError("compare takes --schemes (a list), not --scheme");
   if (!o.run.dump.empty()) throw UsageError("compare does not take --dump; use run or render");
   if (!o.run.csv.empty()) throw UsageError("compare writes one CSV per scheme into --out; drop --csv");
   Session session(o);

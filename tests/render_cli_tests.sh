@@ -61,6 +61,7 @@ expect_error "bad --size" "invalid --size" "$app" render rotating-disk --out "$t
 expect_error "bad --color" "unknown color mode" "$app" render rotating-disk --out "$tmp/x" --color rainbow
 expect_error "bad --backend" "unknown backend" "$app" render rotating-disk --out "$tmp/x" --backend vulkan
 expect_error "unknown scheme in --schemes" "unknown scheme 'pick'" "$app" compare rotating-disk --out "$tmp/x" --schemes pic,pick
+expect_error "compare with --scheme" "not --scheme" "$app" compare rotating-disk --out "$tmp/x" --schemes pic --scheme flip
 expect_error "a scheme twice in --schemes" "listed twice" "$app" compare rotating-disk --out "$tmp/x" --schemes pic,pic
 expect_error "neither EGL nor OSMesa" "install libegl1" env APICLAB_EGL_LIBRARY=/nonexistent/libEGL.so.1 \
   APICLAB_OSMESA_LIBRARY=/nonexistent/libOSMesa.so.8 "$app" render rotating-disk --out "$tmp/none" --frames 1
