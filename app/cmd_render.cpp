@@ -28,6 +28,7 @@ namespace {
 struct RenderOptions {
   RunOptions run;
   std::string out, size = "1280x720", color = "speed", backend = "auto", video, schemes;
+  std::string fit = "domain";
   bool vectors = false, grid = false, no_legend = false;
   double vector_scale = 0, color_max = 0, particle_scale = 1;
   int vector_every = 0;
@@ -44,6 +45,8 @@ void add_render_options(CLI::App* cmd, RenderOptions& o) {
   cmd->add_option("--color-max", o.color_max, "speed/noise at the top of the colour scale (default: automatic)");
   cmd->add_option("--particle-scale", o.particle_scale, "multiply the drawn particle radius");
   cmd->add_flag("--grid", o.grid, "draw the grid lines");
+  cmd->add_option("--fit", o.fit, "frame the whole domain, or the particles of the first frame (with room "
+                                  "around them): domain|particles");
   cmd->add_flag("--no-legend", o.no_legend, "leave out the colour and arrow legend");
   cmd->add_option("--backend", o.backend, "offscreen OpenGL: auto|egl|osmesa");
   cmd->add_option("--video", o.video, "also encode the frames into this MP4 file (needs ffmpeg)");
@@ -107,6 +110,7 @@ struct Session {
   std::unique_ptr<render::RenderTarget> target;
   std::unique_ptr<render::Renderer> renderer;
   render::FigureState state;
+  bool fit_particles = false;
   std::future<void> pending_png;  // PNGs are written while the next frame simulates
   double first_draw_seconds = 0, draw_seconds = 0, png_seconds = 0, sim_seconds = 0;
   int frames_drawn = 0;
@@ -129,7 +133,11 @@ struct Session {
     style.particle_scale = float(o.particle_scale);
     style.grid = o.grid;
     style.legend = !o.no_legend;
+    if (o.fit != "domain" && o.fit != "particles")
+      throw UsageError("unknown --fit '" + o.fit + "' (expected domain|particles)");
+    fit_particles = o.fit == "particles";
     scene = load_scene_with_options(o.run);
+    style.time_step = 1 / scene.time.fps;
     // Up on screen is against gravity (y when there is none).
     double strongest = 0;
     for (int a = 0; a < scene.dim; ++a)
@@ -154,6 +162,7 @@ struct Session {
 
   // Draws the panes and writes the PNG in the background.
   void draw(const std::vector<const Snapshot*>& panes, const std::string& path) {
+    if (fit_particles && !style.frame) style.frame = particle_frame(panes);
     const double t0 = now_seconds();
     target->bind();
     render::draw_figure(*renderer, width, height, panes, style, state);
@@ -166,6 +175,23 @@ struct Session {
       render::write_png(*image, path);
       png_seconds += now_seconds() - t;
     });
+  }
+  // The first frame's particles with a quarter of their extent (and two cells) around them,
+  // inside the domain; kept for the whole run so that the video does not jitter.
+  static render::Box3 particle_frame(const std::vector<const Snapshot*>& panes) {
+    render::Box3 b = render::particle_box(*panes.front());
+    for (const Snapshot* p : panes) {
+      const render::Box3 q = render::particle_box(*p);
+      for (int k = 0; k < 3; ++k) b.min[k] = std::min(b.min[k], q.min[k]), b.max[k] = std::max(b.max[k], q.max[k]);
+    }
+    const render::Box3 domain = render::domain_box(*panes.front());
+    const render::Vec3 size = b.size();
+    const float room = 0.25f * std::max({size.x, size.y, size.z}) + 2 * float(panes.front()->dx);
+    for (int k = 0; k < panes.front()->dim; ++k) {
+      b.min[k] = std::max(b.min[k] - room, domain.min[k]);
+      b.max[k] = std::min(b.max[k] + room, domain.max[k]);
+    }
+    return b;
   }
   void flush() {
     if (pending_png.valid()) pending_png.get();

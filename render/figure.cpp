@@ -57,6 +57,17 @@ float typical_radius(const Snapshot& s) {
   return quantile(s, [&](std::size_t i) { return s.radius[i]; }, 0.5f);
 }
 
+// Enough decimals to tell frames apart: 24 fps gives "0.042", 10 fps "0.1".
+std::string time_label(double t, double step) {
+  if (!(step > 0)) return format("%.4g", t);
+  const double digits = -std::log10(step);
+  int decimals = int(std::ceil(digits - 1e-9));
+  if (std::abs(digits - std::round(digits)) > 1e-9) ++decimals;  // 1/24 needs one more
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", std::clamp(decimals, 0, 9), t);
+  return buf;
+}
+
 std::string legend_title(ColorMode m) {
   switch (m) {
     case ColorMode::speed: return "speed |v|";
@@ -74,8 +85,7 @@ struct Layout {
 };
 
 // Width over height of the domain box as the default camera shows it.
-float scene_aspect(const Snapshot& s, int up_axis) {
-  const Box3 box = domain_box(s);
+float scene_aspect(const Snapshot& s, const Box3& box, int up_axis) {
   if (s.dim == 2) return std::max(box.size().x, 1e-6f) / std::max(box.size().y, 1e-6f);
   const View v = frame_view(3, box, 1.0f, up_axis);
   const Camera c = make_camera(v, 1.0f, box);
@@ -123,7 +133,7 @@ Layout layout(Renderer& r, int width, int height, int panes, const Snapshot& fir
   // and the group of panes and legend sits in the middle of the image.
   const Rect area{l.pad, header, float(width) - legend_w - 2 * l.pad,
                   float(height) - header - l.pad};
-  const float aspect = scene_aspect(first, style.up_axis);
+  const float aspect = scene_aspect(first, style.frame.value_or(domain_box(first)), style.up_axis);
   const float label = panes > 1 ? std::round(1.5f * l.font) : 0;
   const float gap = panes > 1 ? l.pad : 0;
   int cols = 1;
@@ -314,7 +324,8 @@ void draw_figure(Renderer& r, int width, int height, const std::vector<const Sna
     const Snapshot& s = *panes[i];
     const Rect& rect = l.scenes[i];
     const float aspect = rect.w / std::max(rect.h, 1.0f);
-    View v = view ? *view : frame_view(s.dim, domain_box(s), aspect, style.up_axis);
+    const Box3 framed = style.frame.value_or(domain_box(s));
+    View v = view ? *view : frame_view(s.dim, framed, aspect, style.up_axis);
     const Camera camera = make_camera(v, aspect, domain_box(s));
     pixels_per_unit = s.dim == 2 ? rect.h / (2 * v.half_height)
                                  : camera.projection(1, 1) * 0.5f * rect.h / v.distance;
@@ -322,7 +333,7 @@ void draw_figure(Renderer& r, int width, int height, const std::vector<const Sna
     // Labels line up with the domain box (2D) or the pane (3D).
     float left = rect.x, top = rect.y, bottom = rect.y + rect.h;
     if (s.dim == 2 && !view) {
-      const Vec3 size = domain_box(s).size();
+      const Vec3 size = framed.size();
       left = std::round(rect.x + rect.w / 2 - size.x * pixels_per_unit / 2);
       top = std::round(rect.y + rect.h / 2 - size.y * pixels_per_unit / 2);
       bottom = std::round(rect.y + rect.h / 2 + size.y * pixels_per_unit / 2);
@@ -345,7 +356,7 @@ void draw_figure(Renderer& r, int width, int height, const std::vector<const Sna
     const std::string name = first.scene_name.empty() ? "scene" : first.scene_name;
     const std::string scheme = panes.size() == 1 ? "  " + scheme_label(first) : "";
     const std::string details = "  " + first.kernel + " \u00B7 " + first.integrator;
-    const std::string time = "t = " + format("%.3f", first.time);
+    const std::string time = "t = " + time_label(first.time, style.time_step);
     const float room = float(width) - 2 * l.pad - r.text_width(time, f) - f;
     float x = l.pad;
     x += r.text(name, x, baseline, f, kText);

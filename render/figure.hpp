@@ -3,6 +3,7 @@
 // when there are several), and one legend (color scale or materials, arrow scale) shared
 // by all panes, so that schemes can be compared by eye.
 #pragma once
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,8 @@ struct FigureStyle {
   bool grid = false, box = true, colliders = true, legend = true, header = true;
   float particle_scale = 1;
   int up_axis = 1;           // 3D: the axis that points up on screen (against gravity)
+  std::optional<Box3> frame; // the region to frame; default: the domain box
+  double time_step = 0;      // time between frames: sets the digits of "t = ..."
 };
 
 // Automatic scales kept steady through a sequence of frames (a video, the GUI): the color

@@ -82,6 +82,18 @@ Box3 domain_box(const Snapshot& s) {
   return b;
 }
 
+Box3 particle_box(const Snapshot& s) {
+  if (s.count() == 0) return domain_box(s);
+  Box3 b{{1e30f, 1e30f, 0}, {-1e30f, -1e30f, 0}};
+  if (s.dim == 3) b.min.z = 1e30f, b.max.z = -1e30f;
+  for (std::size_t i = 0; i < s.count(); ++i)
+    for (int k = 0; k < s.dim; ++k) {
+      b.min[k] = std::min(b.min[k], s.positions[i * s.dim + k]);
+      b.max[k] = std::max(b.max[k], s.positions[i * s.dim + k]);
+    }
+  return b;
+}
+
 Rgba8 particle_color(const Snapshot& s, std::size_t i, const SceneStyle& style) {
   switch (style.color) {
     case ColorMode::material:

@@ -36,6 +36,8 @@ struct SceneStyle {
 
 // Box of a snapshot's domain (2D: z from 0 to 0).
 Box3 domain_box(const Snapshot& s);
+// Bounding box of the particles' centres (the domain box when there are none).
+Box3 particle_box(const Snapshot& s);
 // The color of particle i in `style`'s mode.
 Rgba8 particle_color(const Snapshot& s, std::size_t i, const SceneStyle& style);
 // Whether particle `id` carries an arrow when one in `every` does (steady across frames).

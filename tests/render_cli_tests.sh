@@ -29,6 +29,8 @@ for mode in material noise; do
   "$app" render rotating-disk --out "$tmp/$mode" --frames 1 --color $mode "${small[@]}"
   check "--color $mode differs from speed" "[ -s $tmp/$mode/frame_0001.png ] && ! cmp -s $tmp/plain/frame_0001.png $tmp/$mode/frame_0001.png"
 done
+"$app" render ring-collision --out "$tmp/fit" --frames 1 --fit particles "${small[@]}"
+check "--fit particles renders" "[ -s $tmp/fit/frame_0001.png ]"
 check "--color material and noise differ" "! cmp -s $tmp/material/frame_0001.png $tmp/noise/frame_0001.png"
 
 # OSMesa as the backend.
@@ -59,6 +61,7 @@ touch "$tmp/a-file"
 expect_error "unwritable --out" "cannot create output directory" "$app" render rotating-disk --out "$tmp/a-file/frames"
 expect_error "bad --size" "invalid --size" "$app" render rotating-disk --out "$tmp/x" --size 12by3
 expect_error "bad --color" "unknown color mode" "$app" render rotating-disk --out "$tmp/x" --color rainbow
+expect_error "bad --fit" "unknown --fit" "$app" render rotating-disk --out "$tmp/x" --fit everything
 expect_error "bad --backend" "unknown backend" "$app" render rotating-disk --out "$tmp/x" --backend vulkan
 expect_error "unknown scheme in --schemes" "unknown scheme 'pick'" "$app" compare rotating-disk --out "$tmp/x" --schemes pic,pick
 expect_error "compare with --scheme" "not --scheme" "$app" compare rotating-disk --out "$tmp/x" --schemes pic --scheme flip
