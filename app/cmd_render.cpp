@@ -155,7 +155,9 @@ struct Session {
     } catch (const render::ContextError& e) {
       throw UsageError(e.what());
     }
-    if (!o.run.quiet) std::fprintf(stderr, "apiclab: rendering with %s\n", context->description().c_str());
+    if (!o.run.quiet)
+      std::fprintf(stderr, "apiclab: rendering with %s%s\n", context->description().c_str(),
+                   context->egl_problem.empty() ? "" : (" (EGL: " + context->egl_problem + ")").c_str());
     target = std::make_unique<render::RenderTarget>(width, height);
     renderer = std::make_unique<render::Renderer>();
   }

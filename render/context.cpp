@@ -37,7 +37,9 @@ std::unique_ptr<OffscreenContext> create_offscreen_context(Backend backend) {
     egl_reason = e.what();
   }
   try {
-    return create_osmesa_context();
+    auto context = create_osmesa_context();
+    context->egl_problem = egl_reason;
+    return context;
   } catch (const ContextError& e) {
     throw ContextError("no offscreen OpenGL (EGL: " + egl_reason + "; OSMesa: " + e.what() +
                        "); " + kInstallHint);

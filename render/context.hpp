@@ -26,6 +26,8 @@ class OffscreenContext {
   // "EGL surfaceless: llvmpipe (LLVM 15.0.6, 256 bits), OpenGL 4.5 (Core Profile) Mesa 22.3.6".
   virtual std::string description() const = 0;
   virtual void make_current() = 0;
+  // With Backend::automatic on OSMesa: why EGL was passed over (empty otherwise).
+  std::string egl_problem;
 };
 
 // Creates a context, makes it current and loads the gl:: functions. Throws ContextError.

@@ -37,6 +37,9 @@ check "--color material and noise differ" "! cmp -s $tmp/material/frame_0001.png
 "$app" render rotating-disk --out "$tmp/osmesa" --frames 1 --backend osmesa --size 160x120 2>"$tmp/osmesa.log"
 check "--backend osmesa renders" "[ -s $tmp/osmesa/frame_0001.png ] && grep -q 'rendering with OSMesa' $tmp/osmesa.log"
 
+APICLAB_EGL_LIBRARY=/nonexistent/libEGL.so.1 "$app" render rotating-disk --out "$tmp/fallback" --frames 1 --size 160x120 2>"$tmp/fallback.log"
+check "auto falls back to OSMesa without EGL, and says why" "[ -s $tmp/fallback/frame_0001.png ] && grep -q 'rendering with OSMesa.*EGL: /nonexistent' $tmp/fallback.log"
+
 # Compare: lockstep panes, one CSV per scheme.
 "$app" compare rotating-disk --schemes pic,flip,apic --out "$tmp/cmp" --frames 1 --size 480x160 --quiet
 check "compare exits 0" "[ $? = 0 ]"
