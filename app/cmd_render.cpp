@@ -36,17 +36,23 @@ struct RenderOptions {
 
 void add_render_options(CLI::App* cmd, RenderOptions& o) {
   add_run_options(cmd, o.run);
-  cmd->add_option("--out", o.out, "output directory for frame_0000.png, ... and the CSVs")->required();
+  cmd->add_option("--out", o.out, "output directory for frame_0000.png, ... and the CSVs")
+      ->required();
   cmd->add_option("--size", o.size, "image size WxH in pixels (default 1280x720)");
-  cmd->add_option("--color", o.color, "particle colour: speed|material|object|noise (noise: |v_p - PIC velocity|)");
+  cmd->add_option("--color", o.color,
+                  "particle colour: speed|material|object|noise (noise: |v_p - PIC velocity|)");
   cmd->add_flag("--vectors", o.vectors, "draw velocity arrows");
-  cmd->add_option("--vector-scale", o.vector_scale, "arrow length per unit speed (default: automatic)");
-  cmd->add_option("--vector-every", o.vector_every, "draw one arrow per N particles (default: automatic)");
-  cmd->add_option("--color-max", o.color_max, "speed/noise at the top of the colour scale (default: automatic)");
+  cmd->add_option("--vector-scale", o.vector_scale,
+                  "arrow length per unit speed (default: automatic)");
+  cmd->add_option("--vector-every", o.vector_every,
+                  "draw one arrow per N particles (default: automatic)");
+  cmd->add_option("--color-max", o.color_max,
+                  "speed/noise at the top of the colour scale (default: automatic)");
   cmd->add_option("--particle-scale", o.particle_scale, "multiply the drawn particle radius");
   cmd->add_flag("--grid", o.grid, "draw the grid lines");
-  cmd->add_option("--fit", o.fit, "frame the whole domain, or the particles of the first frame (with room "
-                                  "around them): domain|particles");
+  cmd->add_option("--fit", o.fit,
+                  "frame the whole domain, or the particles of the first frame (with room "
+                  "around them): domain|particles");
   cmd->add_flag("--no-legend", o.no_legend, "leave out the colour and arrow legend");
   cmd->add_option("--backend", o.backend, "offscreen OpenGL: auto|egl|osmesa");
   cmd->add_option("--video", o.video, "also encode the frames into this MP4 file (needs ffmpeg)");
@@ -86,10 +92,10 @@ int run_program(const std::vector<std::string>& args) {
 
 void encode_video(const std::string& ffmpeg, const std::string& dir, double fps,
                   const std::string& file) {
-  const int status = run_program({ffmpeg, "-y", "-loglevel", "error", "-framerate",
-                                  std::to_string(fps), "-i", dir + "/frame_%04d.png", "-c:v",
-                                  "libx264", "-pix_fmt", "yuv420p", "-vf",
-                                  "pad=ceil(iw/2)*2:ceil(ih/2)*2", file});
+  const int status =
+      run_program({ffmpeg, "-y", "-loglevel", "error", "-framerate", std::to_string(fps), "-i",
+                   dir + "/frame_%04d.png", "-c:v", "libx264", "-pix_fmt", "yuv420p", "-vf",
+                   "pad=ceil(iw/2)*2:ceil(ih/2)*2", file});
   if (status != 0)
     throw UsageError("ffmpeg failed (exit " + std::to_string(status) + ") encoding " + file);
 }
@@ -125,7 +131,8 @@ struct Session {
       throw UsageError(e.what());
     }
     if (o.vector_scale < 0 || o.color_max < 0 || o.vector_every < 0 || o.particle_scale <= 0)
-      throw UsageError("--vector-scale, --vector-every, --color-max and --particle-scale must be positive");
+      throw UsageError(
+          "--vector-scale, --vector-every, --color-max and --particle-scale must be positive");
     style.vectors = o.vectors;
     style.vector_scale = float(o.vector_scale);
     style.vector_every = o.vector_every;
@@ -141,7 +148,8 @@ struct Session {
     // Up on screen is against gravity (y when there is none).
     double strongest = 0;
     for (int a = 0; a < scene.dim; ++a)
-      if (std::abs(scene.gravity[a]) > strongest) strongest = std::abs(scene.gravity[a]), style.up_axis = a;
+      if (std::abs(scene.gravity[a]) > strongest)
+        strongest = std::abs(scene.gravity[a]), style.up_axis = a;
     apply_threads(o.run.threads);
     ensure_writable_dir(o.out);
     if (!o.video.empty()) {
@@ -156,8 +164,9 @@ struct Session {
       throw UsageError(e.what());
     }
     if (!o.run.quiet)
-      std::fprintf(stderr, "apiclab: rendering with %s%s\n", context->description().c_str(),
-                   context->egl_problem.empty() ? "" : (" (EGL: " + context->egl_problem + ")").c_str());
+      std::fprintf(
+          stderr, "apiclab: rendering with %s%s\n", context->description().c_str(),
+          context->egl_problem.empty() ? "" : (" (EGL: " + context->egl_problem + ")").c_str());
     target = std::make_unique<render::RenderTarget>(width, height);
     renderer = std::make_unique<render::Renderer>();
   }
@@ -184,7 +193,8 @@ struct Session {
     render::Box3 b = render::particle_box(*panes.front());
     for (const Snapshot* p : panes) {
       const render::Box3 q = render::particle_box(*p);
-      for (int k = 0; k < 3; ++k) b.min[k] = std::min(b.min[k], q.min[k]), b.max[k] = std::max(b.max[k], q.max[k]);
+      for (int k = 0; k < 3; ++k)
+        b.min[k] = std::min(b.min[k], q.min[k]), b.max[k] = std::max(b.max[k], q.max[k]);
     }
     const render::Box3 domain = render::domain_box(*panes.front());
     const render::Vec3 size = b.size();
@@ -204,7 +214,8 @@ struct Session {
     const double draw = frames_drawn > 1 ? draw_seconds / (frames_drawn - 1) : first_draw_seconds;
     s << frames_drawn << " frames " << width << "x" << height << ": draw " << 1000 * draw
       << " ms/frame (first " << 1000 * first_draw_seconds << " ms), PNG "
-      << 1000 * png_seconds / std::max(frames_drawn, 1) << " ms/frame, simulation " << sim_seconds << " s";
+      << 1000 * png_seconds / std::max(frames_drawn, 1) << " ms/frame, simulation " << sim_seconds
+      << " s";
     return s.str();
   }
 };
@@ -230,9 +241,9 @@ int render(const RenderOptions& o) {
   DiagnosticsRow first = sim->measure();
   first.dt = 0;
   write_diagnostics_row(csv, first);
-  Progress progress(scene.name + " [" + scheme + ", " + std::to_string(sim->particle_count()) +
-                        " particles]",
-                    frames + 1, o.run.quiet);
+  Progress progress(
+      scene.name + " [" + scheme + ", " + std::to_string(sim->particle_count()) + " particles]",
+      frames + 1, o.run.quiet);
   int status = 0;
   for (int f = 0; f <= frames; ++f) {
     if (f > 0) {
@@ -272,7 +283,8 @@ int compare(const RenderOptions& o) {
   std::set<std::string> seen;
   std::istringstream list(o.schemes);
   for (std::string key; std::getline(list, key, ',');) {
-    if (!seen.insert(key).second) throw UsageError("scheme '" + key + "' is listed twice in --schemes");
+    if (!seen.insert(key).second)
+      throw UsageError("scheme '" + key + "' is listed twice in --schemes");
     try {
       schemes.push_back(parse_choice(scheme_choices(), key, "scheme"));
     } catch (const std::invalid_argument& e) {
@@ -282,7 +294,8 @@ int compare(const RenderOptions& o) {
   if (schemes.empty()) throw UsageError("--schemes needs at least one scheme, e.g. pic,flip,apic");
   if (!o.run.scheme.empty()) throw UsageError("compare takes --schemes (a list), not --scheme");
   if (!o.run.dump.empty()) throw UsageError("compare does not take --dump; use run or render");
-  if (!o.run.csv.empty()) throw UsageError("compare writes one CSV per scheme into --out; drop --csv");
+  if (!o.run.csv.empty())
+    throw UsageError("compare writes one CSV per scheme into --out; drop --csv");
   Session session(o);
 
   // Each scheme builds its particles from the same scene (deterministic sampling), so all
@@ -309,8 +322,9 @@ int compare(const RenderOptions& o) {
   const SceneDesc& scene = session.scene;
   const bool noise = session.style.color == render::ColorMode::noise;
   const int frames = frame_count(scene);
-  Progress progress(scene.name + " [" + o.schemes + ", " + std::to_string(particles) + " particles]",
-                    frames + 1, o.run.quiet);
+  Progress progress(
+      scene.name + " [" + o.schemes + ", " + std::to_string(particles) + " particles]", frames + 1,
+      o.run.quiet);
   std::string failures;
   int failed = 0;
   for (int f = 0; f <= frames; ++f) {
@@ -322,7 +336,8 @@ int compare(const RenderOptions& o) {
       if (f > 0 && !p.sim->failure()) {
         const double t0 = now_seconds();
         const double t_frame = f == frames ? scene.time.end : f / scene.time.fps;
-        p.sim->advance_to(t_frame, [&](const DiagnosticsRow& r) { write_diagnostics_row(p.csv, r); });
+        p.sim->advance_to(t_frame,
+                          [&](const DiagnosticsRow& r) { write_diagnostics_row(p.csv, r); });
         session.sim_seconds += now_seconds() - t0;
       }
       if (p.sim->failure() && !p.reported) {
@@ -343,7 +358,8 @@ int compare(const RenderOptions& o) {
   std::string csvs;
   for (const Pane& p : panes) csvs += (csvs.empty() ? "" : ", ") + o.out + "/" + p.key + ".csv";
   progress.finish(scene.name + ": " + session.timing() + "\nframes: " + frame_path(o.out, 0) +
-                  " ...\ndiagnostics CSVs: " + csvs + (o.video.empty() ? "" : "\nvideo: " + o.video) +
+                  " ...\ndiagnostics CSVs: " + csvs +
+                  (o.video.empty() ? "" : "\nvideo: " + o.video) +
                   (failures.empty() ? "" : "\nstopped early:" + failures));
   return failed == int(panes.size()) ? 3 : 0;
 }
@@ -359,9 +375,11 @@ void register_render(CLI::App& root, CommandTable& table) {
 
   auto c = std::make_shared<RenderOptions>();
   CLI::App* cmp = root.add_subcommand(
-      "compare", "schemes side by side from the same initial particles: PNG frames, one CSV per scheme");
+      "compare",
+      "schemes side by side from the same initial particles: PNG frames, one CSV per scheme");
   add_render_options(cmp, *c);
-  cmp->add_option("--schemes", c->schemes, "comma-separated schemes, e.g. pic,flip,apic")->required();
+  cmp->add_option("--schemes", c->schemes, "comma-separated schemes, e.g. pic,flip,apic")
+      ->required();
   table.push_back({cmp, [c] { return compare(*c); }});
 }
 

@@ -10,7 +10,7 @@ void orbit_axes(const View& v, Vec3& right, Vec3& up, Vec3& back) {
   h1[(v.up_axis + 1) % 3] = 1;
   h2[(v.up_axis + 2) % 3] = 1;
   vertical[v.up_axis] = 1;
-  if (v.up_axis == 2) h2 = h2 * -1.0f;  // z up: x right, looking along +y
+  if (v.up_axis == 2) h2 = h2 * -1.0f;    // z up: x right, looking along +y
   if (v.up_axis == 1) std::swap(h1, h2);  // y up: x right, looking along -z
   const float yaw = radians(v.yaw), pitch = radians(v.pitch);
   back = (h1 * std::sin(yaw) + h2 * std::cos(yaw)) * std::cos(pitch) + vertical * std::sin(pitch);
@@ -37,8 +37,8 @@ View frame_view(View v, const Box3& box, float aspect, float margin) {
                 i & 4 ? box.max.z : box.min.z};
     Vec3 d = corner - c;
     float depth = dot(d, back);  // towards the eye
-    distance = std::max({distance, depth + std::abs(dot(d, right)) / tan_x,
-                         depth + std::abs(dot(d, up)) / tan_y});
+    distance = std::max(
+        {distance, depth + std::abs(dot(d, right)) / tan_x, depth + std::abs(dot(d, up)) / tan_y});
   }
   v.target = c;
   v.distance = std::max(distance, 1e-6f);
@@ -48,9 +48,9 @@ View frame_view(View v, const Box3& box, float aspect, float margin) {
     const Camera cam = make_camera(v, aspect, box);
     float lo[2] = {1e30f, 1e30f}, hi[2] = {-1e30f, -1e30f};
     for (int i = 0; i < 8; ++i) {
-      Vec4 p = cam.projection * (cam.view * Vec4{i & 1 ? box.max.x : box.min.x,
-                                                 i & 2 ? box.max.y : box.min.y,
-                                                 i & 4 ? box.max.z : box.min.z, 1});
+      Vec4 p = cam.projection *
+               (cam.view * Vec4{i & 1 ? box.max.x : box.min.x, i & 2 ? box.max.y : box.min.y,
+                                i & 4 ? box.max.z : box.min.z, 1});
       lo[0] = std::min(lo[0], p.x / p.w), hi[0] = std::max(hi[0], p.x / p.w);
       lo[1] = std::min(lo[1], p.y / p.w), hi[1] = std::max(hi[1], p.y / p.w);
     }

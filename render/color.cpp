@@ -17,10 +17,14 @@ ColorMode parse_color_mode(std::string_view key) {
 
 std::string_view key_of(ColorMode mode) {
   switch (mode) {
-    case ColorMode::speed: return "speed";
-    case ColorMode::material: return "material";
-    case ColorMode::object: return "object";
-    case ColorMode::noise: return "noise";
+    case ColorMode::speed:
+      return "speed";
+    case ColorMode::material:
+      return "material";
+    case ColorMode::object:
+      return "object";
+    case ColorMode::noise:
+      return "noise";
   }
   return "?";
 }
@@ -42,9 +46,8 @@ Vec3 viridis(float t) {
 
 Rgba8 category_color(int index) {
   // Blue, vermillion, bluish green, orange, sky blue, reddish purple, yellow, black.
-  static const Rgba8 palette[] = {{0, 114, 178},  {213, 94, 0},    {0, 158, 115},
-                                  {230, 159, 0},  {86, 180, 233},  {204, 121, 167},
-                                  {240, 228, 66}, {60, 60, 60}};
+  static const Rgba8 palette[] = {{0, 114, 178},  {213, 94, 0},    {0, 158, 115},  {230, 159, 0},
+                                  {86, 180, 233}, {204, 121, 167}, {240, 228, 66}, {60, 60, 60}};
   constexpr int n = sizeof palette / sizeof palette[0];
   return palette[((index % n) + n) % n];
 }

@@ -41,8 +41,8 @@ std::unique_ptr<OffscreenContext> create_offscreen_context(Backend backend) {
     context->egl_problem = egl_reason;
     return context;
   } catch (const ContextError& e) {
-    throw ContextError("no offscreen OpenGL (EGL: " + egl_reason + "; OSMesa: " + e.what() +
-                       "); " + kInstallHint);
+    throw ContextError("no offscreen OpenGL (EGL: " + egl_reason + "; OSMesa: " + e.what() + "); " +
+                       kInstallHint);
   }
 }
 

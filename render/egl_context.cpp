@@ -1,9 +1,8 @@
 // EGL without a display: a GPU through the device platform when there is one (NVIDIA),
 // otherwise Mesa's surfaceless platform (llvmpipe on a CI machine). libEGL is dlopen'ed.
-#include <dlfcn.h>
-
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
+#include <dlfcn.h>
 
 #include <cstdlib>
 #include <cstring>
@@ -95,15 +94,24 @@ class EglContext : public OffscreenContext {
     EGLConfig config = nullptr;
     EGLint count = 0;
     for (EGLint surface_type : {EGL_PBUFFER_BIT, 0}) {
-      const EGLint attributes[] = {EGL_SURFACE_TYPE, surface_type, EGL_RENDERABLE_TYPE,
-                                   EGL_OPENGL_BIT,   EGL_RED_SIZE,   8,
-                                   EGL_GREEN_SIZE,   8,              EGL_BLUE_SIZE,
-                                   8,                EGL_NONE};
+      const EGLint attributes[] = {EGL_SURFACE_TYPE,
+                                   surface_type,
+                                   EGL_RENDERABLE_TYPE,
+                                   EGL_OPENGL_BIT,
+                                   EGL_RED_SIZE,
+                                   8,
+                                   EGL_GREEN_SIZE,
+                                   8,
+                                   EGL_BLUE_SIZE,
+                                   8,
+                                   EGL_NONE};
       if (egl.ChooseConfig(display_, attributes, &config, 1, &count) && count > 0) break;
     }
     if (count == 0) throw ContextError(platform + ": no OpenGL config");
-    const EGLint context_attributes[] = {EGL_CONTEXT_MAJOR_VERSION, 3,
-                                         EGL_CONTEXT_MINOR_VERSION, 3,
+    const EGLint context_attributes[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                         3,
+                                         EGL_CONTEXT_MINOR_VERSION,
+                                         3,
                                          EGL_CONTEXT_OPENGL_PROFILE_MASK,
                                          EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT,
                                          EGL_NONE};
@@ -171,7 +179,8 @@ std::unique_ptr<OffscreenContext> create_egl_context() {
         EGLDeviceEXT device = devices[i];
         attempts.push_back([&egl, device, i] {
           EGLDisplay d = egl.GetPlatformDisplayEXT(EGL_PLATFORM_DEVICE_EXT, device, nullptr);
-          if (d == EGL_NO_DISPLAY) throw ContextError("device " + std::to_string(i) + ": no display");
+          if (d == EGL_NO_DISPLAY)
+            throw ContextError("device " + std::to_string(i) + ": no display");
           return std::make_unique<EglContext>(d, "device " + std::to_string(i));
         });
       }
@@ -180,8 +189,8 @@ std::unique_ptr<OffscreenContext> create_egl_context() {
   // 2. Mesa's surfaceless platform (llvmpipe, or a GPU through its render node).
   if (egl.GetPlatformDisplayEXT && has_extension(client, "EGL_MESA_platform_surfaceless")) {
     attempts.push_back([&egl] {
-      EGLDisplay d = egl.GetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY,
-                                               nullptr);
+      EGLDisplay d =
+          egl.GetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
       if (d == EGL_NO_DISPLAY) throw ContextError("surfaceless: no display");
       return std::make_unique<EglContext>(d, "surfaceless");
     });

@@ -54,7 +54,8 @@ float quantile(const Snapshot& s, F value, float q) {
 
 float typical_radius(const Snapshot& s) {
   if (s.radius.empty()) return float(s.dx) * 0.25f;
-  return quantile(s, [&](std::size_t i) { return s.radius[i]; }, 0.5f);
+  return quantile(
+      s, [&](std::size_t i) { return s.radius[i]; }, 0.5f);
 }
 
 // Enough decimals to tell frames apart: 24 fps gives "0.042", 10 fps "0.1".
@@ -70,10 +71,14 @@ std::string time_label(double t, double step) {
 
 std::string legend_title(ColorMode m) {
   switch (m) {
-    case ColorMode::speed: return "speed |v|";
-    case ColorMode::noise: return "noise |v \u2212 v_PIC|";
-    case ColorMode::material: return "material";
-    case ColorMode::object: return "object";
+    case ColorMode::speed:
+      return "speed |v|";
+    case ColorMode::noise:
+      return "noise |v \u2212 v_PIC|";
+    case ColorMode::material:
+      return "material";
+    case ColorMode::object:
+      return "object";
   }
   return "";
 }
@@ -91,9 +96,9 @@ float scene_aspect(const Snapshot& s, const Box3& box, int up_axis) {
   const Camera c = make_camera(v, 1.0f, box);
   float lo[2] = {1e30f, 1e30f}, hi[2] = {-1e30f, -1e30f};
   for (int i = 0; i < 8; ++i) {
-    Vec4 p = c.projection * (c.view * Vec4{i & 1 ? box.max.x : box.min.x,
-                                           i & 2 ? box.max.y : box.min.y,
-                                           i & 4 ? box.max.z : box.min.z, 1});
+    Vec4 p =
+        c.projection * (c.view * Vec4{i & 1 ? box.max.x : box.min.x, i & 2 ? box.max.y : box.min.y,
+                                      i & 4 ? box.max.z : box.min.z, 1});
     for (int k = 0; k < 2; ++k) {
       float ndc = (k == 0 ? p.x : p.y) / p.w;
       lo[k] = std::min(lo[k], ndc), hi[k] = std::max(hi[k], ndc);
@@ -111,8 +116,8 @@ int object_count(const Snapshot& s) {
 Layout layout(Renderer& r, int width, int height, int panes, const Snapshot& first,
               const FigureStyle& style) {
   Layout l;
-  l.font = std::clamp(std::round(std::min(float(height), 0.75f * float(width)) / 36.0f), 9.0f,
-                      40.0f);
+  l.font =
+      std::clamp(std::round(std::min(float(height), 0.75f * float(width)) / 36.0f), 9.0f, 40.0f);
   l.pad = std::round(0.6f * l.font);
   const float header = style.header ? std::round(1.7f * l.font) : 0;
   float legend_w = 0;
@@ -145,7 +150,8 @@ Layout layout(Renderer& r, int width, int height, int panes, const Snapshot& fir
     if (scene_h > best) best = scene_h, cols = c;
   }
   const int rows = (panes + cols - 1) / cols;
-  const float sh = std::floor(std::max(best, 1.0f)), sw = std::floor(std::min(sh * aspect, (area.w - (cols - 1) * gap) / cols));
+  const float sh = std::floor(std::max(best, 1.0f)),
+              sw = std::floor(std::min(sh * aspect, (area.w - (cols - 1) * gap) / cols));
   const float group_w = cols * sw + (cols - 1) * gap + legend_w;
   const float group_h = rows * (sh + label) + (rows - 1) * gap;
   const float x0 = std::round(std::max(l.pad, (float(width) - group_w) / 2));
@@ -184,9 +190,11 @@ SceneStyle resolve(const FigureStyle& style, const std::vector<const Snapshot*>&
       float top = 0;
       for (const Snapshot* p : healthy) {
         if (style.color == ColorMode::speed)
-          top = std::max(top, quantile(*p, [&](std::size_t i) { return speed_of(*p, i); }, 0.995f));
+          top = std::max(top, quantile(
+                                  *p, [&](std::size_t i) { return speed_of(*p, i); }, 0.995f));
         else if (!p->noise.empty())
-          top = std::max(top, quantile(*p, [&](std::size_t i) { return p->noise[i]; }, 0.995f));
+          top = std::max(top, quantile(
+                                  *p, [&](std::size_t i) { return p->noise[i]; }, 0.995f));
       }
       state.color_max = std::max(state.color_max, nice_ceil(top));
       s.color_max = state.color_max > 0 ? state.color_max : 1;
@@ -209,15 +217,15 @@ SceneStyle resolve(const FigureStyle& style, const std::vector<const Snapshot*>&
       float reference = 0;
       for (const Snapshot* p : healthy)
         reference =
-            std::max(reference, quantile(*p, [&](std::size_t i) { return speed_of(*p, i); }, 0.95f));
+            std::max(reference, quantile(
+                                    *p, [&](std::size_t i) { return speed_of(*p, i); }, 0.95f));
       if (reference > 0) {
         // An arrow at the reference speed spans 1.8 times the spacing between arrows.
         const float spacing = 1.8f * 2 * typical_radius(first) * style.particle_scale *
                               std::pow(float(s.vector_every), 1.0f / float(first.dim));
         const float automatic = spacing / reference;
-        state.vector_scale = state.vector_scale > 0
-                                 ? std::min(state.vector_scale, automatic)
-                                 : automatic;
+        state.vector_scale =
+            state.vector_scale > 0 ? std::min(state.vector_scale, automatic) : automatic;
       }
       s.vector_scale = state.vector_scale;
     }
@@ -237,8 +245,10 @@ void draw_legend(Renderer& r, const Layout& l, const SceneStyle& s, const Snapsh
     constexpr int steps = 48;
     for (int k = 0; k < steps; ++k) {
       // Top of the bar is the top of the scale.
-      const float y0 = y + bar_h * (1 - float(k + 1) / steps), y1 = y + bar_h * (1 - float(k) / steps);
-      const Rgba8 c0 = to_rgba8(viridis(float(k) / steps)), c1 = to_rgba8(viridis(float(k + 1) / steps));
+      const float y0 = y + bar_h * (1 - float(k + 1) / steps),
+                  y1 = y + bar_h * (1 - float(k) / steps);
+      const Rgba8 c0 = to_rgba8(viridis(float(k) / steps)),
+                  c1 = to_rgba8(viridis(float(k + 1) / steps));
       const Vec2 q[4] = {{x, y1}, {x + bar_w, y1}, {x + bar_w, y0}, {x, y0}};
       const Rgba8 cs[4] = {c0, c0, c1, c1};
       r.fill_quad(q, cs);
@@ -252,8 +262,8 @@ void draw_legend(Renderer& r, const Layout& l, const SceneStyle& s, const Snapsh
     for (float v = 0; v <= s.color_max * 1.0001f; v += step) {
       const float ty = std::round(y + bar_h * (1 - v / s.color_max)) + 0.5f;
       r.line({x + bar_w, ty}, {x + bar_w + 0.3f * f, ty}, 1, frame);
-      r.text(format("%g", std::round(v / step) * step), x + bar_w + 0.45f * f, ty + 0.35f * f,
-             f, kText);
+      r.text(format("%g", std::round(v / step) * step), x + bar_w + 0.45f * f, ty + 0.35f * f, f,
+             kText);
     }
     y += bar_h + 1.2f * f;
     if (s.color == ColorMode::noise && first.noise.empty()) {
@@ -267,10 +277,10 @@ void draw_legend(Renderer& r, const Layout& l, const SceneStyle& s, const Snapsh
     for (int k = 0; k < n; ++k) {
       y += 0.3f * f;
       r.fill_rect({x, std::round(y), std::round(bar_w), std::round(bar_w)}, category_color(k));
-      std::string name = s.color == ColorMode::material && k < int(first.material_names.size())
-                             ? first.material_names[k]
-                             : (s.color == ColorMode::material ? "material " : "object ") +
-                                   std::to_string(k);
+      std::string name =
+          s.color == ColorMode::material && k < int(first.material_names.size())
+              ? first.material_names[k]
+              : (s.color == ColorMode::material ? "material " : "object ") + std::to_string(k);
       r.text(name, x + 1.4f * f, y + 0.8f * f, f, kText);
       y += 1.2f * f;
     }

@@ -14,15 +14,15 @@ namespace apiclab::render {
 // What the user asks for; zeros mean "choose automatically".
 struct FigureStyle {
   ColorMode color = ColorMode::speed;
-  float color_max = 0;       // top of the speed/noise scale
+  float color_max = 0;  // top of the speed/noise scale
   bool vectors = false;
-  float vector_scale = 0;    // world length of an arrow per unit of speed
-  int vector_every = 0;      // one arrow per this many particles
+  float vector_scale = 0;  // world length of an arrow per unit of speed
+  int vector_every = 0;    // one arrow per this many particles
   bool grid = false, box = true, colliders = true, legend = true, header = true;
   float particle_scale = 1;
-  int up_axis = 1;           // 3D: the axis that points up on screen (against gravity)
-  std::optional<Box3> frame; // the region to frame; default: the domain box
-  double time_step = 0;      // time between frames: sets the digits of "t = ..."
+  int up_axis = 1;            // 3D: the axis that points up on screen (against gravity)
+  std::optional<Box3> frame;  // the region to frame; default: the domain box
+  double time_step = 0;       // time between frames: sets the digits of "t = ..."
 };
 
 // Automatic scales kept steady through a sequence of frames (a video, the GUI): the color

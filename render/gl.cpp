@@ -10,8 +10,8 @@ APICLAB_GL_FUNCTIONS(APICLAB_GL_DEFINE)
 
 std::string load(ProcLoader loader) {
   std::string missing;
-#define APICLAB_GL_LOAD(name, type)                                  \
-  name = reinterpret_cast<type>(loader("gl" #name));                 \
+#define APICLAB_GL_LOAD(name, type)                  \
+  name = reinterpret_cast<type>(loader("gl" #name)); \
   if (!name) missing += (missing.empty() ? "gl" : ", gl") + std::string(#name);
   APICLAB_GL_FUNCTIONS(APICLAB_GL_LOAD)
 #undef APICLAB_GL_LOAD

@@ -52,8 +52,8 @@ Image read_png(const std::string& path) {
 ImageDifference compare_images(const Image& reference, const Image& actual, int tolerance) {
   ImageDifference d;
   if (reference.width != actual.width || reference.height != actual.height) {
-    d.differing_pixels = std::max(long(reference.width) * reference.height,
-                                  long(actual.width) * actual.height);
+    d.differing_pixels =
+        std::max(long(reference.width) * reference.height, long(actual.width) * actual.height);
     d.largest = 255;
     d.visual = actual;
     return d;

@@ -22,7 +22,7 @@ Image read_png(const std::string& path);
 struct ImageDifference {
   long differing_pixels = 0;  // pixels whose largest channel difference exceeds the tolerance
   int largest = 0;            // largest channel difference anywhere
-  Image visual;  // the reference greyed out, differing pixels in red: what to look at
+  Image visual;               // the reference greyed out, differing pixels in red: what to look at
 };
 // Sizes must match (otherwise every pixel differs).
 ImageDifference compare_images(const Image& reference, const Image& actual, int tolerance);

@@ -7,9 +7,10 @@
 #include <vector>
 
 #include "render/context.hpp"
+// clang-format off
 #include "render/gl.hpp"  // before osmesa.h: its <GL/gl.h> would hide glcorearb's 1.1 types
-
 #include <GL/osmesa.h>
+// clang-format on
 
 namespace apiclab::render {
 namespace {

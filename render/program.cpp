@@ -52,9 +52,7 @@ void Program::use() const { gl::UseProgram(id_); }
 int Program::location(const char* name) const { return gl::GetUniformLocation(id_, name); }
 void Program::set(const char* name, int v) const { gl::Uniform1i(location(name), v); }
 void Program::set(const char* name, float v) const { gl::Uniform1f(location(name), v); }
-void Program::set(const char* name, float x, float y) const {
-  gl::Uniform2f(location(name), x, y);
-}
+void Program::set(const char* name, float x, float y) const { gl::Uniform2f(location(name), x, y); }
 void Program::set(const char* name, Vec3 v) const { gl::Uniform3f(location(name), v.x, v.y, v.z); }
 void Program::set(const char* name, const Mat4& m) const {
   gl::UniformMatrix4fv(location(name), 1, GL_FALSE, m.m);

@@ -33,8 +33,7 @@ void upload(GLuint vbo, const std::vector<T>& data) {
   gl::BindBuffer(GL_ARRAY_BUFFER, vbo);
   // Orphan, then fill: the driver need not wait for the previous draw.
   gl::BufferData(GL_ARRAY_BUFFER, GLsizeiptr(data.size() * sizeof(T)), nullptr, GL_STREAM_DRAW);
-  gl::BufferData(GL_ARRAY_BUFFER, GLsizeiptr(data.size() * sizeof(T)), data.data(),
-                 GL_STREAM_DRAW);
+  gl::BufferData(GL_ARRAY_BUFFER, GLsizeiptr(data.size() * sizeof(T)), data.data(), GL_STREAM_DRAW);
 }
 
 // Corners of the plane n·(x − p) = 0 inside the box, in order around the polygon
@@ -102,7 +101,8 @@ Rgba8 particle_color(const Snapshot& s, std::size_t i, const SceneStyle& style) 
       return category_color(i < s.object.size() ? s.object[i] : 0);
     case ColorMode::noise:
       return to_rgba8(viridis(i < s.noise.size() ? s.noise[i] / style.color_max : 0));
-    case ColorMode::speed: break;
+    case ColorMode::speed:
+      break;
   }
   const float* v = &s.velocities[i * s.dim];
   float speed2 = 0;
@@ -132,8 +132,8 @@ Renderer::Renderer() {
   gl::BindBuffer(GL_ARRAY_BUFFER, quad_vbo_);
   gl::BufferData(GL_ARRAY_BUFFER, sizeof quad, quad, GL_STATIC_DRAW);
   // Arrow template: shaft quad (two triangles) then head triangle; see segments.vert.
-  const float arrow[] = {0, -1, 0, 1, -1, 0, 1, 1, 0, 0, -1, 0, 1, 1, 0,
-                         0, 1,  0, 0, -1, 1, 0, 1, 1, 1, 0,  1};
+  const float arrow[] = {0, -1, 0, 1, -1, 0,  1, 1, 0, 0, -1, 0, 1, 1,
+                         0, 0,  1, 0, 0,  -1, 1, 0, 1, 1, 1,  0, 1};
   gl::GenBuffers(1, &template_vbo_);
   gl::BindBuffer(GL_ARRAY_BUFFER, template_vbo_);
   gl::BufferData(GL_ARRAY_BUFFER, sizeof arrow, arrow, GL_STATIC_DRAW);
@@ -252,7 +252,8 @@ void Renderer::draw_scene(const Snapshot& s, const Camera& camera, Rect rect,
   scene_lines_.clear();
   scene_fills_.clear();
   if (style.grid && s.dx > 0 && s.dx * ppu >= 3)
-    add_grid(box, float(s.dx), three_d ? (up + 1) % 3 : 0, three_d ? (up + 2) % 3 : 1, style.line_px);
+    add_grid(box, float(s.dx), three_d ? (up + 1) % 3 : 0, three_d ? (up + 2) % 3 : 1,
+             style.line_px);
   draw_segments(scene_lines_, camera.view, camera.projection, viewport);
 
   // 2. Particles. Alpha to coverage antialiases sphere silhouettes without sorting; 2D
@@ -356,8 +357,8 @@ void Renderer::draw_arrows(const Snapshot& s, const Camera& camera, Vec2 viewpor
     }
     // 3D arrows start on the sphere's surface facing the eye, not hidden inside it.
     const float r = (i < s.radius.size() ? s.radius[i] : fallback_radius) * style.particle_scale;
-    arrows.push_back({x, x + v * style.vector_scale, kArrow, 0.9f * lw, head,
-                      s.dim == 3 ? r : 0.0f});
+    arrows.push_back(
+        {x, x + v * style.vector_scale, kArrow, 0.9f * lw, head, s.dim == 3 ? r : 0.0f});
   }
   // A pale halo under every arrow first, so dark arrows read on dark particles too.
   std::vector<SegmentInstance> halos = arrows;
@@ -392,8 +393,7 @@ bool Renderer::upload_particles(const Snapshot& s, const Camera& camera, Rect re
   const Box3 box = domain_box(s);
   float nearest = 1;
   if (camera.perspective)
-    nearest = std::max(length(box.center() - camera.eye) - length(box.size()) / 2 - largest,
-                       1e-6f);
+    nearest = std::max(length(box.center() - camera.eye) - length(box.size()) / 2 - largest, 1e-6f);
   const float largest_px = largest * camera.projection(1, 1) * 0.5f * rect.h / nearest;
   return 2 * (1.3f * largest_px + 2) + 2 <= max_point_size_;
 }
@@ -401,7 +401,7 @@ bool Renderer::upload_particles(const Snapshot& s, const Camera& camera, Rect re
 void Renderer::draw_floor(const Box3& box, int up, const Mat4& view_projection, Rect rect) {
   const int a1 = (up + 1) % 3, a2 = (up + 2) % 3;
   constexpr int kMap = 128;  // shadow map side: soft shadows come from its coarseness
-  GLint previous = 0;  // the caller's framebuffer (ours, or the GUI's window)
+  GLint previous = 0;        // the caller's framebuffer (ours, or the GUI's window)
   gl::GetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &previous);
   if (!shadow_texture_) {
     gl::GenTextures(1, &shadow_texture_);
@@ -413,7 +413,8 @@ void Renderer::draw_floor(const Box3& box, int up, const Mat4& view_projection, 
     gl::TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     gl::GenFramebuffers(1, &shadow_fbo_);
     gl::BindFramebuffer(GL_FRAMEBUFFER, shadow_fbo_);
-    gl::FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, shadow_texture_, 0);
+    gl::FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, shadow_texture_,
+                             0);
   }
   // 1. The shadow map: the particles seen from straight above, u along a1 and v along a2.
   gl::BindFramebuffer(GL_FRAMEBUFFER, shadow_fbo_);
@@ -428,8 +429,8 @@ void Renderer::draw_floor(const Box3& box, int up, const Mat4& view_projection, 
   top.view(0, a1) = 1, top.view(0, 3) = -c[a1];
   top.view(1, a2) = 1, top.view(1, 3) = -c[a2];
   top.view(2, up) = 1, top.view(2, 3) = -(box.max[up] + 1);
-  top.projection = ortho(-size[a1] / 2, size[a1] / 2, -size[a2] / 2, size[a2] / 2, 0.5f,
-                         size[up] + 2);
+  top.projection =
+      ortho(-size[a1] / 2, size[a1] / 2, -size[a2] / 2, size[a2] / 2, 0.5f, size[up] + 2);
   const float map_px = largest_radius_ * kMap / std::max(std::min(size[a1], size[a2]), 1e-6f);
   gl::BlendEquation(GL_MAX);
   shadow_map_->use();

@@ -25,10 +25,10 @@ struct Rect {
 // How one scene is drawn, every value resolved (figure.hpp picks the automatic ones).
 struct SceneStyle {
   ColorMode color = ColorMode::speed;
-  float color_max = 1;       // speed or noise at the top of the colormap
+  float color_max = 1;  // speed or noise at the top of the colormap
   bool vectors = false;
-  float vector_scale = 0.1f; // world length of an arrow per unit of speed
-  int vector_every = 1;      // one arrow per this many particles, picked by a hash of the id
+  float vector_scale = 0.1f;  // world length of an arrow per unit of speed
+  int vector_every = 1;       // one arrow per this many particles, picked by a hash of the id
   bool box = true, colliders = true, grid = false;
   float particle_scale = 1;  // multiplies each particle's drawing radius
   float line_px = 1;         // width of thin lines, pixels
@@ -57,7 +57,7 @@ class Renderer {
 
   // Overlay, in pixels; drawn over the scenes by end_frame: fills, then lines, then text.
   void fill_rect(Rect r, Rgba8 color);
-  void fill_quad(const Vec2 corners[4], const Rgba8 colors[4]);  // corners in fan order
+  void fill_quad(const Vec2 corners[4], const Rgba8 colors[4]);         // corners in fan order
   void line(Vec2 a, Vec2 b, float width, Rgba8 color, float head = 0);  // head > 0: arrow
   // Text with its baseline at y; align 0 left, 0.5 centre, 1 right. Returns its width.
   float text(std::string_view utf8, float x, float y, float size, Rgba8 color, float align = 0);
@@ -94,7 +94,8 @@ class Renderer {
   };
 
   // Fills and uploads the particle buffer; returns whether point sprites can draw it.
-  bool upload_particles(const Snapshot& s, const Camera& camera, Rect rect, const SceneStyle& style);
+  bool upload_particles(const Snapshot& s, const Camera& camera, Rect rect,
+                        const SceneStyle& style);
   void draw_particles(const Program& program, const Camera& camera, Rect rect, bool points);
   // Scene geometry into scene_lines_ / scene_fills_.
   void add_grid(const Box3& box, float dx, int axis_a, int axis_b, float line_px);

@@ -15,8 +15,8 @@ class RenderTarget {
   int width() const { return width_; }
   int height() const { return height_; }
   int samples() const { return samples_; }
-  void bind();           // draw into it
-  Image read();          // resolves the samples and copies the pixels out (top row first)
+  void bind();   // draw into it
+  Image read();  // resolves the samples and copies the pixels out (top row first)
 
  private:
   int width_, height_, samples_ = 1;

@@ -98,8 +98,7 @@ float Font::layout(std::string_view utf8, float x, float y, std::vector<Quad>& o
     auto it = glyphs_->chars.find(cp);
     if (it == glyphs_->chars.end()) it = glyphs_->chars.find(U'?');
     int glyph = glyphs_->glyph_index.at(it->first);
-    if (previous)
-      x += glyphs_->scale * stbtt_GetGlyphKernAdvance(&glyphs_->info, previous, glyph);
+    if (previous) x += glyphs_->scale * stbtt_GetGlyphKernAdvance(&glyphs_->info, previous, glyph);
     previous = glyph;
     stbtt_aligned_quad q;
     float pen_y = y;

@@ -31,7 +31,9 @@ int main(int argc, char** argv) {
     Renderer renderer;
     std::printf("%-4s %9s %8s %12s %10s\n", "dim", "particles", "arrows", "draw ms", "PNG ms");
     using clock = std::chrono::steady_clock;
-    const auto ms = [](clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); };
+    const auto ms = [](clock::duration d) {
+      return std::chrono::duration<double, std::milli>(d).count();
+    };
     for (int dim : {2, 3})
       for (double count : {1e4, 2e5}) {
         const Snapshot s = dim == 2 ? synthetic::scene_2d(count) : synthetic::scene_3d(count);

@@ -39,7 +39,9 @@ Image draw(const std::vector<const Snapshot*>& panes, const FigureStyle& style, 
   return target.read();
 }
 
-long differing_pixels(const Image& a, const Image& b) { return compare_images(a, b, 24).differing_pixels; }
+long differing_pixels(const Image& a, const Image& b) {
+  return compare_images(a, b, 24).differing_pixels;
+}
 
 // Differs from the golden image by at most `tolerance` per channel in all but 0.5% of the
 // pixels: llvmpipe builds may round an edge differently, a real change moves far more.
@@ -194,7 +196,7 @@ TEST(Render, LargeParticlesBecomeQuads) {
 
 TEST(Render, TextComesFromTheFont) {
   Font font(20);
-  EXPECT_GT(font.width("W"), 1.5f * font.width("i"));   // proportional, not a fixed grid
+  EXPECT_GT(font.width("W"), 1.5f * font.width("i"));              // proportional, not a fixed grid
   EXPECT_LT(font.width("AV"), font.width("A") + font.width("V"));  // kerning
   EXPECT_GT(font.width("α=0.95"), 0);
   // Antialiased glyphs: many grey levels between paper and ink.
