@@ -220,8 +220,8 @@ SceneStyle resolve(const FigureStyle& style, const std::vector<const Snapshot*>&
             std::max(reference, quantile(
                                     *p, [&](std::size_t i) { return speed_of(*p, i); }, 0.95f));
       if (reference > 0) {
-        // An arrow at the reference speed spans 1.8 times the spacing between arrows.
-        const float spacing = 1.8f * 2 * typical_radius(first) * style.particle_scale *
+        // An arrow at the reference speed spans 2.5 times the spacing between arrows.
+        const float spacing = 2.5f * 2 * typical_radius(first) * style.particle_scale *
                               std::pow(float(s.vector_every), 1.0f / float(first.dim));
         const float automatic = spacing / reference;
         state.vector_scale =
