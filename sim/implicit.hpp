@@ -23,7 +23,8 @@ template <class Fn>
 void MpmSimulation<T, D>::for_each_particle_coloured(Fn&& fn) {
   for (const auto& blocks : color_blocks_) {
     const std::ptrdiff_t nb = std::ptrdiff_t(blocks.size());
-#pragma omp parallel for schedule(dynamic, 1) if (parallel_worthwhile())
+// Contiguous chunks: neighbouring same-coloured blocks share cache lines, so they go to one thread.
+#pragma omp parallel for schedule(static) if (parallel_worthwhile())
     for (std::ptrdiff_t bi = 0; bi < nb; ++bi) {
       const std::uint32_t b = blocks[std::size_t(bi)];
       for (std::uint32_t q = block_start_[b]; q < block_start_[b + 1]; ++q) fn(q);
