@@ -174,6 +174,8 @@ void MpmSimulation<T, D>::clear_grid() {
 template <class T, int D>
 template <class K, bool affine, bool with_forces>
 void MpmSimulation<T, D>::p2g_impl() {
+  auto& cache = stencils<K>();  // G2P reuses these weights (same x_p^n)
+  cache.resize(p_.size());
   T* mass = grid_.mass.data();
   Vec<T, D>* mom = grid_.velocity.data();
   Vec<T, D>* force = grid_.force.data();
@@ -183,8 +185,8 @@ void MpmSimulation<T, D>::p2g_impl() {
 #pragma omp parallel for schedule(static) if (parallel_worthwhile())
     for (std::ptrdiff_t bi = 0; bi < nb; ++bi) {
       const std::uint32_t b = blocks[std::size_t(bi)];
-      Stencil<T, D, K> st;
       for (std::uint32_t q = block_start_[b]; q < block_start_[b + 1]; ++q) {
+        Stencil<T, D, K>& st = cache[q];
         st.compute(p_.x[q], grid_);
         const T m = p_.mass[q];
         const Vec<T, D> mv = m * p_.v[q];
@@ -297,10 +299,10 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
   double max_move = 0;
   Vec<T, D> lo, hi;
   for (int a = 0; a < D; ++a) { lo[a] = T(scene_.domain.min[a]); hi[a] = T(scene_.domain.max[a]); }
+  const auto& cache = stencils<K>();
 #pragma omp parallel for schedule(static) reduction(|| : bad) reduction(max : max_move) if (parallel_worthwhile())
   for (std::ptrdiff_t q = 0; q < n; ++q) {
-    Stencil<T, D, K> st;
-    st.compute(p_.x[q], grid_);
+    const Stencil<T, D, K>& st = cache[std::size_t(q)];
     Vec<T, D> vpic = Vec<T, D>::Zero(), ubar = Vec<T, D>::Zero(), vold_p = Vec<T, D>::Zero();
     Mat<T, D> Bsum = Mat<T, D>::Zero(), Ssum = Mat<T, D>::Zero(), gradu = Mat<T, D>::Zero(),
               gradv = Mat<T, D>::Zero();
