@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <random>
 #include <set>
 #include <sstream>
 
@@ -200,6 +201,13 @@ MaterialDesc read_material(Reader r, int index) {
   return m;
 }
 
+// rotation.random_seed: an angle uniform in [0, 360). mt19937_64's output is fixed by the
+// standard (std::uniform_real_distribution's is not), so a seed gives the same angle everywhere.
+double random_rotation_degrees(std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  return 360.0 * double(rng() >> 11) * 0x1.0p-53;
+}
+
 ShapeDesc read_shape(Reader r, int dim) {
   ShapeDesc sh;
   std::string type = r.string("type", "", true);
@@ -242,7 +250,16 @@ ShapeDesc read_shape(Reader r, int dim) {
   if (r.has("rotation")) {
     Reader rot = r.child("rotation");
     sh.rotation_axis = rot.vec("axis", {0, 0, 1}, 3);
-    sh.rotation_degrees = rot.number("degrees", 0, true);
+    if (rot.has("random_seed")) {
+      if (rot.has("degrees")) rot.fail("random_seed", "give either degrees or random_seed, not both");
+      const json& v = rot.raw("random_seed");
+      if (!v.is_number_integer() || v.get<long long>() < 0)
+        rot.fail("random_seed", "expected a non-negative integer, got " + v.dump());
+      sh.rotation_seed = v.get<std::int64_t>();
+      sh.rotation_degrees = random_rotation_degrees(std::uint64_t(sh.rotation_seed));
+    } else {
+      sh.rotation_degrees = rot.number("degrees", 0, true);
+    }
   }
   return sh;
 }

@@ -76,6 +76,8 @@ struct ShapeDesc {
   Vec3d translate{0, 0, 0};
   Vec3d rotation_axis{0, 0, 1};  // rotation about `center` (mesh: about origin, then translate)
   double rotation_degrees = 0;
+  // rotation.random_seed: when >= 0, rotation_degrees was drawn from it, uniform in [0, 360).
+  std::int64_t rotation_seed = -1;
 };
 
 struct SamplingDesc {
