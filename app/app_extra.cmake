@@ -33,3 +33,10 @@ if(APICLAB_BUILD_GUI AND TARGET apiclab_render)
 elseif(APICLAB_BUILD_GUI)
   message(STATUS "GUI not built: it needs the renderer (render/)")
 endif()
+
+# `apiclab figures` (app/cmd_figures.cpp): the paper's charts are drawn by the GUI's plot
+# widget offscreen through ImGui's OpenGL3 backend, so the command comes with the GUI.
+if(TARGET apiclab_imgui_backends AND EXISTS "${CMAKE_CURRENT_SOURCE_DIR}/cmd_figures.cpp")
+  target_sources(apiclab PRIVATE figures/chart_canvas.cpp)
+  target_compile_definitions(apiclab PRIVATE APICLAB_HAVE_FIGURES=1)
+endif()

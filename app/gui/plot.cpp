@@ -60,6 +60,12 @@ std::vector<double> log_ticks(double lo, double hi) {
   const int every = std::max(1, (b - a + 1) / 6);  // at most ~6 labelled decades
   for (int e = a; e <= b; ++e)
     if ((e - a) % every == 0) out.push_back(std::pow(10.0, e));
+  if (out.size() < 3) {  // a decade or two: label 2× and 5× as well
+    for (int e = a - 1; e <= b; ++e)
+      for (double m : {2.0, 5.0})
+        if (const double v = m * std::pow(10.0, e); v >= lo && v <= hi) out.push_back(v);
+    std::sort(out.begin(), out.end());
+  }
   return out;
 }
 
@@ -68,13 +74,65 @@ std::string tick_label(double v, double step) {
   const double a = std::abs(v);
   if (v == 0) return "0";
   if (v != 0 && (a >= 1e5 || a < 1e-3)) {
-    std::snprintf(buf, sizeof buf, "%.3g", v);
+    // Enough significant digits that neighbouring ticks differ.
+    const int sig = step > 0 ? int(std::floor(std::log10(a)) - std::floor(std::log10(step) + 1e-9)) + 1 : 3;
+    std::snprintf(buf, sizeof buf, "%.*g", std::clamp(sig, 3, 10), v);
   } else {
     const int digits = step > 0 ? std::clamp(int(-std::floor(std::log10(step) + 1e-9)), 0, 6) : 2;
     std::snprintf(buf, sizeof buf, "%.*f", digits, v);
   }
   return buf;
 }
+
+namespace {
+
+// Text turned a quarter left (reading upwards), centred on `center`. Laid out level inside
+// the window first (ImGui culls glyphs outside the clip rect), then turned into place.
+void add_text_vertical(ImDrawList* dl, ImVec2 center, ImU32 color, const char* text) {
+  const ImVec2 ts = ImGui::CalcTextSize(text);
+  const ImVec2 at = ImGui::GetWindowPos();
+  const ImVec2 mid(at.x + ts.x / 2, at.y + ts.y / 2);
+  dl->PushClipRectFullScreen();
+  const int first = dl->VtxBuffer.Size;
+  dl->AddText(at, color, text);
+  for (int i = first; i < dl->VtxBuffer.Size; ++i) {
+    ImVec2& p = dl->VtxBuffer[i].pos;
+    const float dx = p.x - mid.x, dy = p.y - mid.y;
+    p = ImVec2(center.x + dy, center.y - dx);
+  }
+  dl->PopClipRect();
+}
+
+// A polyline as dashes of `on` pixels separated by `off` pixels.
+void add_dashed(ImDrawList* dl, const std::vector<ImVec2>& pts, ImU32 color, float thickness,
+                float on, float off) {
+  float phase = 0;  // distance into the current on+off period
+  std::vector<ImVec2> dash;
+  for (std::size_t i = 1; i < pts.size(); ++i) {
+    ImVec2 a = pts[i - 1];
+    const ImVec2 b = pts[i];
+    float len = std::hypot(b.x - a.x, b.y - a.y);
+    const float ux = len > 0 ? (b.x - a.x) / len : 0, uy = len > 0 ? (b.y - a.y) / len : 0;
+    while (len > 0) {
+      const bool drawing = phase < on;
+      const float step = std::min(len, drawing ? on - phase : on + off - phase);
+      const ImVec2 c(a.x + ux * step, a.y + uy * step);
+      if (drawing) {
+        if (dash.empty()) dash.push_back(a);
+        dash.push_back(c);
+      }
+      phase += step, len -= step, a = c;
+      if (phase >= on && !dash.empty()) {
+        if (dash.size() > 1) dl->AddPolyline(dash.data(), int(dash.size()), color, 0, thickness);
+        dash.clear();
+      }
+      if (phase >= on + off) phase = 0;
+    }
+  }
+  if (dash.size() > 1) dl->AddPolyline(dash.data(), int(dash.size()), color, 0, thickness);
+}
+
+}  // namespace
 
 void plot(const char* id, ImVec2 size, const PlotOptions& o, const std::vector<PlotSeries>& series) {
   ImGui::PushID(id);
@@ -83,7 +141,7 @@ void plot(const char* id, ImVec2 size, const PlotOptions& o, const std::vector<P
   if (size.y <= 0) size.y = avail.y;
   const ImVec2 p0 = ImGui::GetCursorScreenPos();
   ImGui::InvisibleButton("plot", size);
-  const bool hovered = ImGui::IsItemHovered();
+  const bool hovered = o.interactive && ImGui::IsItemHovered();
   ImDrawList* dl = ImGui::GetWindowDrawList();
   const float fh = ImGui::GetFontSize();
 
@@ -91,16 +149,21 @@ void plot(const char* id, ImVec2 size, const PlotOptions& o, const std::vector<P
   Range xr, yr;
   for (auto& s : series)
     for (std::size_t i = 0; i < s.count; ++i) {
-      const double y = s.y(i);
-      if (o.log_y && !(y > 0)) continue;
-      xr.add(s.x(i));
+      const double x = s.x(i), y = s.y(i);
+      if ((o.log_y && !(y > 0)) || (o.log_x && !(x > 0))) continue;
+      xr.add(x);
       yr.add(y);
     }
-  if (!xr.valid()) xr = {0, 1};
-  if (xr.hi <= xr.lo) xr.hi = xr.lo + 1;
+  if (o.log_x) {
+    xr = pad(xr, true);
+  } else {
+    if (!xr.valid()) xr = {0, 1};
+    if (xr.hi <= xr.lo) xr.hi = xr.lo + 1;
+  }
   yr = pad(yr, o.log_y);
+  auto fx = [&](double x) { return o.log_x ? std::log10(x) : x; };
   auto fy = [&](double y) { return o.log_y ? std::log10(y) : y; };
-  const double ylo = fy(yr.lo), yhi = fy(yr.hi);
+  const double xlo = fx(xr.lo), xhi = fx(xr.hi), ylo = fy(yr.lo), yhi = fy(yr.hi);
 
   // Tick labels decide the left margin.
   std::vector<double> yt = o.log_y ? log_ticks(yr.lo, yr.hi) : nice_ticks(yr.lo, yr.hi, 4);
@@ -111,29 +174,46 @@ void plot(const char* id, ImVec2 size, const PlotOptions& o, const std::vector<P
     ylabels.push_back(o.log_y ? tick_label(v, v) : tick_label(v, ystep));
     label_w = std::max(label_w, ImGui::CalcTextSize(ylabels.back().c_str()).x);
   }
-  const ImVec2 a(p0.x + label_w + 10, p0.y + fh + 6);                // plot box, top left
-  const ImVec2 b(p0.x + size.x - 8, p0.y + size.y - 2 * fh - 6);     // bottom right
+  const float ylabel_w = o.y_label.empty() ? 0.0f : fh + 6;
+  const ImVec2 a(p0.x + ylabel_w + label_w + 10, p0.y + fh + 6);  // plot box, top left
+  const ImVec2 b(p0.x + size.x - 8, p0.y + size.y - 2 * fh - 6);  // bottom right
   if (b.x - a.x < 20 || b.y - a.y < 20) {
     ImGui::PopID();
     return;
   }
-  auto sx = [&](double x) { return float(a.x + (x - xr.lo) / (xr.hi - xr.lo) * (b.x - a.x)); };
+  auto sx = [&](double x) { return float(a.x + (fx(x) - xlo) / (xhi - xlo) * (b.x - a.x)); };
   auto sy = [&](double y) { return float(b.y - (fy(y) - ylo) / (yhi - ylo) * (b.y - a.y)); };
 
   dl->AddRectFilled(a, b, IM_COL32(255, 255, 255, 255));
-  dl->AddText(ImVec2(p0.x + 4, p0.y + 2), kText, o.title.c_str());
+  const float title_w = ImGui::CalcTextSize(o.title.c_str()).x;
+  dl->AddText(ImVec2(o.interactive ? p0.x + 4 : (a.x + b.x - title_w) / 2, p0.y + 2), kText,
+              o.title.c_str());
+  // Minor grid lines of log axes: 2..9 times each decade.
+  auto minor = [&](double lo, double hi, auto&& draw) {
+    for (double d = std::pow(10.0, std::floor(std::log10(lo))); d <= hi; d *= 10)
+      for (int m = 2; m <= 9; ++m)
+        if (m * d >= lo && m * d <= hi) draw(m * d);
+  };
+  constexpr ImU32 kMinor = IM_COL32(240, 240, 240, 255);
+  if (o.log_y && o.minor_log_grid)
+    minor(yr.lo, yr.hi, [&](double v) { dl->AddLine(ImVec2(a.x, sy(v)), ImVec2(b.x, sy(v)), kMinor); });
+  if (o.log_x && o.minor_log_grid)
+    minor(xr.lo, xr.hi, [&](double v) { dl->AddLine(ImVec2(sx(v), a.y), ImVec2(sx(v), b.y), kMinor); });
   for (std::size_t k = 0; k < yt.size(); ++k) {
     const float y = sy(yt[k]);
     dl->AddLine(ImVec2(a.x, y), ImVec2(b.x, y), kGrid);
     const ImVec2 ts = ImGui::CalcTextSize(ylabels[k].c_str());
     dl->AddText(ImVec2(a.x - 5 - ts.x, y - ts.y / 2), kMuted, ylabels[k].c_str());
   }
-  const auto xt = nice_ticks(xr.lo, xr.hi, std::max(2, int((b.x - a.x) / 90)));
+  if (!o.y_label.empty())
+    add_text_vertical(dl, ImVec2(p0.x + 2 + fh / 2, (a.y + b.y) / 2), kMuted, o.y_label.c_str());
+  const auto xt = o.log_x ? log_ticks(xr.lo, xr.hi)
+                          : nice_ticks(xr.lo, xr.hi, std::max(2, int((b.x - a.x) / 90)));
   const double xstep = xt.size() > 1 ? xt[1] - xt[0] : xr.hi - xr.lo;
   for (double v : xt) {
     const float x = sx(v);
     dl->AddLine(ImVec2(x, a.y), ImVec2(x, b.y), kGrid);
-    const std::string l = tick_label(v, xstep);
+    const std::string l = o.log_x ? tick_label(v, v) : tick_label(v, xstep);
     const float w = ImGui::CalcTextSize(l.c_str()).x;
     dl->AddText(ImVec2(std::clamp(x - w / 2, a.x - 4, b.x - w), b.y + 3), kMuted, l.c_str());
   }
@@ -144,6 +224,14 @@ void plot(const char* id, ImVec2 size, const PlotOptions& o, const std::vector<P
   dl->PushClipRect(a, b, true);
   std::vector<ImVec2> pts;
   for (auto& s : series) {
+    auto stroke = [&] {
+      if (pts.size() > 1) {
+        if (s.dashed)
+          add_dashed(dl, pts, s.color, s.thickness, 3 * s.thickness + 3, 2 * s.thickness + 2);
+        else
+          dl->AddPolyline(pts.data(), int(pts.size()), s.color, 0, s.thickness);
+      }
+    };
     pts.clear();
     const double per_px = double(s.count) / std::max(1.0f, b.x - a.x);
     float col = -1e9f, lo = 0, hi = 0;
@@ -154,14 +242,15 @@ void plot(const char* id, ImVec2 size, const PlotOptions& o, const std::vector<P
       }
     };
     for (std::size_t i = 0; i < s.count; ++i) {
-      const double yv = s.y(i);
-      if (!std::isfinite(yv) || (o.log_y && !(yv > 0))) {
+      const double xv = s.x(i), yv = s.y(i);
+      if (!std::isfinite(yv) || (o.log_y && !(yv > 0)) || (o.log_x && !(xv > 0))) {
         flush(), col = -1e9f;
-        if (pts.size() > 1) dl->AddPolyline(pts.data(), int(pts.size()), s.color, 0, s.thickness);
+        stroke();
         pts.clear();
         continue;
       }
-      const float x = sx(s.x(i)), y = sy(yv);
+      const float x = sx(xv), y = sy(yv);
+      if (s.markers) dl->AddCircleFilled(ImVec2(x, y), s.thickness + 2.0f, s.color, 12);
       if (per_px < 2) {
         pts.push_back(ImVec2(x, y));
       } else if (std::floor(x) != col) {
@@ -172,23 +261,53 @@ void plot(const char* id, ImVec2 size, const PlotOptions& o, const std::vector<P
       }
     }
     flush();
-    if (pts.size() > 1) dl->AddPolyline(pts.data(), int(pts.size()), s.color, 0, s.thickness);
-    if (pts.size() == 1) dl->AddCircleFilled(pts[0], 2.5f, s.color);
+    stroke();
+    if (pts.size() == 1 && !s.markers) dl->AddCircleFilled(pts[0], 2.5f, s.color);
   }
   dl->PopClipRect();
   dl->AddRect(a, b, kFrame);
 
-  // Legend, top right inside the box.
+  // Legend, in a corner inside the box.
   if (o.legend && !series.empty()) {
     float w = 0;
     for (auto& s : series) w = std::max(w, ImGui::CalcTextSize(s.label.c_str()).x);
-    const ImVec2 la(b.x - w - 30, a.y + 4), lb(b.x - 4, a.y + 6 + series.size() * (fh + 1));
+    const float lw = w + 34, lh = 4 + series.size() * (fh + 1);
+    using C = PlotOptions::Corner;
+    auto box_at = [&](C c) {
+      const bool right = c == C::top_right || c == C::bottom_right;
+      const bool top = c == C::top_right || c == C::top_left;
+      return ImVec2(right ? b.x - 4 - lw : a.x + 4, top ? a.y + 4 : b.y - 4 - lh);
+    };
+    C corner = o.legend_corner;
+    if (corner == C::best) {  // the corner whose box covers the fewest samples
+      long fewest = -1;
+      for (C c : {C::top_right, C::top_left, C::bottom_right, C::bottom_left}) {
+        const ImVec2 p = box_at(c);
+        long n = 0;
+        for (auto& s : series)
+          for (std::size_t i = 0; i < s.count; ++i) {
+            const double xv = s.x(i), yv = s.y(i);
+            if (!std::isfinite(yv) || (o.log_y && !(yv > 0)) || (o.log_x && !(xv > 0))) continue;
+            const float x = sx(xv), y = sy(yv);
+            n += x >= p.x - 4 && x <= p.x + lw + 4 && y >= p.y - 4 && y <= p.y + lh + 4;
+          }
+        if (fewest < 0 || n < fewest) fewest = n, corner = c;
+      }
+    }
+    const ImVec2 la = box_at(corner);
+    const ImVec2 lb(la.x + lw, la.y + lh);
     dl->AddRectFilled(la, lb, IM_COL32(255, 255, 255, 215));
     dl->AddRect(la, lb, IM_COL32(200, 200, 200, 255));
     for (std::size_t k = 0; k < series.size(); ++k) {
       const float y = la.y + 2 + k * (fh + 1);
-      dl->AddLine(ImVec2(la.x + 4, y + fh / 2), ImVec2(la.x + 18, y + fh / 2), series[k].color, 2.5f);
-      dl->AddText(ImVec2(la.x + 22, y), kText, series[k].label.c_str());
+      const ImVec2 l0(la.x + 4, y + fh / 2), l1(la.x + 22, y + fh / 2);
+      if (series[k].dashed)
+        add_dashed(dl, {l0, l1}, series[k].color, 2.0f, 6, 3);
+      else
+        dl->AddLine(l0, l1, series[k].color, 2.5f);
+      if (series[k].markers)
+        dl->AddCircleFilled(ImVec2((l0.x + l1.x) / 2, l0.y), series[k].thickness + 2.0f, series[k].color, 12);
+      dl->AddText(ImVec2(la.x + 28, y), kText, series[k].label.c_str());
     }
   }
 
@@ -196,7 +315,8 @@ void plot(const char* id, ImVec2 size, const PlotOptions& o, const std::vector<P
   const ImVec2 m = ImGui::GetIO().MousePos;
   if (hovered && m.x >= a.x && m.x <= b.x) {
     dl->AddLine(ImVec2(m.x, a.y), ImVec2(m.x, b.y), IM_COL32(120, 120, 120, 160));
-    const double xv = xr.lo + (m.x - a.x) / (b.x - a.x) * (xr.hi - xr.lo);
+    const double xf = xlo + (m.x - a.x) / (b.x - a.x) * (xhi - xlo);
+    const double xv = o.log_x ? std::pow(10.0, xf) : xf;
     ImGui::BeginTooltip();
     ImGui::Text("%s = %.6g", o.x_label.c_str(), xv);
     for (auto& s : series) {

@@ -1,6 +1,6 @@
 // One small line-plot widget drawn with ImDrawList (Debian packages no ImPlot): ticks with
-// labels, grid, legend, automatic ranges, linear or log y, and a hover readout. Every plot
-// in the GUI (and the figures later) goes through it.
+// labels, grid, legend, automatic ranges, linear or log axes, and a hover readout. Every
+// plot in the GUI and every chart of `apiclab figures` (drawn offscreen) goes through it.
 #pragma once
 #include <imgui.h>
 
@@ -17,13 +17,21 @@ struct PlotSeries {
   std::size_t count = 0;
   std::function<double(std::size_t)> x, y;  // point i; x must not decrease
   float thickness = 1.6f;
+  bool dashed = false;   // a dashed line (a second quantity in a scheme's color)
+  bool markers = false;  // a dot on every sample (sparse data such as a convergence study)
 };
 
 struct PlotOptions {
   std::string title;
   std::string x_label = "t [s]";
-  bool log_y = false;  // non-positive values are left out
+  std::string y_label;  // drawn turned a quarter left of the y tick labels; empty: none
+  bool log_x = false;   // non-positive values are left out
+  bool log_y = false;   // non-positive values are left out
   bool legend = true;
+  enum class Corner { top_right, top_left, bottom_right, bottom_left, best };  // best: fewest samples covered
+  Corner legend_corner = Corner::top_right;
+  bool interactive = true;  // false: no hover readout (offscreen figures)
+  bool minor_log_grid = false;  // log axes: light grid lines at 2..9 times each decade
 };
 
 // Lays out `size` pixels at the cursor (width or height <= 0: what is left) and draws.
