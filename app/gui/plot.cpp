@@ -78,7 +78,13 @@ std::string tick_label(double v, double step) {
     const int sig = step > 0 ? int(std::floor(std::log10(a)) - std::floor(std::log10(step) + 1e-9)) + 1 : 3;
     std::snprintf(buf, sizeof buf, "%.*g", std::clamp(sig, 3, 10), v);
   } else {
-    const int digits = step > 0 ? std::clamp(int(-std::floor(std::log10(step) + 1e-9)), 0, 6) : 2;
+    int digits = step > 0 ? std::clamp(int(-std::floor(std::log10(step) + 1e-9)), 0, 6) : 2;
+    // A step like 0.25 needs one digit more than its magnitude says.
+    while (step > 0 && digits < 8) {
+      const double scaled = step * std::pow(10.0, digits);
+      if (std::abs(scaled - std::round(scaled)) < 1e-6 * scaled) break;
+      ++digits;
+    }
     std::snprintf(buf, sizeof buf, "%.*f", digits, v);
   }
   return buf;
