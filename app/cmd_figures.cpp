@@ -315,6 +315,26 @@ void write_ringing_frames(figures::ChartCanvas& canvas, const std::vector<Run>& 
   const std::size_t rows = std::min(times.size(), runs.front().snapshots.size());
   for (auto& r : runs)
     if (r.snapshots.size() < rows) throw UsageError("Fig 1: the " + r.scheme + " run stopped early: " + r.failure);
+  // Frame the bodies, not the whole domain: every particle of every row and scheme, with
+  // a sixth of their extent and two cells around them (and the walls they touch).
+  {
+    const Snapshot& first = *runs.front().snapshots.front();
+    render::Box3 b = render::particle_box(first);
+    for (auto& r : runs)
+      for (std::size_t k = 0; k < rows; ++k) {
+        const render::Box3 q = render::particle_box(*r.snapshots[k]);
+        for (int a = 0; a < 3; ++a)
+          b.min[a] = std::min(b.min[a], q.min[a]), b.max[a] = std::max(b.max[a], q.max[a]);
+      }
+    const render::Box3 domain = render::domain_box(first);
+    const render::Vec3 size = b.size();
+    const float room = std::max(size.x, size.y) / 6 + 2 * float(first.dx);
+    for (int a = 0; a < first.dim; ++a) {
+      b.min[a] = std::max(b.min[a] - room, domain.min[a]);
+      b.max[a] = std::min(b.max[a] + room, domain.max[a]);
+    }
+    style.frame = b;
+  }
   render::Image out(W, int(H * rows));
   // Twice: the first pass settles the shared color and arrow scales over all rows.
   for (int pass = 0; pass < 2; ++pass)
