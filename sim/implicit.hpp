@@ -128,19 +128,34 @@ double MpmSimulation<T, D>::implicit_energy(const std::vector<Vec<T, D>>& dv, bo
   const std::ptrdiff_t np = std::ptrdiff_t(p_.size());
   double phi = 0;
   bool inverted = false;
+  const bool mesh = !mesh_.empty();
+  if constexpr (D == 2)
+    if (mesh) mesh_x_.resize(p_.size());
 #pragma omp parallel for schedule(static) reduction(+ : phi) reduction(|| : inverted) if (parallel_worthwhile())
   for (std::ptrdiff_t q = 0; q < np; ++q) {
     Mat<T, D> G = Mat<T, D>::Zero();
-    st[std::size_t(q)].for_each([&](std::size_t i, T, const Vec<T, D>& gw, const Vec<T, D>&) {
-      G += (a * grid_.velocity[i] + b * dv[i]) * gw.transpose();
+    Vec<T, D> u = Vec<T, D>::Zero();
+    st[std::size_t(q)].for_each([&](std::size_t i, T w, const Vec<T, D>& gw, const Vec<T, D>&) {
+      const Vec<T, D> ui = a * grid_.velocity[i] + b * dv[i];
+      G += ui * gw.transpose();
+      u += w * ui;
     });
+    if constexpr (D == 2)
+      if (mesh) mesh_x_[std::size_t(q)] = p_.x[std::size_t(q)] + dt * u;  // x_p(y) = Σ w_ip y_i
     Mat<T, D> F = (Mat<T, D>::Identity() + dt * G) * p_.F[std::size_t(q)];
     Fy_[std::size_t(q)] = F;
+    if (p_.volume0[std::size_t(q)] == T(0)) continue;  // mesh vertices carry no particle elasticity
     const MaterialParams<T>& mat = materials_[std::size_t(p_.material[std::size_t(q)])];
     T psi = energy_density<T, D>(mat.model, F, mat.lame);
     if (!std::isfinite(double(psi))) inverted = true;
     phi += double(p_.volume0[std::size_t(q)]) * double(psi);
   }
+  if constexpr (D == 2)
+    if (mesh) {
+      if (gradient) mesh_g_.assign(p_.size(), Vec<T, 2>::Zero());
+      phi += mesh_.energy(mesh_x_, index_of_id_, gradient ? &mesh_g_ : nullptr);
+      if (!std::isfinite(phi)) inverted = true;
+    }
   if (inverted) return std::numeric_limits<double>::infinity();
   double e = b > T(0) ? phi / double(b) : 0.0;
   for (std::uint32_t i : active_)
@@ -153,12 +168,20 @@ double MpmSimulation<T, D>::implicit_energy(const std::vector<Vec<T, D>>& dv, bo
       Mat<T, D> stress = (dt * p_.volume0[q]) * first_piola<T, D>(mat.model, Fy_[q], mat.lame) * p_.F[q].transpose();
       st[q].for_each([&](std::size_t i, T, const Vec<T, D>& gw, const Vec<T, D>&) { grad_[i] += stress * gw; });
     });
+    if constexpr (D == 2)
+      if (mesh)  // ∂(Φ_mesh / b)/∂Δv_i = Δt Σ_p w_ip ∂Φ/∂x_p
+        for_each_particle_coloured([&](std::uint32_t q) {
+          const Vec<T, 2> gq = dt * mesh_g_[q];
+          st[q].for_each([&](std::size_t i, T w, const Vec<T, D>&, const Vec<T, D>&) { grad_[i] += w * gq; });
+        });
   }
   return e;
 }
 
 template <class T, int D>
 void MpmSimulation<T, D>::implicit_update_hessian(bool project_definite) {
+  if constexpr (D == 2)
+    if (!mesh_.empty()) mesh_.update_hessian(mesh_x_, index_of_id_, project_definite);
   const std::ptrdiff_t np = std::ptrdiff_t(p_.size());
   constexpr int N = D * D;
 #pragma omp parallel for schedule(static) if (parallel_worthwhile())
@@ -195,6 +218,18 @@ void MpmSimulation<T, D>::implicit_hessian_apply(const std::vector<Vec<T, D>>& i
     Mat<T, D> s = (dt * p_.volume0[q]) * dP * p_.F[q].transpose();
     st[q].for_each([&](std::size_t i, T, const Vec<T, D>& gw, const Vec<T, D>&) { out[i] += s * gw; });
   });
+  if constexpr (D == 2)
+    if (!mesh_.empty()) {  // b Δt² Σ_p w_ip (K δx)_p with δx_p = Σ_j w_jp δ_j
+      mesh_dx_.assign(p_.size(), Vec<T, 2>::Zero());
+      mesh_kx_.assign(p_.size(), Vec<T, 2>::Zero());
+      for (std::size_t q = 0; q < p_.size(); ++q)
+        st[q].for_each([&](std::size_t i, T w, const Vec<T, D>&, const Vec<T, D>&) { mesh_dx_[q] += w * in[i]; });
+      mesh_.apply_hessian(mesh_dx_, index_of_id_, mesh_kx_);
+      for_each_particle_coloured([&](std::uint32_t q) {
+        const Vec<T, 2> k = (b * dt * dt) * mesh_kx_[q];
+        st[q].for_each([&](std::size_t i, T w, const Vec<T, D>&, const Vec<T, D>&) { out[i] += w * k; });
+      });
+    }
 }
 
 template <class T, int D>

@@ -11,6 +11,7 @@
 #include "particles.hpp"
 #include "simulation.hpp"
 #include "stencil.hpp"
+#include "triangle_mesh.hpp"
 
 namespace apiclab {
 
@@ -98,6 +99,9 @@ class MpmSimulation final : public Simulation {
     else return stencils_cubic_;
   }
   double choose_dt(double t_limit) const;
+  void add_triangulated_object(int object_index);
+  void rebuild_index_of_id();
+  template <class K> void add_mesh_forces();
   // Below this many particles an OpenMP region costs more than it saves.
   bool parallel_worthwhile() const { return p_.size() >= parallel_min_particles(); }
   void build_constraints();
@@ -117,6 +121,10 @@ class MpmSimulation final : public Simulation {
   std::vector<std::vector<std::uint32_t>> color_blocks_;
   std::array<int, D> blocks_per_axis_{};
   bool non_finite_ = false;
+  // Triangulated objects (Sec 6.7) and the particle index of every id (the sort permutes).
+  TriangleMesh<T> mesh_;
+  std::vector<std::uint32_t> index_of_id_;
+  std::vector<Vec<T, 2>> mesh_x_, mesh_g_, mesh_dx_, mesh_kx_;
   // Implicit solve state, allocated once and reused every step.
   std::vector<Stencil<T, D, LinearKernel>> stencils_linear_;
   std::vector<Stencil<T, D, QuadraticKernel>> stencils_quadratic_;

@@ -23,6 +23,10 @@ MpmSimulation<T, D>::MpmSimulation(const SceneDesc& scene) : scene_(scene) {
     max_wave_speed_ = std::max(max_wave_speed_, m.wave_speed());
   }
   for (int o = 0; o < int(scene.objects.size()); ++o) {
+    if (scene.objects[size_t(o)].sampling.type == SamplingType::triangulated) {
+      if constexpr (D == 2) add_triangulated_object(o);
+      continue;
+    }
     SampledParticles s = sample_object(scene, o);
     const MaterialDesc& mat = scene.materials[size_t(scene.objects[size_t(o)].material)];
     std::size_t start = p_.size();
@@ -51,8 +55,86 @@ MpmSimulation<T, D>::MpmSimulation(const SceneDesc& scene) : scene_(scene) {
       }
     }
   }
+  rebuild_index_of_id();
   build_constraints();
   energy_ref_ = energy_reference();
+}
+
+// Particle index of every id (tests may build particles by hand, so ids are not trusted to be
+// a permutation: the table is sized by the largest id).
+template <class T, int D>
+void MpmSimulation<T, D>::rebuild_index_of_id() {
+  std::int32_t max_id = -1;
+  for (std::int32_t id : p_.id) max_id = std::max(max_id, id);
+  index_of_id_.assign(std::size_t(max_id + 1), 0);
+  for (std::size_t q = 0; q < p_.size(); ++q)
+    if (p_.id[q] >= 0) index_of_id_[std::size_t(p_.id[q])] = std::uint32_t(q);
+}
+
+// A 2D box as a regular triangulation (Sec 6.7): a particle per vertex, mass ρ × ⅓ of the
+// adjacent triangles' area; elasticity lives on the triangles, so volume0 = 0 on the particles.
+template <class T, int D>
+void MpmSimulation<T, D>::add_triangulated_object(int o) {
+  if constexpr (D == 2) {
+  const ObjectDesc& obj = scene_.objects[size_t(o)];
+  const MaterialDesc& mat = scene_.materials[size_t(obj.material)];
+  const double h = obj.sampling.spacing;
+  const int nx = std::max(1, int(std::lround((obj.shape.max[0] - obj.shape.min[0]) / h)));
+  const int ny = std::max(1, int(std::lround((obj.shape.max[1] - obj.shape.min[1]) / h)));
+  const double hx = (obj.shape.max[0] - obj.shape.min[0]) / nx, hy = (obj.shape.max[1] - obj.shape.min[1]) / ny;
+  const std::size_t start = p_.size();
+  p_.resize(start + std::size_t(nx + 1) * std::size_t(ny + 1));
+  auto vertex = [&](int i, int j) { return start + std::size_t(j) * std::size_t(nx + 1) + std::size_t(i); };
+  for (int j = 0; j <= ny; ++j)
+    for (int i = 0; i <= nx; ++i) {
+      std::size_t q = vertex(i, j);
+      p_.x[q] = Vec<T, D>(T(obj.shape.min[0] + i * hx), T(obj.shape.min[1] + j * hy));
+      Eigen::Vector3d r(double(p_.x[q][0]) - obj.shape.center[0], double(p_.x[q][1]) - obj.shape.center[1], 0);
+      Eigen::Vector3d v = Eigen::Vector3d(obj.velocity[0], obj.velocity[1], 0) +
+                          Eigen::Vector3d(0, 0, obj.angular_velocity[2]).cross(r);
+      p_.v[q] = Vec<T, D>(T(v[0]), T(v[1]));
+      p_.C[q].setZero();
+      p_.F[q].setIdentity();
+      p_.volume0[q] = T(0);
+      p_.mass[q] = T(0);
+      p_.material[q] = obj.material;
+      p_.object[q] = o;
+      p_.id[q] = std::int32_t(q);
+      radius_.push_back(float(0.5 * std::min(hx, hy)));
+    }
+  const MaterialParams<T>& params = materials_[size_t(obj.material)];
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      std::size_t c[4] = {vertex(i, j), vertex(i + 1, j), vertex(i + 1, j + 1), vertex(i, j + 1)};
+      for (auto tri : {std::array<std::size_t, 3>{c[0], c[1], c[2]}, std::array<std::size_t, 3>{c[0], c[2], c[3]}}) {
+        mesh_.add_triangle({std::int32_t(tri[0]), std::int32_t(tri[1]), std::int32_t(tri[2])}, p_.x[tri[0]],
+                           p_.x[tri[1]], p_.x[tri[2]], params.model, params.lame);
+        for (std::size_t q : tri) p_.mass[q] += T(mat.rho * 0.5 * hx * hy / 3.0);
+      }
+    }
+  for (const std::string& row : obj.anchors)
+    for (int j = 0; j <= ny; ++j)
+      for (int i = 0; i <= nx; ++i) {
+        bool on = (row == "bottom" && j == 0) || (row == "top" && j == ny) || (row == "left" && i == 0) ||
+                  (row == "right" && i == nx);
+        if (on) mesh_.add_anchor(std::int32_t(vertex(i, j)), p_.x[vertex(i, j)], T(obj.anchor_stiffness));
+      }
+  }
+}
+
+// Forces of the triangle mesh and anchors at x^n, scattered to the grid: f_i −= Σ_p w_ip ∂Φ/∂x_p.
+template <class T, int D>
+template <class K>
+void MpmSimulation<T, D>::add_mesh_forces() {
+  if constexpr (D == 2) {
+    mesh_g_.assign(p_.size(), Vec<T, 2>::Zero());
+    mesh_.energy(p_.x, index_of_id_, &mesh_g_);
+    const auto& st = stencils<K>();
+    for (std::size_t q = 0; q < p_.size(); ++q) {
+      if (mesh_g_[q].isZero()) continue;
+      st[q].for_each([&](std::size_t i, T w, const Vec<T, D>&, const Vec<T, D>&) { grid_.force[i] -= w * mesh_g_[q]; });
+    }
+  }
 }
 
 template <class T, int D>
@@ -138,6 +220,7 @@ void MpmSimulation<T, D>::sort_particles() {
     for (std::size_t q = 0; q < n; ++q) order_[next[cursor[q]]++] = std::uint32_t(q);
     p_.gather_into(order_, scratch_);
     std::swap(p_, scratch_);
+    rebuild_index_of_id();
   }
   // Colours: blocks of one colour are at least one block apart, so their stencils never share
   // a node; the last block of a periodic axis gets its own colour (it touches block 0 and 1).
@@ -441,6 +524,13 @@ void MpmSimulation<T, D>::step_fixed(double dt) {
   clear_grid();
   if (!implicit && lambda == 0) {
     particles_to_grid(true);  // forces at F^n, fused into the transfer
+    if (!mesh_.empty()) {
+      switch (sv.kernel) {
+        case KernelType::linear: add_mesh_forces<LinearKernel>(); break;
+        case KernelType::quadratic: add_mesh_forces<QuadraticKernel>(); break;
+        case KernelType::cubic: add_mesh_forces<CubicKernel>(); break;
+      }
+    }
     grid_velocity_update(T(dt));
     last_newton_iters_ = last_cg_iters_ = 0;
     last_residual_ = 0;
@@ -533,9 +623,12 @@ double MpmSimulation<T, D>::elastic_energy() const {
   const std::ptrdiff_t n = std::ptrdiff_t(p_.size());
 #pragma omp parallel for reduction(+ : e) if (parallel_worthwhile())
   for (std::ptrdiff_t q = 0; q < n; ++q) {
+    if (p_.volume0[q] == T(0)) continue;  // mesh vertices: their elasticity is on the triangles
     const MaterialParams<T>& mat = materials_[std::size_t(p_.material[q])];
     e += double(p_.volume0[q]) * double(energy_density<T, D>(mat.model, p_.F[q], mat.lame));
   }
+  if constexpr (D == 2)
+    if (!mesh_.empty()) e += mesh_.energy(p_.x, index_of_id_, nullptr);
   return e;
 }
 

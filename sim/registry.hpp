@@ -15,7 +15,7 @@ enum class Scheme { pic, flip, apic, rpic };
 enum class Integrator { symplectic, midpoint, backward };
 enum class MaterialModel { neo_hookean, fixed_corotated };
 enum class ShapeType { box, ball, annulus, torus, mesh };
-enum class SamplingType { lattice, ppc, poisson };
+enum class SamplingType { lattice, ppc, poisson, triangulated };
 enum class BoundaryCondition { slip, sticky, separate, periodic };
 enum class DtRule { fixed, cfl, elastic, two_step };
 enum class Precision { single, dbl };
@@ -70,7 +70,9 @@ inline const std::vector<Choice<SamplingType>>& sampling_choices() {
   static const std::vector<Choice<SamplingType>> c = {
       {"lattice", SamplingType::lattice, "grid-aligned lattice with a given spacing"},
       {"ppc", SamplingType::ppc, "grid-aligned lattice with N particles per cell"},
-      {"poisson", SamplingType::poisson, "Poisson disk (Bridson 2007) with radius and seed"}};
+      {"poisson", SamplingType::poisson, "Poisson disk (Bridson 2007) with radius and seed"},
+      {"triangulated", SamplingType::triangulated,
+       "2D box as a regular triangulation, a particle per vertex; F from the mesh (Sec 6.7)"}};
   return c;
 }
 inline const std::vector<Choice<BoundaryCondition>>& boundary_choices() {

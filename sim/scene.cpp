@@ -272,7 +272,8 @@ SamplingDesc read_sampling(Reader r) {
   } catch (const std::invalid_argument& e) {
     r.fail("type", e.what());
   }
-  if (s.type == SamplingType::lattice) s.spacing = r.positive("spacing", 0, true);
+  if (s.type == SamplingType::lattice || s.type == SamplingType::triangulated)
+    s.spacing = r.positive("spacing", 0, true);
   if (s.type == SamplingType::ppc) s.ppc = r.positive("ppc", 4);
   if (s.type == SamplingType::poisson) {
     s.radius = r.positive("radius", 0, true);
@@ -300,6 +301,21 @@ ObjectDesc read_object(Reader r, const SceneDesc& s, int index) {
   }
   o.sampling = r.has("sampling") ? read_sampling(r.child("sampling")) : SamplingDesc{};
   o.velocity = r.vec("velocity", {0, 0, 0}, s.dim);
+  if (o.sampling.type == SamplingType::triangulated && (s.dim != 2 || o.shape.type != ShapeType::box ||
+                                                        o.shape.rotation_degrees != 0))
+    r.fail("sampling", "triangulated sampling needs an unrotated box in 2D");
+  if (r.has("anchors")) {
+    Reader a = r.child("anchors");
+    if (!a.has("rows") || !a.raw("rows").is_array()) a.fail("rows", "expected an array of top|bottom|left|right");
+    for (const auto& row : a.raw("rows")) {
+      std::string name = row.is_string() ? row.get<std::string>() : "";
+      if (name != "top" && name != "bottom" && name != "left" && name != "right")
+        a.fail("rows", "expected top, bottom, left or right, got " + row.dump());
+      o.anchors.push_back(name);
+    }
+    o.anchor_stiffness = a.positive("stiffness", o.anchor_stiffness);
+    if (o.sampling.type != SamplingType::triangulated) r.fail("anchors", "anchors need triangulated sampling");
+  }
   if (r.has("angular_velocity")) {
     if (s.dim == 2) {
       o.angular_velocity = {0, 0, r.number("angular_velocity", 0)};

@@ -82,7 +82,7 @@ struct ShapeDesc {
 
 struct SamplingDesc {
   SamplingType type = SamplingType::ppc;
-  double spacing = 0;  // lattice
+  double spacing = 0;  // lattice, triangulated (vertex spacing)
   double ppc = 4;      // particles per cell
   double radius = 0;   // poisson: minimum separation
   std::uint64_t seed = 1;
@@ -95,6 +95,10 @@ struct ObjectDesc {
   SamplingDesc sampling;
   Vec3d velocity{0, 0, 0};
   Vec3d angular_velocity{0, 0, 0};  // about the shape's center; 2D uses z
+  // Zero-length penalty springs f = −c (x_p − x_p⁰) on the vertex rows named here
+  // ("top", "bottom", "left", "right"; triangulated objects, Sec 6.7).
+  std::vector<std::string> anchors;
+  double anchor_stiffness = 1e5;
 };
 
 struct ColliderDesc {
