@@ -17,14 +17,6 @@ std::string format(const char* fmt, double v) {
   return buf;
 }
 
-// The smallest of 1, 1.2, 1.5, 2, 2.5, 3, 4, 5, 6, 8 (x 10^k) not below v.
-float nice_ceil(float v) {
-  if (!(v > 0)) return 0;
-  const float e = std::pow(10.0f, std::floor(std::log10(v)));
-  for (float m : {1.0f, 1.2f, 1.5f, 2.0f, 2.5f, 3.0f, 4.0f, 5.0f, 6.0f, 8.0f, 10.0f})
-    if (m * e >= v * 0.9999f) return m * e;
-  return 10 * e;
-}
 // The largest of 1, 2, 5 (x 10^k) not above v.
 float nice_floor(float v) {
   const float e = std::pow(10.0f, std::floor(std::log10(v)));
@@ -304,6 +296,14 @@ void draw_legend(Renderer& r, const Layout& l, const SceneStyle& s, const Snapsh
 }
 
 }  // namespace
+
+float nice_ceil(float v) {
+  if (!(v > 0)) return 0;
+  const float e = std::pow(10.0f, std::floor(std::log10(v)));
+  for (float m : {1.0f, 1.2f, 1.5f, 2.0f, 2.5f, 3.0f, 4.0f, 5.0f, 6.0f, 8.0f, 10.0f})
+    if (m * e >= v * 0.9999f) return m * e;
+  return 10 * e;
+}
 
 std::string scheme_label(const Snapshot& s) {
   std::string label;

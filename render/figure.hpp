@@ -41,6 +41,10 @@ void draw_figure(Renderer& r, int width, int height, const std::vector<const Sna
 std::vector<Rect> figure_scene_rects(Renderer& r, int width, int height, int panes,
                                      const Snapshot& first, const FigureStyle& style);
 
+// The smallest of 1, 1.2, 1.5, 2, 2.5, 3, 4, 5, 6, 8 (x 10^k) not below v: scales end on
+// round numbers (0 for v <= 0).
+float nice_ceil(float v);
+
 // "APIC", "FLIP α=0.95", "PIC".
 std::string scheme_label(const Snapshot& s);
 

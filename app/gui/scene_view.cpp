@@ -1,5 +1,7 @@
 #include "app/gui/scene_view.hpp"
 
+#include "render/figure.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -20,14 +22,6 @@ float speed(const Snapshot& s, std::size_t i) {
   return std::sqrt(v2);
 }
 
-// The smallest 1, 2, 2.5, 5 x 10^k at or above v: legend ends on a round number.
-float round_up(float v) {
-  if (!(v > 0)) return 0;
-  const float e = std::pow(10.0f, std::floor(std::log10(v)));
-  for (float m : {1.0f, 1.2f, 1.5f, 2.0f, 2.5f, 3.0f, 4.0f, 5.0f, 6.0f, 8.0f, 10.0f})
-    if (m * e >= v * 0.9999f) return m * e;
-  return 10 * e;
-}
 
 // The color scale follows the 98th percentile over all panes and only grows, so colors
 // mean the same thing from frame to frame and pane to pane.
@@ -46,7 +40,7 @@ void update_scales(ViewerState& st, const Published& pub) {
   if (v.empty()) return;
   auto k = v.begin() + std::ptrdiff_t(0.98 * double(v.size() - 1));
   std::nth_element(v.begin(), k, v.end());
-  st.color_max = std::max(st.color_max, round_up(*k));
+  st.color_max = std::max(st.color_max, render::nice_ceil(*k));
 }
 
 render::Camera camera_for(const ViewerState& st, const Snapshot& s, render::Rect r) {
@@ -169,7 +163,7 @@ void draw_legend(ViewerState& st, const Published& pub, render::Rect r, float ar
     }
   }
   if (st.vectors && arrow_px_per_speed > 0) {  // an arrow of a round speed, to scale
-    const float speed_ref = round_up(std::max(st.color_max * 0.5f, 1e-6f));
+    const float speed_ref = render::nice_ceil(std::max(st.color_max * 0.5f, 1e-6f));
     const float len = std::clamp(arrow_px_per_speed * speed_ref, 4.0f, 200.0f);
     const ImU32 col = IM_COL32(40, 40, 40, 255);
     dl->AddLine(ImVec2(x, y + 10), ImVec2(x + len, y + 10), col, 1.6f);
