@@ -71,8 +71,15 @@ void SimWorker::restart_panes() {
     if (p.config.integrator) s.solver.integrator = *p.config.integrator;
     p.initial = make_simulation(s, precision_);  // throws SceneError
   }
+  rewind_panes();
+}
+
+// Every pane back to its initial particles under its current scheme (PIC/FLIP drop C_p),
+// paused at t = 0.
+void SimWorker::rewind_panes() {
   for (auto& p : panes_) {
     p.sim = p.initial->clone();
+    p.sim->set_scheme(p.config.scheme, p.config.flip_alpha);
     p.history = {};
     p.history.push(p.sim->measure());
   }
@@ -100,20 +107,7 @@ void SimWorker::step_frame() {
 }
 
 void SimWorker::reset() {
-  enqueue([this] {
-    for (auto& p : panes_) {
-      p.sim = p.initial->clone();
-      // The initial state under the pane's current scheme (PIC/FLIP drop C_p).
-      p.sim->set_scheme(p.config.scheme, p.config.flip_alpha);
-      p.history = {};
-      p.history.push(p.sim->measure());
-    }
-    playing_ = false;
-    pending_frames_ = 0;
-    target_ = 0;
-    frame_ = 0;
-    ++generation_;
-  });
+  enqueue([this] { rewind_panes(); });
 }
 
 void SimWorker::set_realtime(bool on) {

@@ -95,6 +95,7 @@ class SimWorker {
   void advance();       // steps toward the frame target, returning early when commands wait
   void publish();
   void restart_panes();
+  void rewind_panes();
   double frame_dt() const;
 
   // Shared with the GUI thread, under mutex_.
