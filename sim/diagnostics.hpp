@@ -13,6 +13,7 @@ struct DiagnosticsRow {
   double kinetic = 0;       // particles, with ½ m tr(C D Cᵀ) for APIC/RPIC
   double kinetic_grid = 0;  // ½ Σ m_i |v_i^n|² right after P2G
   double potential = 0;     // elastic Σ V_p Ψ(F_p) plus gravitational -Σ m_p g·x_p
+  double elastic = 0;       // the elastic part of potential (blow-up checks)
   double total = 0;
   std::array<double, 3> p{0, 0, 0};  // linear momentum
   std::array<double, 3> L{0, 0, 0};  // angular momentum about the origin, with m (B : ε)

@@ -174,14 +174,12 @@ void MpmSimulation<T, D>::build_constraints() {
 template <class T, int D>
 double MpmSimulation<T, D>::energy_reference() const {
   DiagnosticsRow r = measure();
-  double g = 0, height = 0, mass = 0;
+  double g = 0, height = 0;
   for (int a = 0; a < D; ++a) {
     g += scene_.gravity[a] * scene_.gravity[a];
     height += std::pow(scene_.domain.max[a] - scene_.domain.min[a], 2);
   }
-  for (T m : p_.mass) mass += double(m);
-  double elastic = elastic_energy();
-  return std::max(r.kinetic + elastic + mass * std::sqrt(g) * std::sqrt(height), 1e-300);
+  return std::max(r.kinetic + r.elastic + total_mass() * std::sqrt(g) * std::sqrt(height), 1e-300);
 }
 
 template <class T, int D>
@@ -608,9 +606,9 @@ std::optional<Failure> MpmSimulation<T, D>::step(double t_limit, DiagnosticsRow*
     fail("implicit solve", d.str());
   } else if (non_finite_ || !std::isfinite(r.total) || !std::isfinite(r.kinetic)) {
     fail("particle state", "became non-finite (NaN or Inf)");
-  } else if (r.kinetic + elastic_energy() > scene_.solver.blowup_energy_factor * energy_ref_) {
+  } else if (r.kinetic + r.elastic > scene_.solver.blowup_energy_factor * energy_ref_) {
     std::ostringstream d;
-    d << "grew to " << r.kinetic + elastic_energy() << ", more than " << scene_.solver.blowup_energy_factor
+    d << "grew to " << r.kinetic + r.elastic << ", more than " << scene_.solver.blowup_energy_factor
       << " x the energy available (" << energy_ref_ << ")";
     fail("kinetic + elastic energy", d.str());
   }
@@ -676,7 +674,8 @@ DiagnosticsRow MpmSimulation<T, D>::measure() const {
     Lx += L[0]; Ly += L[1]; Lz += L[2];
   }
   r.kinetic = kin;
-  r.potential = elastic_energy() + grav;
+  r.elastic = elastic_energy();
+  r.potential = r.elastic + grav;
   r.total = r.kinetic + r.potential;
   r.p = {px, py, pz};
   r.L = {Lx, Ly, Lz};
