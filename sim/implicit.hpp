@@ -32,6 +32,9 @@ void MpmSimulation<T, D>::for_each_particle_coloured(Fn&& fn) {
   }
 }
 
+template <class T, int D>
+void project_on_constraint(Vec<T, D>& v, const ConstrainedNode<T, D>& c);
+
 // Per-particle ∂P/∂F as a D²×D² matrix at F, symmetrised and projected to be positive
 // semi-definite (negative eigenvalues clamped to zero, as Stomakhin et al. 2012 and Teran et
 // al. 2005 do per particle), so CG always sees a positive definite M + bΔt²K.
@@ -104,19 +107,22 @@ void MpmSimulation<T, D>::implicit_begin(T dt) {
   }
   for (const auto& c : active_constraints_) {  // d: makes ṽ = v + d satisfy the constraints
     Vec<T, D> v = grid_.velocity[c.node] + dv_[c.node];
-    if (c.condition == BoundaryCondition::sticky) v.setZero();
-    else v -= v.dot(c.normal) * c.normal;
+    project_on_constraint(v, c);
     dv_[c.node] = v - grid_.velocity[c.node];
   }
 }
 
+// An active constraint as a projection: sticky removes the velocity, slip (and a separating
+// wall being pushed into) its normal component.
+template <class T, int D>
+void project_on_constraint(Vec<T, D>& v, const ConstrainedNode<T, D>& c) {
+  if (c.condition == BoundaryCondition::sticky) v.setZero();
+  else v -= v.dot(c.normal) * c.normal;
+}
+
 template <class T, int D>
 void MpmSimulation<T, D>::implicit_project(std::vector<Vec<T, D>>& z) const {
-  for (const auto& c : active_constraints_) {
-    Vec<T, D>& v = z[c.node];
-    if (c.condition == BoundaryCondition::sticky) v.setZero();
-    else v -= v.dot(c.normal) * c.normal;
-  }
+  for (const auto& c : active_constraints_) project_on_constraint(z[c.node], c);
 }
 
 // E(Δv) with F evaluated at the force position y (kept in Fy_); fills grad_ when asked.
