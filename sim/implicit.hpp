@@ -65,15 +65,9 @@ void MpmSimulation<T, D>::implicit_begin(T dt) {
   imp_a_ = backward ? T(1) : lambda;
   imp_b_ = backward ? T(1) : lambda * (T(1) - lambda);
   const std::size_t nn = grid_.size();
-  const std::ptrdiff_t np = std::ptrdiff_t(p_.size());
   for (int ax = 0; ax < D; ++ax) imp_gravity_[ax] = T(scene_.gravity[ax]);
 
-  // Weights once per step (the Hessian-vector products reuse them).
-  auto& st = stencils<K>();
-  st.resize(p_.size());
-#pragma omp parallel for schedule(static) if (parallel_worthwhile())
-  for (std::ptrdiff_t q = 0; q < np; ++q) st[std::size_t(q)].compute(p_.x[std::size_t(q)], grid_);
-
+  // The weights P2G cached this step (stencils<K>()) serve every product below.
   // Active nodes and the velocity v_i^n.
   active_.clear();
   for (std::size_t i = 0; i < nn; ++i) {
