@@ -553,7 +553,7 @@ double MpmSimulation<T, D>::choose_dt(double t_limit) const {
   const TimeDesc& tm = scene_.time;
   const double dx = scene_.domain.dx;
   double dt_star = tm.dt;
-  if (tm.rule == DtRule::cfl || tm.rule == DtRule::elastic) {
+  if (tm.rule != DtRule::fixed) {
     double vmax = 0, cterm = 0;
     const double k6 = 6.0 * std::sqrt(double(D)) * std::max(inertia_factor(scene_.solver.kernel), 0.25) * dx;
     const std::ptrdiff_t n = std::ptrdiff_t(p_.size());
@@ -563,18 +563,15 @@ double MpmSimulation<T, D>::choose_dt(double t_limit) const {
       vmax = std::max(vmax, v);
       cterm = std::max(cterm, v + k6 * double(p_.C[q].norm()));  // Sec 4.3: |v_p| + (κ/k)Δx‖B_p‖
     }
-    if (tm.rule == DtRule::cfl)
+    if (tm.rule == DtRule::cfl) {
       dt_star = std::min(dt_star, tm.nu * dx / std::max(cterm, 1e-300));
-    else
+    } else if (tm.rule == DtRule::elastic) {
       dt_star = std::min(dt_star, tm.nu * dx / (max_wave_speed_ + vmax));
-  } else if (tm.rule == DtRule::two_step) {
-    // Sec 6.7: dt* = max(dt_min, min(dt_max, ν Δx / max(v_max, v_τ))) with grid speeds.
-    double vmax = 0;
-    const std::ptrdiff_t n = std::ptrdiff_t(p_.size());
-#pragma omp parallel for reduction(max : vmax) if (parallel_worthwhile())
-    for (std::ptrdiff_t q = 0; q < n; ++q) vmax = std::max(vmax, double(p_.v[q].norm()));
-    vmax = std::max(vmax, max_grid_speed_);
-    dt_star = std::max(tm.dt_min, std::min(tm.dt, tm.nu * dx / std::max(vmax, tm.v_tau)));
+    } else {
+      // Sec 6.7: dt* = max(dt_min, min(dt_max, ν Δx / max(v_max, v_τ))) with grid speeds.
+      vmax = std::max(vmax, max_grid_speed_);
+      dt_star = std::max(tm.dt_min, std::min(tm.dt, tm.nu * dx / std::max(vmax, tm.v_tau)));
+    }
   }
   dt_star = std::min(dt_star, 1.0 / tm.fps);
   double to_frame = t_limit - time_;
