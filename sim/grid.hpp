@@ -1,6 +1,7 @@
 // Eulerian background grid: node arrays over the scene's domain (plus a ghost layer two nodes
 // wide on non-periodic axes, so kernel stencils of particles at a wall stay in range).
 #pragma once
+#include <Eigen/Core>
 #include <array>
 #include <vector>
 
@@ -8,6 +9,12 @@
 #include "scene.hpp"
 
 namespace apiclab {
+
+// Eight values as one vector (GCC/Clang vector extension: SSE, AVX or AVX-512 without
+// intrinsics). Spelled per scalar because the attribute is lost on a dependent typedef.
+template <class T> struct Lanes8;
+template <> struct Lanes8<float> { typedef float type __attribute__((vector_size(8 * sizeof(float)))); };
+template <> struct Lanes8<double> { typedef double type __attribute__((vector_size(8 * sizeof(double)))); };
 
 template <class T, int D>
 struct Grid {
@@ -22,6 +29,12 @@ struct Grid {
   std::vector<Vec<T, D>> velocity;     // momentum during P2G, then v_i^n (eq 26)
   std::vector<Vec<T, D>> velocity_new; // ṽ_i^{n+1} (eq 29)
   std::vector<Vec<T, D>> force;        // f_i (eq 34)
+  // P2G accumulator, `lanes` values per node: [m, m v (D), f (D), padding]. A stencil row of
+  // nodes is then one contiguous run the compiler can add as whole vectors.
+  static constexpr int lanes = 8;
+  static_assert(1 + 2 * D <= lanes);
+  using Lanes = typename Lanes8<T>::type;
+  std::vector<Lanes, Eigen::aligned_allocator<Lanes>> accumulator;
 
   void init(const SceneDesc& s) {
     dx = T(s.domain.dx);
@@ -44,6 +57,7 @@ struct Grid {
     velocity.assign(total, Vec<T, D>::Zero());
     velocity_new.assign(total, Vec<T, D>::Zero());
     force.assign(total, Vec<T, D>::Zero());
+    accumulator.assign(total, Lanes{});
   }
   std::size_t size() const { return mass.size(); }
   // Wrapped (periodic) or clamped node index along one axis.

@@ -65,7 +65,7 @@ class MpmSimulation final : public Simulation {
 
   // The phases, public so tests can check each one's conservation.
   void sort_particles();
-  void clear_grid();
+  void clear_grid();  // zeroes the P2G accumulator
   void particles_to_grid(bool with_forces);  // eqs 24, 26 (+ eq 34 at F^n when with_forces)
   void grid_velocity_update(T dt);           // eq 29, explicit (λ = 0)
   void apply_boundary_conditions();
@@ -90,6 +90,8 @@ class MpmSimulation final : public Simulation {
 
  private:
   template <class K, bool affine, bool with_forces> void p2g_impl();
+  void unpack_accumulator();
+  void compute_stress();
   template <class K, Scheme S> void g2p_impl(T dt);
   template <class K> void velocity_noise(std::vector<float>& out) const;
   template <class Fn> void for_each_particle_coloured(Fn&& fn);
@@ -99,6 +101,12 @@ class MpmSimulation final : public Simulation {
     else return stencils_cubic_;
   }
   double choose_dt(double t_limit) const;
+  // The grid update is the Newton solve of sim/implicit.hpp (backward Euler or λ > 0).
+  bool implicit_update() const {
+    return scene_.solver.integrator == Integrator::backward || scene_.solver.integrator_lambda() != 0;
+  }
+  // P2G keeps every particle's stencil for the steps that read it again.
+  bool keeps_stencils() const { return implicit_update() || !mesh_.empty(); }
   void add_triangulated_object(int object_index);
   void rebuild_index_of_id();
   template <class K> void add_mesh_forces();
@@ -132,7 +140,7 @@ class MpmSimulation final : public Simulation {
   std::vector<std::uint32_t> active_;
   std::vector<ConstrainedNode<T, D>> active_constraints_;
   std::vector<Vec<T, D>> dv_, grad_, dir_, cg_r_, cg_p_, cg_s_, work_;
-  std::vector<Mat<T, D>> Fy_;
+  std::vector<Mat<T, D>> Fy_, stress_;
   std::vector<Eigen::Matrix<T, D * D, D * D>> hess_;
   int last_newton_iters_ = 0, last_cg_iters_ = 0;
   double last_residual_ = 0;

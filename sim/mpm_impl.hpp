@@ -243,23 +243,37 @@ void MpmSimulation<T, D>::sort_particles() {
 
 template <class T, int D>
 void MpmSimulation<T, D>::clear_grid() {
-  const std::ptrdiff_t n = std::ptrdiff_t(grid_.size());
+  auto* acc = grid_.accumulator.data();
+  const std::ptrdiff_t n = std::ptrdiff_t(grid_.accumulator.size());
 #pragma omp parallel for schedule(static) if (parallel_worthwhile())
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
-    grid_.mass[i] = T(0);
-    grid_.velocity[i].setZero();
-    grid_.force[i].setZero();
+  for (std::ptrdiff_t i = 0; i < n; ++i) acc[i] = typename Grid<T, D>::Lanes{};
+}
+
+// −V_p P(F_p) F_pᵀ per particle, so that f_i = Σ_p (this) ∇w_ip (eq 34 at λ = 0). A pass of
+// its own: without the scatter in the loop, the CPU overlaps the square roots and divisions of
+// neighbouring particles instead of waiting on each.
+template <class T, int D>
+void MpmSimulation<T, D>::compute_stress() {
+  stress_.resize(p_.size());
+  const std::ptrdiff_t n = std::ptrdiff_t(p_.size());
+#pragma omp parallel for schedule(static) if (parallel_worthwhile())
+  for (std::ptrdiff_t q = 0; q < n; ++q) {
+    const MaterialParams<T>& mat = materials_[std::size_t(p_.material[q])];
+    const Mat<T, D>& F = p_.F[q];
+    stress_[q] = -p_.volume0[q] * first_piola<T, D>(mat.model, F, mat.lame) * F.transpose();
   }
 }
 
 template <class T, int D>
 template <class K, bool affine, bool with_forces>
 void MpmSimulation<T, D>::p2g_impl() {
-  auto& cache = stencils<K>();  // G2P reuses these weights (same x_p^n)
-  cache.resize(p_.size());
-  T* mass = grid_.mass.data();
-  Vec<T, D>* mom = grid_.velocity.data();
-  Vec<T, D>* force = grid_.force.data();
+  // The implicit solve, G2P at λ > 0 and mesh forces reuse these weights (same x_p^n); the
+  // explicit G2P recomputes them, which is cheaper than storing and reloading them.
+  const bool keep = keeps_stencils();
+  auto& cache = stencils<K>();
+  if (keep) cache.resize(p_.size());
+  constexpr int W = K::width;
+  auto* acc = grid_.accumulator.data();
   for (const auto& blocks : color_blocks_) {
     const std::ptrdiff_t nb = std::ptrdiff_t(blocks.size());
 // Contiguous chunks: neighbouring same-coloured blocks share cache lines, so they go to one thread.
@@ -267,40 +281,46 @@ void MpmSimulation<T, D>::p2g_impl() {
     for (std::ptrdiff_t bi = 0; bi < nb; ++bi) {
       const std::uint32_t b = blocks[std::size_t(bi)];
       for (std::uint32_t q = block_start_[b]; q < block_start_[b + 1]; ++q) {
-        Stencil<T, D, K>& st = cache[q];
+        Stencil<T, D, K> st;
         st.compute(p_.x[q], grid_);
+        if (keep) cache[q] = st;
         const T m = p_.mass[q];
         const Vec<T, D> mv = m * p_.v[q];
         const Mat<T, D> mC = m * p_.C[q];
         Mat<T, D> stress = Mat<T, D>::Zero();
-        if constexpr (with_forces) {
-          // f_i = −Σ_p V_p P(F_p) F_pᵀ ∇w_ip (eq 34 at λ = 0).
-          const MaterialParams<T>& mat = materials_[std::size_t(p_.material[q])];
-          const Mat<T, D>& F = p_.F[q];
-          stress = -p_.volume0[q] * first_piola<T, D>(mat.model, F, mat.lame) * F.transpose();
-        }
-        // Per node of a row: w = wx_i row.w, so the affine and force terms split into a part
-        // per x-node (precomputed here) and a part per row.
-        constexpr int W = K::width;
-        T mw[W];
-        Vec<T, D> a[W], sx[W];
-        const T* wx = st.w[0];
+        if constexpr (with_forces) stress = stress_[q];
+        // Node i of a row gets w = wx_i row.w and ∇w = (dwx_i row.w, wx_i row.dw[1..]), so
+        //   [m, m v, f]_i += row.w [m wx_i, wx_i (m v + m C col0 r0_i), dwx_i stress col0]
+        //                  + wx_i [0, row.w Σ m C col_a r_a, Σ stress col_a row.dw_a]   (a ≥ 1):
+        // a row is two multiply-adds over W × lanes contiguous values.
+        using Lanes = typename Grid<T, D>::Lanes;
+        Lanes per_x[W], wx_lanes[W];
         for (int i = 0; i < W; ++i) {
-          mw[i] = m * wx[i];
-          a[i] = wx[i] * (affine ? Vec<T, D>(mv + mC.col(0) * st.r[0][i]) : mv);
-          sx[i] = stress.col(0) * st.dw[0][i];
+          const T wx = st.w[0][i];
+          const Vec<T, D> mom = wx * (affine ? Vec<T, D>(mv + mC.col(0) * st.r[0][i]) : mv);
+          const Vec<T, D> force = stress.col(0) * st.dw[0][i];
+          per_x[i] = wx_lanes[i] = Lanes{};
+          per_x[i][0] = m * wx;
+          for (int a = 0; a < D; ++a) {
+            per_x[i][1 + a] = mom[a];
+            per_x[i][1 + D + a] = force[a];
+            wx_lanes[i][1 + a] = wx_lanes[i][1 + D + a] = wx;
+          }
         }
+        const bool contiguous = st.off[0][W - 1] == st.off[0][0] + W - 1;  // not wrapped (periodic)
         st.for_each_row([&](const typename Stencil<T, D, K>::Row& row) {
           Vec<T, D> c = Vec<T, D>::Zero(), t = Vec<T, D>::Zero();
           for (int ax = 1; ax < D; ++ax) {
-            if constexpr (affine) c += mC.col(ax) * row.r[ax];
+            if constexpr (affine) c += mC.col(ax) * (row.w * row.r[ax]);
             if constexpr (with_forces) t += stress.col(ax) * row.dw[ax];
           }
+          Lanes per_row{};
+          for (int a = 0; a < D; ++a) { per_row[1 + a] = c[a]; per_row[1 + D + a] = t[a]; }
+          const T rw = row.w;
+          Lanes* dst = acc + st.off[0][0] + row.off;
           for (int i = 0; i < W; ++i) {
-            const std::size_t node = st.off[0][i] + row.off;
-            mass[node] += mw[i] * row.w;
-            mom[node] += row.w * (a[i] + wx[i] * c);
-            if constexpr (with_forces) force[node] += sx[i] * row.w + wx[i] * t;
+            if (!contiguous) dst = acc + st.off[0][i] + row.off - i;
+            dst[i] += rw * per_x[i] + wx_lanes[i] * per_row;
           }
         });
       }
@@ -308,9 +328,26 @@ void MpmSimulation<T, D>::p2g_impl() {
   }
 }
 
+// Accumulator lanes to the grid's arrays: m_i, (m v)_i, f_i.
+template <class T, int D>
+void MpmSimulation<T, D>::unpack_accumulator() {
+  const auto* acc = grid_.accumulator.data();
+  const std::ptrdiff_t n = std::ptrdiff_t(grid_.size());
+#pragma omp parallel for schedule(static) if (parallel_worthwhile())
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    const auto& node = acc[i];
+    grid_.mass[i] = node[0];
+    for (int a = 0; a < D; ++a) {
+      grid_.velocity[i][a] = node[1 + a];
+      grid_.force[i][a] = node[1 + D + a];
+    }
+  }
+}
+
 template <class T, int D>
 void MpmSimulation<T, D>::particles_to_grid(bool with_forces) {
   const bool affine = scene_.solver.scheme == Scheme::apic || scene_.solver.scheme == Scheme::rpic;
+  if (with_forces) compute_stress();
   auto run = [&](auto kernel) {
     using K = decltype(kernel);
     if (affine) with_forces ? p2g_impl<K, true, true>() : p2g_impl<K, true, false>();
@@ -321,6 +358,7 @@ void MpmSimulation<T, D>::particles_to_grid(bool with_forces) {
     case KernelType::quadratic: run(QuadraticKernel{}); break;
     case KernelType::cubic: run(CubicKernel{}); break;
   }
+  unpack_accumulator();
 }
 
 // v_i^n = (m v)_i / m_i (eq 26), ṽ_i = v_i + Δt (f_i / m_i + g) (eq 29 with λ = 0).
@@ -383,7 +421,9 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
   const auto& cache = stencils<K>();
 #pragma omp parallel for schedule(static) reduction(|| : bad) reduction(max : max_move) if (parallel_worthwhile())
   for (std::ptrdiff_t q = 0; q < n; ++q) {
-    const Stencil<T, D, K>& st = cache[std::size_t(q)];
+    Stencil<T, D, K> local;
+    if (lambda == T(0)) local.compute(p_.x[std::size_t(q)], grid_);
+    const Stencil<T, D, K>& st = lambda == T(0) ? local : cache[std::size_t(q)];
     Vec<T, D> vpic = Vec<T, D>::Zero(), ubar = Vec<T, D>::Zero(), vold_p = Vec<T, D>::Zero();
     Mat<T, D> Bsum = Mat<T, D>::Zero(), Ssum = Mat<T, D>::Zero(), gradu = Mat<T, D>::Zero(),
               gradv = Mat<T, D>::Zero();
@@ -516,11 +556,9 @@ void MpmSimulation<T, D>::grid_to_particles(T dt) {
 template <class T, int D>
 void MpmSimulation<T, D>::step_fixed(double dt) {
   const SolverDesc& sv = scene_.solver;
-  const double lambda = sv.integrator_lambda();
-  const bool implicit = sv.integrator == Integrator::backward || (lambda > 0 && lambda < 1);
   sort_particles();
   clear_grid();
-  if (!implicit && lambda == 0) {
+  if (!implicit_update()) {
     particles_to_grid(true);  // forces at F^n, fused into the transfer
     if (!mesh_.empty()) {
       switch (sv.kernel) {
