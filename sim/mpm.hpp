@@ -92,6 +92,7 @@ class MpmSimulation final : public Simulation {
   template <class K, bool affine, bool with_forces> void p2g_impl();
   void unpack_accumulator();
   void compute_stress();
+  void pack_velocities();
   template <class K, Scheme S> void g2p_impl(T dt);
   template <class K> void velocity_noise(std::vector<float>& out) const;
   template <class Fn> void for_each_particle_coloured(Fn&& fn);

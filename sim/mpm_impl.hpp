@@ -307,7 +307,6 @@ void MpmSimulation<T, D>::p2g_impl() {
             wx_lanes[i][1 + a] = wx_lanes[i][1 + D + a] = wx;
           }
         }
-        const bool contiguous = st.off[0][W - 1] == st.off[0][0] + W - 1;  // not wrapped (periodic)
         st.for_each_row([&](const typename Stencil<T, D, K>::Row& row) {
           Vec<T, D> c = Vec<T, D>::Zero(), t = Vec<T, D>::Zero();
           for (int ax = 1; ax < D; ++ax) {
@@ -317,11 +316,7 @@ void MpmSimulation<T, D>::p2g_impl() {
           Lanes per_row{};
           for (int a = 0; a < D; ++a) { per_row[1 + a] = c[a]; per_row[1 + D + a] = t[a]; }
           const T rw = row.w;
-          Lanes* dst = acc + st.off[0][0] + row.off;
-          for (int i = 0; i < W; ++i) {
-            if (!contiguous) dst = acc + st.off[0][i] + row.off - i;
-            dst[i] += rw * per_x[i] + wx_lanes[i] * per_row;
-          }
+          for (int i = 0; i < W; ++i) acc[st.off[0][i] + row.off] += rw * per_x[i] + wx_lanes[i] * per_row;
         });
       }
     }
@@ -359,6 +354,22 @@ void MpmSimulation<T, D>::particles_to_grid(bool with_forces) {
     case KernelType::cubic: run(CubicKernel{}); break;
   }
   unpack_accumulator();
+}
+
+// The accumulator, free after P2G, holds [ṽ_i, v_i^n] per node for the explicit G2P.
+template <class T, int D>
+void MpmSimulation<T, D>::pack_velocities() {
+  auto* acc = grid_.accumulator.data();
+  const std::ptrdiff_t n = std::ptrdiff_t(grid_.size());
+#pragma omp parallel for schedule(static) if (parallel_worthwhile())
+  for (std::ptrdiff_t i = 0; i < n; ++i) {
+    typename Grid<T, D>::Lanes node{};
+    for (int a = 0; a < D; ++a) {
+      node[a] = grid_.velocity_new[i][a];
+      node[D + a] = grid_.velocity[i][a];
+    }
+    acc[i] = node;
+  }
 }
 
 // v_i^n = (m v)_i / m_i (eq 26), ṽ_i = v_i + Δt (f_i / m_i + g) (eq 29 with λ = 0).
@@ -419,6 +430,9 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
   Vec<T, D> lo, hi;
   for (int a = 0; a < D; ++a) { lo[a] = T(scene_.domain.min[a]); hi[a] = T(scene_.domain.max[a]); }
   const auto& cache = stencils<K>();
+  using Lanes = typename Grid<T, D>::Lanes;
+  const Lanes* packed = grid_.accumulator.data();
+  if (lambda == T(0)) pack_velocities();
 #pragma omp parallel for schedule(static) reduction(|| : bad) reduction(max : max_move) if (parallel_worthwhile())
   for (std::ptrdiff_t q = 0; q < n; ++q) {
     Stencil<T, D, K> local;
@@ -428,30 +442,37 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
     Mat<T, D> Bsum = Mat<T, D>::Zero(), Ssum = Mat<T, D>::Zero(), gradu = Mat<T, D>::Zero(),
               gradv = Mat<T, D>::Zero();
     if (lambda == T(0)) {
-      // Explicit path: gather row by row (see Stencil::for_each_row); u_i = ṽ_i.
+      // Explicit path, u_i = ṽ_i: gather row by row (see Stencil::for_each_row) on nodes packed
+      // as [ṽ (D), v^n (D), padding], whole vectors at a time, so Σ w v^n (FLIP) comes for free.
       constexpr int W = K::width;
       const T* wx = st.w[0];
       T wr[W];
       for (int i = 0; i < W; ++i) wr[i] = wx[i] * st.r[0][i];
+      Lanes vsum{}, grad_cols[D] = {}, b_cols[D] = {};
       st.for_each_row([&](const typename Stencil<T, D, K>::Row& row) {
-        Vec<T, D> s0 = Vec<T, D>::Zero(), s1 = Vec<T, D>::Zero(), g0 = Vec<T, D>::Zero(), o0 = Vec<T, D>::Zero();
+        Lanes s0{}, s1{}, g0{};
         for (int i = 0; i < W; ++i) {
-          const std::size_t node = st.off[0][i] + row.off;
-          const Vec<T, D> vt = vnew[node];
-          s0 += wx[i] * vt;
-          s1 += wr[i] * vt;
-          g0 += st.dw[0][i] * vt;
-          if constexpr (S == Scheme::flip) o0 += wx[i] * vold[node];
+          const Lanes node = packed[st.off[0][i] + row.off];
+          s0 += wx[i] * node;
+          s1 += wr[i] * node;
+          g0 += st.dw[0][i] * node;
         }
-        vpic += row.w * s0;
-        gradu.col(0) += row.w * g0;
-        for (int ax = 1; ax < D; ++ax) gradu.col(ax) += row.dw[ax] * s0;
-        if constexpr (S == Scheme::flip) vold_p += row.w * o0;
-        if constexpr (S == Scheme::apic || S == Scheme::rpic) {
-          Bsum.col(0) += row.w * s1;
-          for (int ax = 1; ax < D; ++ax) Bsum.col(ax) += (row.w * row.r[ax]) * s0;
+        vsum += row.w * s0;
+        grad_cols[0] += row.w * g0;
+        b_cols[0] += row.w * s1;
+        for (int ax = 1; ax < D; ++ax) {
+          grad_cols[ax] += row.dw[ax] * s0;
+          b_cols[ax] += (row.w * row.r[ax]) * s0;
         }
       });
+      for (int a = 0; a < D; ++a) {
+        vpic[a] = vsum[a];
+        vold_p[a] = vsum[D + a];
+        for (int c = 0; c < D; ++c) {
+          gradu(a, c) = grad_cols[c][a];
+          Bsum(a, c) = b_cols[c][a];
+        }
+      }
       if (lagged) gradv = gradu;
     } else
     st.for_each([&](std::size_t i, T w, const Vec<T, D>& grad, const Vec<T, D>& r) {
@@ -528,7 +549,13 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
       }
     }
     p_.x[q] = x;
-    p_.F[q] = (Mat<T, D>::Identity() + dt * gradu) * p_.F[q];
+    const Mat<T, D> F0 = p_.F[q];
+    for (int b = 0; b < D; ++b)
+      for (int a = 0; a < D; ++a) {
+        T s = F0(a, b);
+        for (int k = 0; k < D; ++k) s += dt * gradu(a, k) * F0(k, b);
+        p_.F[q](a, b) = s;
+      }
     if (!std::isfinite(x.sum() + p_.v[q].sum())) bad = true;
   }
   non_finite_ = non_finite_ || bad;
