@@ -289,34 +289,33 @@ void MpmSimulation<T, D>::p2g_impl() {
         const Mat<T, D> mC = m * p_.C[q];
         Mat<T, D> stress = Mat<T, D>::Zero();
         if constexpr (with_forces) stress = stress_[q];
-        // Node i of a row gets w = wx_i row.w and ∇w = (dwx_i row.w, wx_i row.dw[1..]), so
-        //   [m, m v, f]_i += row.w [m wx_i, wx_i (m v + m C col0 r0_i), dwx_i stress col0]
-        //                  + wx_i [0, row.w Σ m C col_a r_a, Σ stress col_a row.dw_a]   (a ≥ 1):
-        // a row is two multiply-adds over W × lanes contiguous values.
+        // Node i of a row gets w = wx_i row.w and ∇w = (dwx_i row.w, wx_i row.dw[1..]), so with
+        // the lanes [m, m v, f]
+        //   node_i += row.w (wx_i (mass_mom + r0_i affine[0]) + dwx_i stress_lanes[0])
+        //           + wx_i Σ_{a≥1} (row.w row.r_a affine[a] + row.dw_a stress_lanes[a]),
+        // where affine[a] = [0, m C col a, 0] and stress_lanes[a] = [0, 0, stress col a]:
+        // whole-vector multiply-adds only.
         using Lanes = typename Grid<T, D>::Lanes;
-        Lanes per_x[W], wx_lanes[W];
-        for (int i = 0; i < W; ++i) {
-          const T wx = st.w[0][i];
-          const Vec<T, D> mom = wx * (affine ? Vec<T, D>(mv + mC.col(0) * st.r[0][i]) : mv);
-          const Vec<T, D> force = stress.col(0) * st.dw[0][i];
-          per_x[i] = wx_lanes[i] = Lanes{};
-          per_x[i][0] = m * wx;
-          for (int a = 0; a < D; ++a) {
-            per_x[i][1 + a] = mom[a];
-            per_x[i][1 + D + a] = force[a];
-            wx_lanes[i][1 + a] = wx_lanes[i][1 + D + a] = wx;
+        Lanes mass_mom{}, affine_lanes[D] = {}, stress_lanes[D] = {};
+        mass_mom[0] = m;
+        for (int a = 0; a < D; ++a) {
+          mass_mom[1 + a] = mv[a];
+          for (int c = 0; c < D; ++c) {
+            if constexpr (affine) affine_lanes[c][1 + a] = mC(a, c);
+            stress_lanes[c][1 + D + a] = stress(a, c);
           }
         }
+        Lanes per_x[W];
+        for (int i = 0; i < W; ++i)
+          per_x[i] = st.w[0][i] * (mass_mom + st.r[0][i] * affine_lanes[0]) + st.dw[0][i] * stress_lanes[0];
         st.for_each_row([&](const typename Stencil<T, D, K>::Row& row) {
-          Vec<T, D> c = Vec<T, D>::Zero(), t = Vec<T, D>::Zero();
-          for (int ax = 1; ax < D; ++ax) {
-            if constexpr (affine) c += mC.col(ax) * (row.w * row.r[ax]);
-            if constexpr (with_forces) t += stress.col(ax) * row.dw[ax];
-          }
           Lanes per_row{};
-          for (int a = 0; a < D; ++a) { per_row[1 + a] = c[a]; per_row[1 + D + a] = t[a]; }
+          for (int ax = 1; ax < D; ++ax) {
+            if constexpr (affine) per_row += (row.w * row.r[ax]) * affine_lanes[ax];
+            if constexpr (with_forces) per_row += row.dw[ax] * stress_lanes[ax];
+          }
           const T rw = row.w;
-          for (int i = 0; i < W; ++i) acc[st.off[0][i] + row.off] += rw * per_x[i] + wx_lanes[i] * per_row;
+          for (int i = 0; i < W; ++i) acc[st.off[0][i] + row.off] += rw * per_x[i] + st.w[0][i] * per_row;
         });
       }
     }
