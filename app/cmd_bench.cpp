@@ -67,6 +67,12 @@ int bench(BenchOptions o) {
   double start = now_seconds();
   for (int s = 0; s < o.steps; ++s) sim->step_fixed(dt);
   double wall = now_seconds() - start;
+  const DiagnosticsRow end = sim->measure();
+  if (!std::isfinite(end.total + end.kinetic)) {
+    std::fprintf(stderr, "bench: the simulation blew up (non-finite state) within %d steps; try another kernel or fewer steps\n",
+                 o.steps);
+    return 2;
+  }
   double rate = double(sim->particle_count()) * o.steps / wall;
   std::printf("bench: %dD %s, scheme %s, kernel %s, integrator %s, %zu particles, dx %.4g, %d steps, %d threads\n", o.dim,
               o.precision.c_str(), o.scheme.c_str(), o.kernel.c_str(), o.integrator.c_str(), sim->particle_count(), dx,

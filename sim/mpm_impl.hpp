@@ -540,9 +540,9 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
     max_move = std::max(max_move, double((dt * ubar).cwiseAbs().maxCoeff()));
     for (int a = 0; a < D; ++a) {
       if (grid_.periodic[a]) {
-        T L = hi[a] - lo[a];
-        if (x[a] < lo[a]) x[a] += L;
-        if (x[a] >= hi[a]) x[a] -= L;
+        const T L = hi[a] - lo[a];
+        if (x[a] < lo[a] || x[a] >= hi[a]) x[a] -= L * std::floor((x[a] - lo[a]) / L);
+        if (x[a] >= hi[a]) x[a] = lo[a];  // round-off of the line above
       } else {
         x[a] = std::min(std::max(x[a], lo[a]), hi[a]);  // walls: keep the stencil on the grid
       }
@@ -581,6 +581,9 @@ void MpmSimulation<T, D>::grid_to_particles(T dt) {
 
 template <class T, int D>
 void MpmSimulation<T, D>::step_fixed(double dt) {
+  // A non-finite position would index the grid out of range: the state stays frozen, and
+  // step() (or the caller of step_fixed, through measure()) reports it.
+  if (non_finite_) return;
   const SolverDesc& sv = scene_.solver;
   sort_particles();
   clear_grid();

@@ -203,5 +203,36 @@ TEST(Simulation, BlowUpIsReported) {
   EXPECT_EQ(sim.steps(), steps);
 }
 
+// A non-finite particle must never reach the grid: it would index it out of range. step_fixed
+// (benchmarks) leaves the state frozen, measure() shows it, and step() reports it.
+TEST(Simulation, NonFiniteStateFreezesInsteadOfCrashing) {
+  MpmSimulation<double, 2> sim(disk("apic"));
+  sim.particles().v[3][0] = std::numeric_limits<double>::quiet_NaN();
+  sim.step_fixed(1e-4);  // G2P spreads the NaN through the grid to x
+  const long steps = sim.steps();
+  for (int s = 0; s < 3; ++s) sim.step_fixed(1e-4);
+  EXPECT_EQ(sim.steps(), steps);
+  EXPECT_FALSE(std::isfinite(sim.measure().total));
+  auto f = sim.step(1e9, nullptr);
+  ASSERT_TRUE(f);
+  EXPECT_EQ(f->quantity, "particle state");
+}
+
+// Periodic axes wrap a position that left the domain by more than one period (a large step).
+TEST(Simulation, PeriodicWrapHandlesSeveralPeriods) {
+  SceneDesc scene = load_scene(std::string(APICLAB_SOURCE_DIR) + "/assets/scenes/rotating-disk.json",
+                               {"domain.boundary=periodic", "solver.integrator=symplectic"});
+  MpmSimulation<double, 2> sim(scene);
+  const double L = scene.domain.max[0] - scene.domain.min[0];
+  for (auto& v : sim.particles().v) v = Vec<double, 2>(3.5 * L, -2.25 * L);  // 3.5 and 2.25 periods in 1 s
+  for (auto& C : sim.particles().C) C.setZero();
+  sim.step_fixed(1.0);
+  for (const auto& x : sim.particles().x)
+    for (int a = 0; a < 2; ++a) {
+      ASSERT_GE(x[a], scene.domain.min[a]);
+      ASSERT_LT(x[a], scene.domain.max[a]);
+    }
+}
+
 }  // namespace
 }  // namespace apiclab
