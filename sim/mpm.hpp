@@ -93,6 +93,8 @@ class MpmSimulation final : public Simulation {
   void unpack_accumulator();
   void compute_stress();
   void pack_velocities();
+  void set_active_box(const std::array<int, D>& first_block, const std::array<int, D>& last_block);
+  template <class Fn> void for_each_box_node(Fn&& fn);
   template <class K, Scheme S> void g2p_impl(T dt);
   template <class K> void velocity_noise(std::vector<float>& out) const;
   template <class Fn> void for_each_particle_coloured(Fn&& fn);
@@ -129,6 +131,12 @@ class MpmSimulation final : public Simulation {
   std::vector<std::uint32_t> keys_, order_, block_start_;
   std::vector<std::vector<std::uint32_t>> color_blocks_;
   std::array<int, D> blocks_per_axis_{};
+  int block_cells_ = 4;
+  // Nodes the particles can reach until the next sort: [box_lo_, box_hi_) per axis, as runs
+  // of consecutive nodes (start, length) along axis 0, and the wall/collider nodes inside it.
+  std::array<int, D> box_lo_{}, box_hi_{};
+  std::vector<std::pair<std::size_t, std::size_t>> box_rows_;
+  std::vector<ConstrainedNode<T, D>> box_constraints_;
   bool non_finite_ = false;
   // Triangulated objects (Sec 6.7) and the particle index of every id (the sort permutes).
   TriangleMesh<T> mesh_;

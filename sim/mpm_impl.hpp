@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <iomanip>
+#include <limits>
 #include <numeric>
 #include <ostream>
 
@@ -189,9 +190,14 @@ void MpmSimulation<T, D>::sort_particles() {
   if (drift_since_sort_ < 0.5) return;
   drift_since_sort_ = 0;
   const std::size_t n = p_.size();
+  // Block width B: a particle within half a cell of block b reaches nodes [B b − 2, B b + B + 2]
+  // (cubic; quadratic and linear one less on the right), so blocks two apart never share a node
+  // when B ≥ 4 (quadratic, linear) or B ≥ 5 (cubic). A periodic axis folds its remainder into
+  // the last block, so every block is at least B cells wide, also across the wrap.
+  const int B = block_cells_ = scene_.solver.kernel == KernelType::cubic ? 5 : 4;
   std::size_t nblocks = 1;
   for (int a = 0; a < D; ++a) {
-    blocks_per_axis_[a] = (grid_.n[a] + 3) / 4;
+    blocks_per_axis_[a] = grid_.periodic[a] ? std::max(1, grid_.n[a] / B) : (grid_.n[a] + B - 1) / B;
     nblocks *= std::size_t(blocks_per_axis_[a]);
   }
   keys_.resize(n);
@@ -200,7 +206,7 @@ void MpmSimulation<T, D>::sort_particles() {
     for (int a = 0; a < D; ++a) {
       int cell = int(std::floor((p_.x[q][a] - grid_.origin[a]) * grid_.inv_dx));
       cell = grid_.wrap(cell, a);
-      key += std::size_t(cell / 4) * s;
+      key += std::size_t(std::min(cell / B, blocks_per_axis_[a] - 1)) * s;
       s *= std::size_t(blocks_per_axis_[a]);
     }
     keys_[q] = std::uint32_t(key);
@@ -221,11 +227,14 @@ void MpmSimulation<T, D>::sort_particles() {
     rebuild_index_of_id();
   }
   // Colours: blocks of one colour are at least one block apart, so their stencils never share
-  // a node; the last block of a periodic axis gets its own colour (it touches block 0 and 1).
+  // a node; the last block of a periodic axis gets its own colour (it touches block 0).
   int colors = 1;
   for (int a = 0; a < D; ++a) colors *= 3;
   color_blocks_.resize(std::size_t(colors));
   for (auto& c : color_blocks_) c.clear();
+  std::array<int, D> first, last;
+  first.fill(std::numeric_limits<int>::max());
+  last.fill(-1);
   for (std::size_t b = 0; b < nblocks; ++b) {
     if (block_start_[b] == block_start_[b + 1]) continue;
     std::size_t rest = b;
@@ -233,20 +242,79 @@ void MpmSimulation<T, D>::sort_particles() {
     for (int a = 0; a < D; ++a) {
       int ba = int(rest % std::size_t(blocks_per_axis_[a]));
       rest /= std::size_t(blocks_per_axis_[a]);
+      first[a] = std::min(first[a], ba);
+      last[a] = std::max(last[a], ba);
       int c = (grid_.periodic[a] && ba == blocks_per_axis_[a] - 1 && ba > 0) ? 2 : ba % 2;
       color += c * scale;
       scale *= 3;
     }
     color_blocks_[std::size_t(color)].push_back(std::uint32_t(b));
   }
+  set_active_box(first, last);
+}
+
+// The grid passes (clear, unpack, update, pack, walls) run only over the nodes the sorted
+// particles can reach until the next sort: scenes whose objects fill a small part of the
+// domain stop paying for the empty rest. Nodes leaving the box are zeroed once, here.
+template <class T, int D>
+void MpmSimulation<T, D>::set_active_box(const std::array<int, D>& first_block, const std::array<int, D>& last_block) {
+  std::array<int, D> lo, hi;
+  for (int a = 0; a < D; ++a) {
+    if (grid_.periodic[a] || last_block[a] < 0) {
+      lo[a] = 0;
+      hi[a] = last_block[a] < 0 ? 0 : grid_.n[a];
+    } else {
+      lo[a] = std::max(0, block_cells_ * first_block[a] - 2);
+      hi[a] = std::min(grid_.n[a], block_cells_ * (last_block[a] + 1) + 3);
+    }
+  }
+  if (lo == box_lo_ && hi == box_hi_ && !box_rows_.empty()) return;
+  for (const auto& [start, length] : box_rows_)
+    for (std::size_t i = start; i < start + length; ++i) {
+      grid_.accumulator[i] = typename Grid<T, D>::Lanes{};
+      grid_.mass[i] = T(0);
+      grid_.velocity[i].setZero();
+      grid_.velocity_new[i].setZero();
+      grid_.force[i].setZero();
+    }
+  box_lo_ = lo;
+  box_hi_ = hi;
+  box_rows_.clear();
+  if constexpr (D == 2) {
+    for (int j = lo[1]; j < hi[1]; ++j)
+      box_rows_.push_back({std::size_t(lo[0]) + std::size_t(j) * grid_.stride[1], std::size_t(hi[0] - lo[0])});
+  } else {
+    for (int k = lo[2]; k < hi[2]; ++k)
+      for (int j = lo[1]; j < hi[1]; ++j)
+        box_rows_.push_back({std::size_t(lo[0]) + std::size_t(j) * grid_.stride[1] + std::size_t(k) * grid_.stride[2],
+                             std::size_t(hi[0] - lo[0])});
+  }
+  box_constraints_.clear();
+  for (const auto& c : constraints_) {
+    bool inside = true;
+    for (int a = 0; a < D; ++a) {
+      int i = int((c.node / grid_.stride[a]) % std::size_t(grid_.n[a]));
+      inside = inside && i >= lo[a] && i < hi[a];
+    }
+    if (inside) box_constraints_.push_back(c);
+  }
+}
+
+template <class T, int D>
+template <class Fn>
+void MpmSimulation<T, D>::for_each_box_node(Fn&& fn) {
+  const std::ptrdiff_t rows = std::ptrdiff_t(box_rows_.size());
+#pragma omp parallel for schedule(static) if (parallel_worthwhile())
+  for (std::ptrdiff_t r = 0; r < rows; ++r) {
+    const auto [start, length] = box_rows_[std::size_t(r)];
+    for (std::size_t i = start; i < start + length; ++i) fn(i);
+  }
 }
 
 template <class T, int D>
 void MpmSimulation<T, D>::clear_grid() {
   auto* acc = grid_.accumulator.data();
-  const std::ptrdiff_t n = std::ptrdiff_t(grid_.accumulator.size());
-#pragma omp parallel for schedule(static) if (parallel_worthwhile())
-  for (std::ptrdiff_t i = 0; i < n; ++i) acc[i] = typename Grid<T, D>::Lanes{};
+  for_each_box_node([&](std::size_t i) { acc[i] = typename Grid<T, D>::Lanes{}; });
 }
 
 // −V_p P(F_p) F_pᵀ per particle, so that f_i = Σ_p (this) ∇w_ip (eq 34 at λ = 0). A pass of
@@ -326,16 +394,14 @@ void MpmSimulation<T, D>::p2g_impl() {
 template <class T, int D>
 void MpmSimulation<T, D>::unpack_accumulator() {
   const auto* acc = grid_.accumulator.data();
-  const std::ptrdiff_t n = std::ptrdiff_t(grid_.size());
-#pragma omp parallel for schedule(static) if (parallel_worthwhile())
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
+  for_each_box_node([&](std::size_t i) {
     const auto& node = acc[i];
     grid_.mass[i] = node[0];
     for (int a = 0; a < D; ++a) {
       grid_.velocity[i][a] = node[1 + a];
       grid_.force[i][a] = node[1 + D + a];
     }
-  }
+  });
 }
 
 template <class T, int D>
@@ -359,16 +425,14 @@ void MpmSimulation<T, D>::particles_to_grid(bool with_forces) {
 template <class T, int D>
 void MpmSimulation<T, D>::pack_velocities() {
   auto* acc = grid_.accumulator.data();
-  const std::ptrdiff_t n = std::ptrdiff_t(grid_.size());
-#pragma omp parallel for schedule(static) if (parallel_worthwhile())
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
+  for_each_box_node([&](std::size_t i) {
     typename Grid<T, D>::Lanes node{};
     for (int a = 0; a < D; ++a) {
       node[a] = grid_.velocity_new[i][a];
       node[D + a] = grid_.velocity[i][a];
     }
     acc[i] = node;
-  }
+  });
 }
 
 // v_i^n = (m v)_i / m_i (eq 26), ṽ_i = v_i + Δt (f_i / m_i + g) (eq 29 with λ = 0).
@@ -376,20 +440,23 @@ template <class T, int D>
 void MpmSimulation<T, D>::grid_velocity_update(T dt) {
   Vec<T, D> g;
   for (int a = 0; a < D; ++a) g[a] = T(scene_.gravity[a]);
-  const std::ptrdiff_t n = std::ptrdiff_t(grid_.size());
+  const std::ptrdiff_t rows = std::ptrdiff_t(box_rows_.size());
   double kinetic = 0, vmax2 = 0;
 #pragma omp parallel for schedule(static) reduction(+ : kinetic) reduction(max : vmax2) if (parallel_worthwhile())
-  for (std::ptrdiff_t i = 0; i < n; ++i) {
-    const T m = grid_.mass[i];
-    if (m > T(0)) {
-      Vec<T, D> v = grid_.velocity[i] / m;
-      grid_.velocity[i] = v;
-      grid_.velocity_new[i] = v + dt * (grid_.force[i] / m + g);
-      kinetic += 0.5 * double(m) * double(v.squaredNorm());
-      vmax2 = std::max(vmax2, double(v.squaredNorm()));
-    } else {
-      grid_.velocity[i].setZero();
-      grid_.velocity_new[i].setZero();
+  for (std::ptrdiff_t r = 0; r < rows; ++r) {
+    const auto [start, length] = box_rows_[std::size_t(r)];
+    for (std::size_t i = start; i < start + length; ++i) {
+      const T m = grid_.mass[i];
+      if (m > T(0)) {
+        Vec<T, D> v = grid_.velocity[i] / m;
+        grid_.velocity[i] = v;
+        grid_.velocity_new[i] = v + dt * (grid_.force[i] / m + g);
+        kinetic += 0.5 * double(m) * double(v.squaredNorm());
+        vmax2 = std::max(vmax2, double(v.squaredNorm()));
+      } else {
+        grid_.velocity[i].setZero();
+        grid_.velocity_new[i].setZero();
+      }
     }
   }
   kinetic_grid_ = kinetic;
@@ -398,7 +465,7 @@ void MpmSimulation<T, D>::grid_velocity_update(T dt) {
 
 template <class T, int D>
 void MpmSimulation<T, D>::apply_boundary_conditions() {
-  for (const auto& c : constraints_) {
+  for (const auto& c : box_constraints_) {  // outside the box ṽ = 0 already satisfies them
     Vec<T, D>& v = grid_.velocity_new[c.node];
     T vn = v.dot(c.normal);
     switch (c.condition) {
