@@ -4,6 +4,7 @@
 #pragma once
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "grid.hpp"
@@ -72,6 +73,10 @@ class MpmSimulation final : public Simulation {
   void grid_to_particles(T dt);               // eqs 37-40, or the scheme's variant
   // Σ_i m_i v_i, Σ_i x_i × m_i v_i over the grid (after P2G: v = velocity; after update: ṽ).
   void grid_momentum(bool updated, Eigen::Vector3d& p, Eigen::Vector3d& L) const;
+  // The parallel P2G's invariant, checked for tests against the current positions (which may
+  // have drifted since the sort): blocks of one colour touch disjoint nodes, and every touched
+  // node lies in the active box. Returns "" or what breaks it.
+  std::string partition_conflict() const;
   // Sum of internal forces Σ_i f_i (zero for forces derived from an energy, Sec 5.2).
   Eigen::Vector3d total_force() const;
   double elastic_energy() const;

@@ -8,6 +8,7 @@
 #include <limits>
 #include <numeric>
 #include <ostream>
+#include <sstream>
 
 #include "mpm.hpp"
 #include "implicit.hpp"
@@ -298,6 +299,39 @@ void MpmSimulation<T, D>::set_active_box(const std::array<int, D>& first_block, 
     }
     if (inside) box_constraints_.push_back(c);
   }
+}
+
+template <class T, int D>
+std::string MpmSimulation<T, D>::partition_conflict() const {
+  std::vector<std::int64_t> owner(grid_.size(), -1);
+  std::ostringstream why;
+  auto check = [&](auto kernel) {
+    using K = decltype(kernel);
+    for (std::size_t color = 0; color < color_blocks_.size(); ++color) {
+      std::fill(owner.begin(), owner.end(), -1);
+      for (std::uint32_t b : color_blocks_[color])
+        for (std::uint32_t q = block_start_[b]; q < block_start_[b + 1]; ++q) {
+          Stencil<T, D, K> st;
+          st.compute(p_.x[q], grid_);
+          st.for_each([&](std::size_t node, T, const Vec<T, D>&, const Vec<T, D>&) {
+            for (int a = 0; a < D; ++a) {
+              int i = int((node / grid_.stride[a]) % std::size_t(grid_.n[a]));
+              if ((i < box_lo_[a] || i >= box_hi_[a]) && why.tellp() == 0)
+                why << "particle " << q << " reaches node " << node << " outside the active box on axis " << a;
+            }
+            if (owner[node] >= 0 && owner[node] != std::int64_t(b) && why.tellp() == 0)
+              why << "blocks " << owner[node] << " and " << b << " of colour " << color << " share node " << node;
+            owner[node] = b;
+          });
+        }
+    }
+  };
+  switch (scene_.solver.kernel) {
+    case KernelType::linear: check(LinearKernel{}); break;
+    case KernelType::quadratic: check(QuadraticKernel{}); break;
+    case KernelType::cubic: check(CubicKernel{}); break;
+  }
+  return why.str();
 }
 
 template <class T, int D>
