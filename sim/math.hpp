@@ -2,6 +2,7 @@
 #pragma once
 #include <Eigen/Dense>
 #include <cmath>
+#include <limits>
 
 namespace apiclab {
 
@@ -31,6 +32,36 @@ Eigen::Vector3d permutation_contract(const Mat<T, D>& A) {
   }
 }
 
+template <class T, int D>
+Mat<T, D> cofactor(const Mat<T, D>& F);
+
+// R of F = R S for det F > 0 by Higham's (1986) Newton iteration X ← ½(γX + X⁻ᵀ/γ), scaled by
+// γ = |det X|^(-1/3) while far from converged: a few 3×3 inverses instead of a JacobiSVD (Eigen
+// has no polar decomposition). Returns false for an inverted or nearly singular F.
+template <class T>
+bool polar_newton_3d(const Mat<T, 3>& F, Mat<T, 3>& R) {
+  const T scale = F.norm();
+  T det = F.determinant();
+  if (!(det > T(1e-6) * scale * scale * scale)) return false;
+  const T tolerance = T(8) * std::numeric_limits<T>::epsilon();
+  Mat<T, 3> X = F;
+  T step = T(1);
+  for (int it = 0; it < 30; ++it) {
+    const T gamma = step > T(1e-2) ? std::cbrt(T(1) / det) : T(1);
+    Mat<T, 3> next = T(0.5) * (gamma * X + cofactor<T, 3>(X) / (gamma * det));  // X⁻ᵀ = cof(X) / det X
+    const T previous = step;
+    step = (next - X).norm();
+    X = next;
+    // Converged, or round-off stops the quadratic decrease just above the tolerance.
+    if (step <= tolerance || (step < T(1e-3) && step >= previous)) {
+      R = X;
+      return true;
+    }
+    det = X.determinant();
+  }
+  return false;
+}
+
 // Rotation R of the polar decomposition F = R S with det R = +1 (fixed corotated needs it
 // also for inverted F, Stomakhin et al. 2012). S is returned symmetric.
 template <class T, int D>
@@ -45,6 +76,11 @@ void polar_decomposition(const Mat<T, D>& F, Mat<T, D>& R, Mat<T, D>& S) {
     S = R.transpose() * F;
     S(0, 1) = S(1, 0) = T(0.5) * (S(0, 1) + S(1, 0));
   } else {
+    if (polar_newton_3d(F, R)) {
+      S = R.transpose() * F;
+      S = (T(0.5) * (S + S.transpose())).eval();  // eval: S aliases Sᵀ
+      return;
+    }
     Eigen::JacobiSVD<Mat<T, D>> svd(F, Eigen::ComputeFullU | Eigen::ComputeFullV);
     Mat<T, D> U = svd.matrixU(), V = svd.matrixV();
     Vec<T, D> sigma = svd.singularValues();

@@ -153,6 +153,45 @@ void check_inverted() {
 TEST(Materials, Inverted2D) { check_inverted<2>(); }
 TEST(Materials, Inverted3D) { check_inverted<3>(); }
 
+// The 3D polar decomposition's Newton iteration against Eigen's JacobiSVD: R = U Vᵀ for F with
+// det F > 0, from near-rigid to strongly stretched and sheared (condition numbers up to ~1e3),
+// in double and float. R orthonormal with det +1 and S = RᵀF symmetric positive definite.
+template <class T>
+void polar_matches_svd(double tolerance) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1), logs(-3.5, 3.5);
+  int newton = 0;
+  for (int k = 0; k < 2000; ++k) {
+    // F = Q1 diag(σ) Q2 with random rotations and singular values e^[-3.5, 3.5].
+    auto rotation = [&] {
+      Eigen::Quaterniond q(u(rng), u(rng), u(rng), u(rng));
+      return Mat<double, 3>(q.normalized().toRotationMatrix());
+    };
+    Vec<double, 3> sigma(std::exp(logs(rng)), std::exp(logs(rng)), std::exp(logs(rng)));
+    if (k % 4 == 0) sigma = Vec<double, 3>::Constant(1) + 0.01 * Vec<double, 3>(u(rng), u(rng), u(rng));
+    const Mat<double, 3> Fd = rotation() * sigma.asDiagonal() * rotation();
+    const Mat<T, 3> F = Fd.cast<T>();
+    Mat<T, 3> R, S;
+    polar_decomposition<T, 3>(F, R, S);
+    Eigen::JacobiSVD<Mat<double, 3>> svd(F.template cast<double>(), Eigen::ComputeFullU | Eigen::ComputeFullV);
+    const Mat<double, 3> Rsvd = svd.matrixU() * svd.matrixV().transpose();
+    Mat<T, 3> Rn;
+    newton += polar_newton_3d<T>(F, Rn);
+    ASSERT_LT((R.template cast<double>() - Rsvd).norm(), tolerance * svd.singularValues()[0] / svd.singularValues()[2])
+        << "sigma " << sigma.transpose();
+    EXPECT_LT((R.transpose() * R - Mat<T, 3>::Identity()).norm(), T(10) * std::numeric_limits<T>::epsilon());
+    EXPECT_NEAR(double(R.determinant()), 1.0, 10 * std::numeric_limits<T>::epsilon());
+    EXPECT_LT((S - S.transpose()).norm(), T(4) * std::numeric_limits<T>::epsilon() * S.norm());
+    EXPECT_GT(double(Eigen::SelfAdjointEigenSolver<Mat<T, 3>>(S).eigenvalues().minCoeff()), 0.0);
+  }
+  EXPECT_GT(newton, 1990) << "the Newton iteration should handle every F with det F > 0 here";
+}
+
+TEST(Materials, PolarDecomposition3DMatchesSvd) {
+  polar_matches_svd<double>(1e-13);
+  polar_matches_svd<float>(1e-5);
+}
+
 TEST(Materials, LameParameters) {
   MaterialDesc m;
   m.E = 1000;
