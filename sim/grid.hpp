@@ -3,6 +3,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include "math.hpp"
@@ -13,8 +14,24 @@ namespace apiclab {
 // Eight values as one vector (GCC/Clang vector extension: SSE, AVX or AVX-512 without
 // intrinsics). Spelled per scalar because the attribute is lost on a dependent typedef.
 template <class T> struct Lanes8;
-template <> struct Lanes8<float> { typedef float type __attribute__((vector_size(8 * sizeof(float)))); };
-template <> struct Lanes8<double> { typedef double type __attribute__((vector_size(8 * sizeof(double)))); };
+template <> struct Lanes8<float> {
+  typedef float type __attribute__((vector_size(8 * sizeof(float))));
+  typedef std::int32_t index __attribute__((vector_size(8 * sizeof(float))));
+};
+template <> struct Lanes8<double> {
+  typedef double type __attribute__((vector_size(8 * sizeof(double))));
+  typedef std::int64_t index __attribute__((vector_size(8 * sizeof(double))));
+};
+
+// (v_i, v_j, v_k, v_7, …, v_7): three lanes brought to the front.
+template <class T, int i, int j, int k>
+typename Lanes8<T>::type permute(const typename Lanes8<T>::type& v) {
+#if defined(__clang__)
+  return __builtin_shufflevector(v, v, i, j, k, 7, 7, 7, 7, 7);
+#else
+  return __builtin_shuffle(v, typename Lanes8<T>::index{i, j, k, 7, 7, 7, 7, 7});
+#endif
+}
 
 template <class T, int D>
 struct Grid {

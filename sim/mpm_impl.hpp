@@ -9,6 +9,7 @@
 #include <numeric>
 #include <ostream>
 #include <sstream>
+#include <type_traits>
 
 #include "mpm.hpp"
 #include "implicit.hpp"
@@ -369,8 +370,8 @@ void MpmSimulation<T, D>::compute_stress() {
 template <class T, int D>
 template <class K, bool affine, bool with_forces>
 void MpmSimulation<T, D>::p2g_impl() {
-  // The implicit solve, G2P at λ > 0 and mesh forces reuse these weights (same x_p^n); the
-  // explicit G2P recomputes them, which is cheaper than storing and reloading them.
+  // The implicit solve and mesh forces reuse these weights (same x_p^n); G2P recomputes them,
+  // which is cheaper than storing and reloading them.
   const bool keep = keeps_stencils();
   auto& cache = stencils<K>();
   if (keep) cache.resize(p_.size());
@@ -455,7 +456,7 @@ void MpmSimulation<T, D>::particles_to_grid(bool with_forces) {
   unpack_accumulator();
 }
 
-// The accumulator, free after P2G, holds [ṽ_i, v_i^n] per node for the explicit G2P.
+// The accumulator, free after P2G, holds [ṽ_i, v_i^n] per node for G2P.
 template <class T, int D>
 void MpmSimulation<T, D>::pack_velocities() {
   auto* acc = grid_.accumulator.data();
@@ -522,42 +523,44 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
   const T alpha = T(scene_.solver.flip_alpha);
   const bool lagged = K::type == KernelType::linear;  // Sec 5.9: lagged C for multilinear
   const T inv_k = lagged ? T(0) : T(1) / inertia_scale();
-  const Vec<T, D>* vold = grid_.velocity.data();
-  const Vec<T, D>* vnew = grid_.velocity_new.data();
   const std::ptrdiff_t n = std::ptrdiff_t(p_.size());
   bool bad = false;
   double max_move = 0;
   Vec<T, D> lo, hi;
   for (int a = 0; a < D; ++a) { lo[a] = T(scene_.domain.min[a]); hi[a] = T(scene_.domain.max[a]); }
-  const auto& cache = stencils<K>();
   using Lanes = typename Grid<T, D>::Lanes;
   const Lanes* packed = grid_.accumulator.data();
-  if (lambda == T(0)) pack_velocities();
+  pack_velocities();
+  // Lanes of ṽ × vⁿ: c_a = ṽ_{a+1} vⁿ_{a+2} − ṽ_{a+2} vⁿ_{a+1} in 3D, c_0 = ṽ_0 vⁿ_1 − ṽ_1 vⁿ_0 in 2D.
+  auto cross = [](const Lanes& n) {
+    if constexpr (D == 3)
+      return permute<T, 1, 2, 0>(n) * permute<T, 5, 3, 4>(n) - permute<T, 2, 0, 1>(n) * permute<T, 4, 5, 3>(n);
+    else
+      return permute<T, 0, 0, 0>(n) * permute<T, 3, 3, 3>(n) - permute<T, 1, 1, 1>(n) * permute<T, 2, 2, 2>(n);
+  };
 #pragma omp parallel for schedule(static) reduction(|| : bad) reduction(max : max_move) if (parallel_worthwhile())
   for (std::ptrdiff_t q = 0; q < n; ++q) {
-    Stencil<T, D, K> local;
-    if (lambda == T(0)) local.compute(p_.x[std::size_t(q)], grid_);
-    const Stencil<T, D, K>& st = lambda == T(0) ? local : cache[std::size_t(q)];
-    Vec<T, D> vpic = Vec<T, D>::Zero(), ubar = Vec<T, D>::Zero(), vold_p = Vec<T, D>::Zero();
-    Mat<T, D> Bsum = Mat<T, D>::Zero(), Ssum = Mat<T, D>::Zero(), gradu = Mat<T, D>::Zero(),
-              gradv = Mat<T, D>::Zero();
-    if (lambda == T(0)) {
-      // Explicit path, u_i = ṽ_i: gather row by row (see Stencil::for_each_row) on nodes packed
-      // as [ṽ (D), v^n (D), padding], whole vectors at a time, so Σ w v^n (FLIP) comes for free.
-      constexpr int W = K::width;
-      const T* wx = st.w[0];
-      T wr[W];
-      for (int i = 0; i < W; ++i) wr[i] = wx[i] * st.r[0][i];
-      Lanes vsum{}, grad_cols[D] = {}, b_cols[D] = {};
+    Stencil<T, D, K> st;
+    st.compute(p_.x[std::size_t(q)], grid_);
+    // Gather row by row (see Stencil::for_each_row) on nodes packed as [ṽ (D), vⁿ (D), pad],
+    // whole vectors at a time: lanes 0..D−1 give the sums over ṽ, lanes D..2D−1 over vⁿ.
+    constexpr int W = K::width;
+    const T* wx = st.w[0];
+    T wr[W];
+    for (int i = 0; i < W; ++i) wr[i] = wx[i] * st.r[0][i];
+    Lanes vsum{}, grad_cols[D] = {}, b_cols[D] = {}, twist{};
+    auto gather = [&](auto moving_nodes) {  // Σ w (ṽ × vⁿ) only for λ > 0
       st.for_each_row([&](const typename Stencil<T, D, K>::Row& row) {
-        Lanes s0{}, s1{}, g0{};
+        Lanes s0{}, s1{}, g0{}, t0{};
         for (int i = 0; i < W; ++i) {
           const Lanes node = packed[st.off[0][i] + row.off];
           s0 += wx[i] * node;
           s1 += wr[i] * node;
           g0 += st.dw[0][i] * node;
+          if constexpr (decltype(moving_nodes)::value) t0 += wx[i] * cross(node);
         }
         vsum += row.w * s0;
+        if constexpr (decltype(moving_nodes)::value) twist += row.w * t0;
         grad_cols[0] += row.w * g0;
         b_cols[0] += row.w * s1;
         for (int ax = 1; ax < D; ++ax) {
@@ -565,34 +568,22 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
           b_cols[ax] += (row.w * row.r[ax]) * s0;
         }
       });
-      for (int a = 0; a < D; ++a) {
-        vpic[a] = vsum[a];
-        vold_p[a] = vsum[D + a];
-        for (int c = 0; c < D; ++c) {
-          gradu(a, c) = grad_cols[c][a];
-          Bsum(a, c) = b_cols[c][a];
-        }
+    };
+    if (lambda != T(0)) gather(std::true_type{});
+    else gather(std::false_type{});
+    // u_i = λ vⁿ_i + (1 − λ) ṽ_i (eq 30): ū = Σ w u, ∇u = Σ u ∇wᵀ.
+    Vec<T, D> vpic, vold_p, ubar;
+    Mat<T, D> Bsum, gradu, gradv;
+    for (int a = 0; a < D; ++a) {
+      vpic[a] = vsum[a];
+      vold_p[a] = vsum[D + a];
+      ubar[a] = lambda * vsum[D + a] + (T(1) - lambda) * vsum[a];
+      for (int c = 0; c < D; ++c) {
+        gradv(a, c) = grad_cols[c][a];
+        gradu(a, c) = lambda * grad_cols[c][D + a] + (T(1) - lambda) * grad_cols[c][a];
+        Bsum(a, c) = b_cols[c][a];
       }
-      if (lagged) gradv = gradu;
-    } else
-    st.for_each([&](std::size_t i, T w, const Vec<T, D>& grad, const Vec<T, D>& r) {
-      const Vec<T, D> vt = vnew[i];
-      vpic += w * vt;
-      if (lambda != T(0)) {
-        const Vec<T, D> u = lambda * vold[i] + (T(1) - lambda) * vt;
-        ubar += w * u;
-        gradu += u * grad.transpose();
-        if constexpr (S == Scheme::apic || S == Scheme::rpic) Ssum += (w * vt) * u.transpose();
-      } else {
-        gradu += vt * grad.transpose();
-      }
-      if constexpr (S == Scheme::flip) vold_p += w * vold[i];
-      if constexpr (S == Scheme::apic || S == Scheme::rpic) {
-        if (lagged) gradv += vt * grad.transpose();
-        else Bsum += (w * vt) * r.transpose();
-      }
-    });
-    if (lambda == T(0)) ubar = vpic;
+    }
     // Velocity and affine matrix per scheme.
     if constexpr (S == Scheme::pic) {
       p_.v[q] = vpic;  // eq 2
@@ -605,8 +596,13 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
         C = gradv;  // Sec 5.9: C = Σ ṽ_i ∇w_ipᵀ
       } else {
         Mat<T, D> B = Bsum;
-        if (lambda != T(0))
-          B += T(0.5) * dt * (Ssum - Ssum.transpose() - vpic * ubar.transpose() + ubar * vpic.transpose());
+        if (lambda != T(0)) {
+          // S − Sᵀ with S = Σ w ṽ uᵀ is λ Σ w (ṽ vⁿᵀ − vⁿ ṽᵀ), whose entries are Σ w (ṽ × vⁿ).
+          Mat<T, D> skew;
+          if constexpr (D == 3) skew << T(0), twist[2], -twist[1], -twist[2], T(0), twist[0], twist[1], -twist[0], T(0);
+          else skew << T(0), twist[0], -twist[0], T(0);
+          B += T(0.5) * dt * (lambda * skew - vpic * ubar.transpose() + ubar * vpic.transpose());
+        }
         C = B * inv_k;  // C = B D⁻¹ with D = k Δx² I
       }
       if constexpr (S == Scheme::rpic) {
