@@ -69,15 +69,17 @@ void MpmSimulation<T, D>::implicit_begin(T dt) {
 
   // The weights P2G cached this step (stencils<K>()) serve every product below.
   // Active nodes and the velocity v_i^n.
+  // Only the active box can hold mass (see set_active_box); outside it everything stays zero.
   active_.clear();
-  for (std::size_t i = 0; i < nn; ++i) {
-    if (grid_.mass[i] > T(0)) {
-      grid_.velocity[i] /= grid_.mass[i];
-      active_.push_back(std::uint32_t(i));
-    } else {
-      grid_.velocity[i].setZero();
+  for (const auto& [start, length] : box_rows_)
+    for (std::size_t i = start; i < start + length; ++i) {
+      if (grid_.mass[i] > T(0)) {
+        grid_.velocity[i] /= grid_.mass[i];
+        active_.push_back(std::uint32_t(i));
+      } else {
+        grid_.velocity[i].setZero();
+      }
     }
-  }
   double kinetic = 0, vref2 = 0;
   imp_msum_ = 0;
   for (std::uint32_t i : active_) {
@@ -87,7 +89,10 @@ void MpmSimulation<T, D>::implicit_begin(T dt) {
   }
   kinetic_grid_ = kinetic;
   imp_vref_ = std::sqrt(vref2 / std::max(imp_msum_, 1e-300));
-  for (auto* v : {&dv_, &grad_, &dir_, &cg_r_, &cg_p_, &cg_s_, &work_}) v->assign(nn, Vec<T, D>::Zero());
+  for (auto* v : {&dv_, &grad_, &dir_, &cg_r_, &cg_p_, &cg_s_, &work_}) {
+    if (v->size() != nn) v->assign(nn, Vec<T, D>::Zero());
+    for_each_box_node([&](std::size_t i) { (*v)[i].setZero(); });
+  }
   Fy_.resize(p_.size());
   hess_.resize(p_.size());
 
@@ -236,12 +241,11 @@ template <class T, int D>
 template <class K>
 void MpmSimulation<T, D>::implicit_velocity_update(T dt) {
   implicit_begin<K>(dt);
-  const std::size_t nn = grid_.size();
   if (imp_b_ == T(0)) {  // λ = 1: explicit, forces at y = x + Δt v
     implicit_energy<K>(dv_, true);
     for (std::uint32_t i : active_) dv_[i] = -grad_[i] / grid_.mass[i];
     implicit_project(dv_);
-    for (std::size_t i = 0; i < nn; ++i) grid_.velocity_new[i] = grid_.velocity[i] + dv_[i];
+    for_each_box_node([&](std::size_t i) { grid_.velocity_new[i] = grid_.velocity[i] + dv_[i]; });
     last_newton_iters_ = last_cg_iters_ = 0;
     last_residual_ = 0;
     last_converged_ = true;
@@ -307,7 +311,7 @@ void MpmSimulation<T, D>::implicit_velocity_update(T dt) {
   last_cg_iters_ = cg_total;
   last_residual_ = residual;
   last_converged_ = residual <= tol;
-  for (std::size_t i = 0; i < nn; ++i) grid_.velocity_new[i] = grid_.velocity[i] + dv_[i];
+  for_each_box_node([&](std::size_t i) { grid_.velocity_new[i] = grid_.velocity[i] + dv_[i]; });
 }
 
 }  // namespace apiclab
