@@ -85,9 +85,11 @@ struct Grid {
     }
     return i < 0 ? 0 : (i >= n[a] ? n[a] - 1 : i);
   }
+  // Index of a node along axis a.
+  int node_coordinate(std::size_t index, int a) const { return int((index / stride[a]) % std::size_t(n[a])); }
   Vec<T, D> node_position(std::size_t index) const {
     Vec<T, D> x;
-    for (int a = 0; a < D; ++a) x[a] = origin[a] + T((index / stride[a]) % std::size_t(n[a])) * dx;
+    for (int a = 0; a < D; ++a) x[a] = origin[a] + T(node_coordinate(index, a)) * dx;
     return x;
   }
 };

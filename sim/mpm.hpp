@@ -113,6 +113,15 @@ class MpmSimulation final : public Simulation {
   bool implicit_update() const {
     return scene_.solver.integrator == Integrator::backward || scene_.solver.integrator_lambda() != 0;
   }
+  // Width in cells of the sorting blocks (see sort_particles).
+  int block_cells() const { return scene_.solver.kernel == KernelType::cubic ? 5 : 4; }
+  bool in_active_box(std::size_t node) const {
+    for (int a = 0; a < D; ++a) {
+      const int i = grid_.node_coordinate(node, a);
+      if (i < box_lo_[a] || i >= box_hi_[a]) return false;
+    }
+    return true;
+  }
   // P2G keeps every particle's stencil for the steps that read it again.
   bool keeps_stencils() const { return implicit_update() || !mesh_.empty(); }
   void add_triangulated_object(int object_index);
@@ -136,7 +145,6 @@ class MpmSimulation final : public Simulation {
   std::vector<std::uint32_t> keys_, order_, block_start_;
   std::vector<std::vector<std::uint32_t>> color_blocks_;
   std::array<int, D> blocks_per_axis_{};
-  int block_cells_ = 4;
   // Nodes the particles can reach until the next sort: [box_lo_, box_hi_) per axis, as runs
   // of consecutive nodes (start, length) along axis 0, and the wall/collider nodes inside it.
   std::array<int, D> box_lo_{}, box_hi_{};

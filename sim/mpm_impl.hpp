@@ -196,7 +196,7 @@ void MpmSimulation<T, D>::sort_particles() {
   // (cubic; quadratic and linear one less on the right), so blocks two apart never share a node
   // when B ≥ 4 (quadratic, linear) or B ≥ 5 (cubic). A periodic axis folds its remainder into
   // the last block, so every block is at least B cells wide, also across the wrap.
-  const int B = block_cells_ = scene_.solver.kernel == KernelType::cubic ? 5 : 4;
+  const int B = block_cells();
   std::size_t nblocks = 1;
   for (int a = 0; a < D; ++a) {
     blocks_per_axis_[a] = grid_.periodic[a] ? std::max(1, grid_.n[a] / B) : (grid_.n[a] + B - 1) / B;
@@ -266,19 +266,18 @@ void MpmSimulation<T, D>::set_active_box(const std::array<int, D>& first_block, 
       lo[a] = 0;
       hi[a] = last_block[a] < 0 ? 0 : grid_.n[a];
     } else {
-      lo[a] = std::max(0, block_cells_ * first_block[a] - 2);
-      hi[a] = std::min(grid_.n[a], block_cells_ * (last_block[a] + 1) + 3);
+      lo[a] = std::max(0, block_cells() * first_block[a] - 2);
+      hi[a] = std::min(grid_.n[a], block_cells() * (last_block[a] + 1) + 3);
     }
   }
   if (lo == box_lo_ && hi == box_hi_ && !box_rows_.empty()) return;
-  for (const auto& [start, length] : box_rows_)
-    for (std::size_t i = start; i < start + length; ++i) {
-      grid_.accumulator[i] = typename Grid<T, D>::Lanes{};
-      grid_.mass[i] = T(0);
-      grid_.velocity[i].setZero();
-      grid_.velocity_new[i].setZero();
-      grid_.force[i].setZero();
-    }
+  for_each_box_node([&](std::size_t i) {  // the old box
+    grid_.accumulator[i] = typename Grid<T, D>::Lanes{};
+    grid_.mass[i] = T(0);
+    grid_.velocity[i].setZero();
+    grid_.velocity_new[i].setZero();
+    grid_.force[i].setZero();
+  });
   box_lo_ = lo;
   box_hi_ = hi;
   box_rows_.clear();
@@ -292,14 +291,8 @@ void MpmSimulation<T, D>::set_active_box(const std::array<int, D>& first_block, 
                              std::size_t(hi[0] - lo[0])});
   }
   box_constraints_.clear();
-  for (const auto& c : constraints_) {
-    bool inside = true;
-    for (int a = 0; a < D; ++a) {
-      int i = int((c.node / grid_.stride[a]) % std::size_t(grid_.n[a]));
-      inside = inside && i >= lo[a] && i < hi[a];
-    }
-    if (inside) box_constraints_.push_back(c);
-  }
+  for (const auto& c : constraints_)
+    if (in_active_box(c.node)) box_constraints_.push_back(c);
 }
 
 template <class T, int D>
@@ -315,11 +308,8 @@ std::string MpmSimulation<T, D>::partition_conflict() const {
           Stencil<T, D, K> st;
           st.compute(p_.x[q], grid_);
           st.for_each([&](std::size_t node, T, const Vec<T, D>&, const Vec<T, D>&) {
-            for (int a = 0; a < D; ++a) {
-              int i = int((node / grid_.stride[a]) % std::size_t(grid_.n[a]));
-              if ((i < box_lo_[a] || i >= box_hi_[a]) && why.tellp() == 0)
-                why << "particle " << q << " reaches node " << node << " outside the active box on axis " << a;
-            }
+            if (!in_active_box(node) && why.tellp() == 0)
+              why << "particle " << q << " reaches node " << node << " outside the active box";
             if (owner[node] >= 0 && owner[node] != std::int64_t(b) && why.tellp() == 0)
               why << "blocks " << owner[node] << " and " << b << " of colour " << color << " share node " << node;
             owner[node] = b;
