@@ -3,6 +3,7 @@
 // same-coloured blocks never touch a common node, and the active box of nodes the sorted
 // particles can reach until the next sort.
 #pragma once
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
