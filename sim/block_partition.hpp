@@ -45,7 +45,17 @@ class BlockPartition {
   // fn(q) for every particle, colour by colour: calls of one colour may run in parallel and
   // never touch a common node.
   template <class Fn>
-  void for_each_particle_coloured(Fn&& fn, bool parallel) const;
+  void for_each_particle_coloured(Fn&& fn, bool parallel) const {
+    for_each_block_coloured(
+        [&](std::uint32_t begin, std::uint32_t end) {
+          for (std::uint32_t q = begin; q < end; ++q) fn(q);
+        },
+        parallel);
+  }
+  // The same per block: fn(begin, end) with the block's particles [begin, end). For loops whose
+  // body the compiler will not inline into a per-particle call (P2G).
+  template <class Fn>
+  void for_each_block_coloured(Fn&& fn, bool parallel) const;
   // fn(i) for every node of the active box.
   template <class Fn>
   void for_each_box_node(Fn&& fn, bool parallel) const;
@@ -226,14 +236,14 @@ std::string BlockPartition<T, D>::conflict(const Particles<T, D>& p, const Grid<
 
 template <class T, int D>
 template <class Fn>
-void BlockPartition<T, D>::for_each_particle_coloured(Fn&& fn, bool parallel) const {
+void BlockPartition<T, D>::for_each_block_coloured(Fn&& fn, bool parallel) const {
   for (const auto& blocks : color_blocks_) {
     const std::ptrdiff_t nb = std::ptrdiff_t(blocks.size());
 // Contiguous chunks: neighbouring same-coloured blocks share cache lines, so they go to one thread.
 #pragma omp parallel for schedule(static) if (parallel)
     for (std::ptrdiff_t bi = 0; bi < nb; ++bi) {
       const std::uint32_t b = blocks[std::size_t(bi)];
-      for (std::uint32_t q = block_start_[b]; q < block_start_[b + 1]; ++q) fn(q);
+      fn(block_start_[b], block_start_[b + 1]);
     }
   }
 }

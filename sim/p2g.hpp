@@ -50,44 +50,48 @@ void MpmSimulation<T, D>::p2g_impl() {
   if (keep) cache.resize(p_.size());
   constexpr int W = K::width;
   auto* acc = grid_.accumulator.data();
-  for_each_particle_coloured([&](std::uint32_t q) {
-    Stencil<T, D, K> st;
-    st.compute(p_.x[q], grid_);
-    if (keep) cache[q] = st;
-    const T m = p_.mass[q];
-    const Vec<T, D> mv = m * p_.v[q];
-    const Mat<T, D> mC = m * p_.C[q];
-    Mat<T, D> stress = Mat<T, D>::Zero();
-    if constexpr (with_forces) stress = stress_[q];
-    // Node i of a row gets w = wx_i row.w and ∇w = (dwx_i row.w, wx_i row.dw[1..]), so with
-    // the lanes [m, m v, f]
-    //   node_i += row.w (wx_i (mass_mom + r0_i affine[0]) + dwx_i stress_lanes[0])
-    //           + wx_i Σ_{a≥1} (row.w row.r_a affine[a] + row.dw_a stress_lanes[a]),
-    // where affine[a] = [0, m C col a, 0] and stress_lanes[a] = [0, 0, stress col a]:
-    // whole-vector multiply-adds only.
-    using Lanes = typename Grid<T, D>::Lanes;
-    Lanes mass_mom{}, affine_lanes[D] = {}, stress_lanes[D] = {};
-    mass_mom[0] = m;
-    for (int a = 0; a < D; ++a) {
-      mass_mom[1 + a] = mv[a];
-      for (int c = 0; c < D; ++c) {
-        if constexpr (affine) affine_lanes[c][1 + a] = mC(a, c);
-        stress_lanes[c][1 + D + a] = stress(a, c);
-      }
-    }
-    Lanes per_x[W];
-    for (int i = 0; i < W; ++i)
-      per_x[i] = st.w[0][i] * (mass_mom + st.r[0][i] * affine_lanes[0]) + st.dw[0][i] * stress_lanes[0];
-    st.for_each_row([&](const typename Stencil<T, D, K>::Row& row) {
-      Lanes per_row{};
-      for (int ax = 1; ax < D; ++ax) {
-        if constexpr (affine) per_row += (row.w * row.r[ax]) * affine_lanes[ax];
-        if constexpr (with_forces) per_row += row.dw[ax] * stress_lanes[ax];
-      }
-      const T rw = row.w;
-      for (int i = 0; i < W; ++i) acc[st.off[0][i] + row.off] += rw * per_x[i] + st.w[0][i] * per_row;
-    });
-  });
+  blocks_.for_each_block_coloured(
+      [&](std::uint32_t begin, std::uint32_t end) {
+        for (std::uint32_t q = begin; q < end; ++q) {
+          Stencil<T, D, K> st;
+          st.compute(p_.x[q], grid_);
+          if (keep) cache[q] = st;
+          const T m = p_.mass[q];
+          const Vec<T, D> mv = m * p_.v[q];
+          const Mat<T, D> mC = m * p_.C[q];
+          Mat<T, D> stress = Mat<T, D>::Zero();
+          if constexpr (with_forces) stress = stress_[q];
+          // Node i of a row gets w = wx_i row.w and ∇w = (dwx_i row.w, wx_i row.dw[1..]), so with
+          // the lanes [m, m v, f]
+          //   node_i += row.w (wx_i (mass_mom + r0_i affine[0]) + dwx_i stress_lanes[0])
+          //           + wx_i Σ_{a≥1} (row.w row.r_a affine[a] + row.dw_a stress_lanes[a]),
+          // where affine[a] = [0, m C col a, 0] and stress_lanes[a] = [0, 0, stress col a]:
+          // whole-vector multiply-adds only.
+          using Lanes = typename Grid<T, D>::Lanes;
+          Lanes mass_mom{}, affine_lanes[D] = {}, stress_lanes[D] = {};
+          mass_mom[0] = m;
+          for (int a = 0; a < D; ++a) {
+            mass_mom[1 + a] = mv[a];
+            for (int c = 0; c < D; ++c) {
+              if constexpr (affine) affine_lanes[c][1 + a] = mC(a, c);
+              stress_lanes[c][1 + D + a] = stress(a, c);
+            }
+          }
+          Lanes per_x[W];
+          for (int i = 0; i < W; ++i)
+            per_x[i] = st.w[0][i] * (mass_mom + st.r[0][i] * affine_lanes[0]) + st.dw[0][i] * stress_lanes[0];
+          st.for_each_row([&](const typename Stencil<T, D, K>::Row& row) {
+            Lanes per_row{};
+            for (int ax = 1; ax < D; ++ax) {
+              if constexpr (affine) per_row += (row.w * row.r[ax]) * affine_lanes[ax];
+              if constexpr (with_forces) per_row += row.dw[ax] * stress_lanes[ax];
+            }
+            const T rw = row.w;
+            for (int i = 0; i < W; ++i) acc[st.off[0][i] + row.off] += rw * per_x[i] + st.w[0][i] * per_row;
+          });
+        }
+      },
+      parallel_worthwhile());
 }
 
 // Accumulator lanes to the grid's arrays: m_i, (m v)_i (held in Grid::velocity until eq 26), f_i.
