@@ -73,9 +73,9 @@ int bench(BenchOptions o) {
                  o.steps);
     return 2;
   }
-  double rate = double(sim->particle_count()) * o.steps / wall;
+  double rate = double(particle_count(*sim)) * o.steps / wall;
   std::printf("bench: %dD %s, scheme %s, kernel %s, integrator %s, %zu particles, dx %.4g, %d steps, %d threads\n", o.dim,
-              o.precision.c_str(), o.scheme.c_str(), o.kernel.c_str(), o.integrator.c_str(), sim->particle_count(), dx,
+              o.precision.c_str(), o.scheme.c_str(), o.kernel.c_str(), o.integrator.c_str(), particle_count(*sim), dx,
               o.steps, omp_get_max_threads());
   std::printf("wall: %.3f s, %.3f ms/step\n", wall, 1e3 * wall / o.steps);
   std::printf("particle-steps/s: %.0f\n", rate);

@@ -91,7 +91,7 @@ void execute(Run& r) {
       break;
     }
     if (std::find(r.snapshot_times.begin(), r.snapshot_times.end(), t) != r.snapshot_times.end())
-      r.snapshots.push_back(sim->snapshot(false));
+      r.snapshots.push_back(sim->snapshot());
   }
   r.seconds = seconds_since(t0);
 }

@@ -242,7 +242,7 @@ int render(const RenderOptions& o) {
   first.dt = 0;
   write_diagnostics_row(csv, first);
   Progress progress(
-      scene.name + " [" + scheme + ", " + std::to_string(sim->particle_count()) + " particles]",
+      scene.name + " [" + scheme + ", " + std::to_string(particle_count(*sim)) + " particles]",
       frames + 1, o.run.quiet);
   int status = 0;
   for (int f = 0; f <= frames; ++f) {
@@ -254,9 +254,11 @@ int render(const RenderOptions& o) {
     }
     if (!o.run.dump.empty()) {
       std::ofstream dump(frame_path(o.run.dump, f, "csv"));
-      sim->write_particles_csv(dump);
+      if (!sim->transfers()) throw UsageError("--dump: solver method '" + scene.solver.method + "' has no particles");
+      sim->transfers()->write_particles_csv(dump);
     }
-    auto snapshot = sim->snapshot(noise);
+    auto snapshot = sim->snapshot();
+    if (noise && sim->transfers()) sim->transfers()->fill_velocity_noise(*snapshot);
     session.draw({snapshot.get()}, frame_path(o.out, f));
     progress.update(f + 1, "frame " + std::to_string(f) + "/" + std::to_string(frames));
     if (sim->failure()) {
@@ -316,7 +318,7 @@ int compare(const RenderOptions& o) {
     DiagnosticsRow first = p.sim->measure();
     first.dt = 0;
     write_diagnostics_row(p.csv, first);
-    particles = p.sim->particle_count();
+    particles = particle_count(*p.sim);
     panes.push_back(std::move(p));
   }
   const SceneDesc& scene = session.scene;
@@ -345,7 +347,8 @@ int compare(const RenderOptions& o) {
         ++failed;
         failures += "\n" + p.key + ": " + p.sim->failure()->message;
       }
-      snapshots.push_back(p.sim->snapshot(noise));
+      snapshots.push_back(p.sim->snapshot());
+      if (noise && p.sim->transfers()) p.sim->transfers()->fill_velocity_noise(*snapshots.back());
       views.push_back(snapshots.back().get());
     }
     session.draw(views, frame_path(o.out, f));

@@ -19,7 +19,9 @@ void write_dump(const Simulation& sim, const std::string& dir, int frame) {
   std::snprintf(name, sizeof name, "frame_%04d.csv", frame);
   std::ofstream out(std::filesystem::path(dir) / name);
   if (!out) throw UsageError("cannot write particle dump in '" + dir + "'");
-  sim.write_particles_csv(out);
+  const TransferControls* particles = sim.transfers();
+  if (!particles) throw UsageError("--dump: solver method '" + sim.scene().solver.method + "' has no particles");
+  particles->write_particles_csv(out);
 }
 
 int run(const RunOptions& o) {
@@ -39,7 +41,7 @@ int run(const RunOptions& o) {
   write_diagnostics_row(out, first);
   if (!o.dump.empty()) write_dump(*sim, o.dump, 0);
   std::string label = scene.name + " [" + std::string(key_of(scene.solver.scheme)) + ", " +
-                      std::string(key_of(scene.solver.integrator)) + ", " + std::to_string(sim->particle_count()) + " particles]";
+                      std::string(key_of(scene.solver.integrator)) + ", " + std::to_string(particle_count(*sim)) + " particles]";
   Progress progress(label, scene.time.end, o.quiet);
   double start = now_seconds();
   DiagnosticsRow last = first;
@@ -74,7 +76,7 @@ int run(const RunOptions& o) {
   std::ostringstream s;
   s.precision(4);
   s << scene.name << ": t = " << sim->time() << " s in " << sim->steps() << " steps, " << wall << " s wall, "
-    << double(sim->particle_count()) * double(sim->steps()) / std::max(wall, 1e-9) << " particle-steps/s; dE/E = " << dE
+    << double(particle_count(*sim)) * double(sim->steps()) / std::max(wall, 1e-9) << " particle-steps/s; dE/E = " << dE
     << ", dL/L = " << (L0 > 0 ? norm3(dL) / L0 : norm3(dL)) << (L0 > 0 ? "" : " (absolute; L0 = 0)")
     << "\ndiagnostics CSV: " << csv;
   if (unconverged) s << "\nwarning: " << unconverged << " steps ended with a non-converged implicit solve (see residual)";

@@ -1,4 +1,4 @@
-// One diagnostics row per step (DESIGN.md, Diagnostics CSV).
+// One diagnostics row per step (docs/architecture.md, Diagnostics CSV).
 #pragma once
 #include <array>
 #include <ostream>

@@ -41,13 +41,18 @@ struct Grid {
   Vec<T, D> origin;  // position of node 0
   T dx = 1, inv_dx = 1;
   std::array<std::size_t, D> stride{};
-  // Per node.
-  std::vector<T> mass;                 // m_i^n (eq 24)
-  std::vector<Vec<T, D>> velocity;     // momentum during P2G, then v_i^n (eq 26)
-  std::vector<Vec<T, D>> velocity_new; // ṽ_i^{n+1} (eq 29)
-  std::vector<Vec<T, D>> force;        // f_i (eq 34)
-  // P2G accumulator, `lanes` values per node: [m, m v (D), f (D), padding]. A stencil row of
-  // nodes is then one contiguous run the compiler can add as whole vectors.
+  // Per node. The phase contract of a step (MpmSimulation::step_fixed):
+  std::vector<T> mass;  // m_i^n (eq 24), from P2G on
+  // Two quantities in one array, to keep P2G and the update one pass each:
+  //   after particles_to_grid: the momentum (m v)_i (eq 25);
+  //   after the grid update (velocity_from_momentum, eq 26): the velocity v_i^n.
+  std::vector<Vec<T, D>> velocity;
+  std::vector<Vec<T, D>> velocity_new;  // ṽ_i^{n+1} (eq 29), after the grid update
+  std::vector<Vec<T, D>> force;         // f_i (eq 34), after P2G with forces
+  // `lanes` values per node, two uses in one step (nodes of a stencil row are one contiguous
+  // run the compiler can add or load as whole vectors):
+  //   clear_grid → particles_to_grid: the P2G accumulator [m, m v (D), f (D), padding];
+  //   grid_to_particles: the packed G2P input [ṽ (D), vⁿ (D), padding] (pack_velocities).
   static constexpr int lanes = 8;
   static_assert(1 + 2 * D <= lanes);
   using Lanes = typename Lanes8<T>::type;

@@ -10,27 +10,14 @@
 // whose Hessian is M + b Δt² K, K = ∂²Φ/∂y². Newton with a backtracking line search on E
 // (Gast et al. 2015); each Newton system is solved by conjugate gradients on M⁻¹H in the
 // mass inner product (Algorithm 1), so every CG vector is velocity-like and linear momentum
-// is conserved however early CG stops (Sec 4.2).
+// is conserved however early CG stops (Sec 4.2). The Newton-CG loop itself is generic
+// (sim/newton_cg.hpp); its state lives in ImplicitSolveState (sim/implicit_state.hpp).
 #pragma once
 #include <Eigen/Eigenvalues>
 
 #include "mpm.hpp"
 
 namespace apiclab {
-
-template <class T, int D>
-template <class Fn>
-void MpmSimulation<T, D>::for_each_particle_coloured(Fn&& fn) {
-  for (const auto& blocks : color_blocks_) {
-    const std::ptrdiff_t nb = std::ptrdiff_t(blocks.size());
-// Contiguous chunks: neighbouring same-coloured blocks share cache lines, so they go to one thread.
-#pragma omp parallel for schedule(static) if (parallel_worthwhile())
-    for (std::ptrdiff_t bi = 0; bi < nb; ++bi) {
-      const std::uint32_t b = blocks[std::size_t(bi)];
-      for (std::uint32_t q = block_start_[b]; q < block_start_[b + 1]; ++q) fn(q);
-    }
-  }
-}
 
 template <class T, int D>
 void project_on_constraint(Vec<T, D>& v, const ConstrainedNode<T, D>& c);
@@ -61,53 +48,48 @@ template <class K>
 void MpmSimulation<T, D>::implicit_begin(T dt) {
   const bool backward = scene_.solver.integrator == Integrator::backward;
   const T lambda = T(scene_.solver.integrator_lambda());
-  imp_dt_ = dt;
-  imp_a_ = backward ? T(1) : lambda;
-  imp_b_ = backward ? T(1) : lambda * (T(1) - lambda);
+  imp_.dt = dt;
+  imp_.a = backward ? T(1) : lambda;
+  imp_.b = backward ? T(1) : lambda * (T(1) - lambda);
   const std::size_t nn = grid_.size();
-  for (int ax = 0; ax < D; ++ax) imp_gravity_[ax] = T(scene_.gravity[ax]);
+  for (int ax = 0; ax < D; ++ax) imp_.gravity[ax] = T(scene_.gravity[ax]);
 
   // The weights P2G cached this step (stencils<K>()) serve every product below.
   // Active nodes and the velocity v_i^n.
   // Only the active box can hold mass (see set_active_box); outside it everything stays zero.
-  active_.clear();
-  for (const auto& [start, length] : box_rows_)
-    for (std::size_t i = start; i < start + length; ++i) {
-      if (grid_.mass[i] > T(0)) {
-        grid_.velocity[i] /= grid_.mass[i];
-        active_.push_back(std::uint32_t(i));
-      } else {
-        grid_.velocity[i].setZero();
-      }
-    }
+  imp_.active.clear();
+  for (const auto& [start, length] : blocks_.box_rows())
+    for (std::size_t i = start; i < start + length; ++i)
+      if (velocity_from_momentum(i)) imp_.active.push_back(std::uint32_t(i));  // eq 26
   double kinetic = 0, vref2 = 0;
-  imp_msum_ = 0;
-  for (std::uint32_t i : active_) {
+  imp_.mass_sum = 0;
+  for (std::uint32_t i : imp_.active) {
     kinetic += 0.5 * double(grid_.mass[i]) * double(grid_.velocity[i].squaredNorm());
     vref2 += double(grid_.mass[i]) * double(grid_.velocity[i].squaredNorm());
-    imp_msum_ += double(grid_.mass[i]);
+    imp_.mass_sum += double(grid_.mass[i]);
   }
   kinetic_grid_ = kinetic;
-  imp_vref_ = std::sqrt(vref2 / std::max(imp_msum_, 1e-300));
-  for (auto* v : {&dv_, &grad_, &dir_, &cg_r_, &cg_p_, &cg_s_, &work_}) {
+  imp_.velocity_ref = std::sqrt(vref2 / std::max(imp_.mass_sum, 1e-300));
+  for (auto* v : {&imp_.dv, &imp_.grad, &imp_.cg.direction, &imp_.cg.residual, &imp_.cg.search, &imp_.cg.product,
+                  &imp_.cg.trial}) {
     if (v->size() != nn) v->assign(nn, Vec<T, D>::Zero());
     for_each_box_node([&](std::size_t i) { (*v)[i].setZero(); });
   }
-  Fy_.resize(p_.size());
-  hess_.resize(p_.size());
+  imp_.Fy.resize(p_.size());
+  imp_.hessian.resize(p_.size());
 
   // Boundary conditions as linear constraints on ṽ: Δv = P z + d. Separating walls act as slip
   // where the material moves into them at the start of the step, and are free otherwise.
-  active_constraints_.clear();
+  imp_.constraints.clear();
   for (const auto& c : constraints_) {
     if (grid_.mass[c.node] <= T(0)) continue;
     if (c.condition == BoundaryCondition::separate && grid_.velocity[c.node].dot(c.normal) >= T(0)) continue;
-    active_constraints_.push_back(c);
+    imp_.constraints.push_back(c);
   }
-  for (const auto& c : active_constraints_) {  // d: makes ṽ = v + d satisfy the constraints
-    Vec<T, D> v = grid_.velocity[c.node] + dv_[c.node];
+  for (const auto& c : imp_.constraints) {  // d: makes ṽ = v + d satisfy the constraints
+    Vec<T, D> v = grid_.velocity[c.node] + imp_.dv[c.node];
     project_on_constraint(v, c);
-    dv_[c.node] = v - grid_.velocity[c.node];
+    imp_.dv[c.node] = v - grid_.velocity[c.node];
   }
 }
 
@@ -121,15 +103,15 @@ void project_on_constraint(Vec<T, D>& v, const ConstrainedNode<T, D>& c) {
 
 template <class T, int D>
 void MpmSimulation<T, D>::implicit_project(std::vector<Vec<T, D>>& z) const {
-  for (const auto& c : active_constraints_) project_on_constraint(z[c.node], c);
+  for (const auto& c : imp_.constraints) project_on_constraint(z[c.node], c);
 }
 
-// E(Δv) with F evaluated at the force position y (kept in Fy_); fills grad_ when asked.
+// E(Δv) with F evaluated at the force position y (kept in imp_.Fy); fills imp_.grad when asked.
 template <class T, int D>
 template <class K>
 double MpmSimulation<T, D>::implicit_energy(const std::vector<Vec<T, D>>& dv, bool gradient) {
   const auto& st = stencils<K>();
-  const T a = imp_a_, b = imp_b_, dt = imp_dt_;
+  const T a = imp_.a, b = imp_.b, dt = imp_.dt;
   const std::ptrdiff_t np = std::ptrdiff_t(p_.size());
   double phi = 0;
   bool inverted = false;
@@ -148,7 +130,7 @@ double MpmSimulation<T, D>::implicit_energy(const std::vector<Vec<T, D>>& dv, bo
     if constexpr (D == 2)
       if (mesh) mesh_x_[std::size_t(q)] = p_.x[std::size_t(q)] + dt * u;  // x_p(y) = Σ w_ip y_i
     Mat<T, D> F = (Mat<T, D>::Identity() + dt * G) * p_.F[std::size_t(q)];
-    Fy_[std::size_t(q)] = F;
+    imp_.Fy[std::size_t(q)] = F;
     if (p_.volume0[std::size_t(q)] == T(0)) continue;  // mesh vertices carry no particle elasticity
     const MaterialParams<T>& mat = materials_[std::size_t(p_.material[std::size_t(q)])];
     T psi = energy_density<T, D>(mat.model, F, mat.lame);
@@ -163,21 +145,21 @@ double MpmSimulation<T, D>::implicit_energy(const std::vector<Vec<T, D>>& dv, bo
     }
   if (inverted) return std::numeric_limits<double>::infinity();
   double e = b > T(0) ? phi / double(b) : 0.0;
-  for (std::uint32_t i : active_)
-    e += double(grid_.mass[i]) * (0.5 * double(dv[i].squaredNorm()) - double(dt) * double(imp_gravity_.dot(dv[i])));
+  for (std::uint32_t i : imp_.active)
+    e += double(grid_.mass[i]) * (0.5 * double(dv[i].squaredNorm()) - double(dt) * double(imp_.gravity.dot(dv[i])));
   if (gradient) {
     // g = M Δv − Δt M g − Δt f(y), f_i = −Σ V P(F_y) F^nᵀ ∇w (eq 34).
-    for (std::uint32_t i : active_) grad_[i] = grid_.mass[i] * (dv[i] - dt * imp_gravity_);
+    for (std::uint32_t i : imp_.active) imp_.grad[i] = grid_.mass[i] * (dv[i] - dt * imp_.gravity);
     for_each_particle_coloured([&](std::uint32_t q) {
       const MaterialParams<T>& mat = materials_[std::size_t(p_.material[q])];
-      Mat<T, D> stress = (dt * p_.volume0[q]) * first_piola<T, D>(mat.model, Fy_[q], mat.lame) * p_.F[q].transpose();
-      st[q].for_each([&](std::size_t i, T, const Vec<T, D>& gw, const Vec<T, D>&) { grad_[i] += stress * gw; });
+      Mat<T, D> stress = (dt * p_.volume0[q]) * first_piola<T, D>(mat.model, imp_.Fy[q], mat.lame) * p_.F[q].transpose();
+      st[q].for_each([&](std::size_t i, T, const Vec<T, D>& gw, const Vec<T, D>&) { imp_.grad[i] += stress * gw; });
     });
     if constexpr (D == 2)
       if (mesh)  // ∂(Φ_mesh / b)/∂Δv_i = Δt Σ_p w_ip ∂Φ/∂x_p
         for_each_particle_coloured([&](std::uint32_t q) {
           const Vec<T, 2> gq = dt * mesh_g_[q];
-          st[q].for_each([&](std::size_t i, T w, const Vec<T, D>&, const Vec<T, D>&) { grad_[i] += w * gq; });
+          st[q].for_each([&](std::size_t i, T w, const Vec<T, D>&, const Vec<T, D>&) { imp_.grad[i] += w * gq; });
         });
   }
   return e;
@@ -192,34 +174,34 @@ void MpmSimulation<T, D>::implicit_update_hessian(bool project_definite) {
 #pragma omp parallel for schedule(static) if (parallel_worthwhile())
   for (std::ptrdiff_t q = 0; q < np; ++q) {
     const MaterialParams<T>& mat = materials_[std::size_t(p_.material[std::size_t(q)])];
-    const Mat<T, D>& F = Fy_[std::size_t(q)];
+    const Mat<T, D>& F = imp_.Fy[std::size_t(q)];
     if (project_definite) {
-      hess_[std::size_t(q)] = projected_stress_hessian<T, D>(mat.model, F, mat.lame);
+      imp_.hessian[std::size_t(q)] = projected_stress_hessian<T, D>(mat.model, F, mat.lame);
     } else {
       for (int c = 0; c < N; ++c) {
         Mat<T, D> E = Mat<T, D>::Zero();
         E(c % D, c / D) = T(1);
         Mat<T, D> dP = first_piola_differential<T, D>(mat.model, F, E, mat.lame);
-        hess_[std::size_t(q)].col(c) = Eigen::Map<const Eigen::Matrix<T, N, 1>>(dP.data());
+        imp_.hessian[std::size_t(q)].col(c) = Eigen::Map<const Eigen::Matrix<T, N, 1>>(dP.data());
       }
     }
   }
 }
 
-// out = H in = M in + b Δt² K in with the per-particle ∂P/∂F in hess_ (eqs 35-36).
+// out = H in = M in + b Δt² K in with the per-particle ∂P/∂F in imp_.hessian (eqs 35-36).
 template <class T, int D>
 template <class K>
 void MpmSimulation<T, D>::implicit_hessian_apply(const std::vector<Vec<T, D>>& in, std::vector<Vec<T, D>>& out) {
   constexpr int N = D * D;
   const auto& st = stencils<K>();
-  const T b = imp_b_, dt = imp_dt_;
-  for (std::uint32_t i : active_) out[i] = grid_.mass[i] * in[i];
+  const T b = imp_.b, dt = imp_.dt;
+  for (std::uint32_t i : imp_.active) out[i] = grid_.mass[i] * in[i];
   for_each_particle_coloured([&](std::uint32_t q) {
     Mat<T, D> G = Mat<T, D>::Zero();
     st[q].for_each([&](std::size_t i, T, const Vec<T, D>& gw, const Vec<T, D>&) { G += in[i] * gw.transpose(); });
     Mat<T, D> dF = (b * dt) * G * p_.F[q];
     Mat<T, D> dP;
-    Eigen::Map<Eigen::Matrix<T, N, 1>>(dP.data()) = hess_[q] * Eigen::Map<const Eigen::Matrix<T, N, 1>>(dF.data());
+    Eigen::Map<Eigen::Matrix<T, N, 1>>(dP.data()) = imp_.hessian[q] * Eigen::Map<const Eigen::Matrix<T, N, 1>>(dF.data());
     Mat<T, D> s = (dt * p_.volume0[q]) * dP * p_.F[q].transpose();
     st[q].for_each([&](std::size_t i, T, const Vec<T, D>& gw, const Vec<T, D>&) { out[i] += s * gw; });
   });
@@ -241,77 +223,31 @@ template <class T, int D>
 template <class K>
 void MpmSimulation<T, D>::implicit_velocity_update(T dt) {
   implicit_begin<K>(dt);
-  if (imp_b_ == T(0)) {  // λ = 1: explicit, forces at y = x + Δt v
-    implicit_energy<K>(dv_, true);
-    for (std::uint32_t i : active_) dv_[i] = -grad_[i] / grid_.mass[i];
-    implicit_project(dv_);
-    for_each_box_node([&](std::size_t i) { grid_.velocity_new[i] = grid_.velocity[i] + dv_[i]; });
-    last_newton_iters_ = last_cg_iters_ = 0;
-    last_residual_ = 0;
-    last_converged_ = true;
+  if (imp_.b == T(0)) {  // λ = 1: explicit, forces at y = x + Δt v
+    implicit_energy<K>(imp_.dv, true);
+    for (std::uint32_t i : imp_.active) imp_.dv[i] = -imp_.grad[i] / grid_.mass[i];
+    implicit_project(imp_.dv);
+    for_each_box_node([&](std::size_t i) { grid_.velocity_new[i] = grid_.velocity[i] + imp_.dv[i]; });
+    last_solve_ = NewtonCgReport{};
     return;
   }
-  auto dot_m = [&](const std::vector<Vec<T, D>>& u, const std::vector<Vec<T, D>>& w) {
-    double s = 0;
-    for (std::uint32_t i : active_) s += double(grid_.mass[i]) * double(u[i].dot(w[i]));
-    return s;
-  };
-  const double vref = std::max({imp_vref_, double(imp_gravity_.norm() * dt), 1e-12});
-  const double tol = scene_.solver.newton_tolerance * vref;
-  double energy = implicit_energy<K>(dv_, true);
-  int newton = 0, cg_total = 0;
-  double residual = 0;
-  residuals_.clear();
-  for (;; ++newton) {
-    implicit_project(grad_);
-    // Residual: mass-weighted RMS of M⁻¹g, a velocity.
-    double r2 = 0;
-    for (std::uint32_t i : active_) r2 += double(grad_[i].squaredNorm()) / double(grid_.mass[i]);
-    residual = std::sqrt(r2 / std::max(imp_msum_, 1e-300));
-    residuals_.push_back(residual);
-    if (residual <= tol || newton >= scene_.solver.newton_max_iterations) break;
-    implicit_update_hessian(true);
-    // CG on A = M⁻¹ P H P, rhs = −M⁻¹ P g, inner product <u, w> = uᵀ M w (Algorithm 1).
-    for (std::uint32_t i : active_) { dir_[i].setZero(); cg_r_[i] = -grad_[i] / grid_.mass[i]; cg_p_[i] = cg_r_[i]; }
-    double gamma = dot_m(cg_r_, cg_r_), rhs_norm = std::sqrt(gamma);
-    for (int k = 0; k < scene_.solver.cg_max_iterations; ++k) {
-      if (std::sqrt(gamma) <= scene_.solver.cg_tolerance * rhs_norm) break;
-      implicit_hessian_apply<K>(cg_p_, cg_s_);
-      for (std::uint32_t i : active_) cg_s_[i] /= grid_.mass[i];
-      implicit_project(cg_s_);
-      double ps = dot_m(cg_p_, cg_s_);
-      ++cg_total;
-      if (!(ps > 0)) break;
-      T alpha = T(gamma / ps);
-      for (std::uint32_t i : active_) { dir_[i] += alpha * cg_p_[i]; cg_r_[i] -= alpha * cg_s_[i]; }
-      double kappa = dot_m(cg_r_, cg_r_);
-      T beta = T(kappa / gamma);
-      for (std::uint32_t i : active_) cg_p_[i] = cg_r_[i] + beta * cg_p_[i];
-      gamma = kappa;
+  // E of this step as newton_cg_minimise's problem (sim/newton_cg.hpp).
+  struct Problem {
+    MpmSimulation& sim;
+    double energy(const std::vector<Vec<T, D>>& dv, bool gradient) { return sim.template implicit_energy<K>(dv, gradient); }
+    void update_hessian() { sim.implicit_update_hessian(true); }
+    void hessian_apply(const std::vector<Vec<T, D>>& in, std::vector<Vec<T, D>>& out) {
+      sim.template implicit_hessian_apply<K>(in, out);
     }
-    // Backtracking line search on E (Armijo), never accepting an inverted F (E = +∞).
-    double slope = 0;
-    for (std::uint32_t i : active_) slope += double(grad_[i].dot(dir_[i]));
-    if (!(slope < 0)) {  // not a descent direction: fall back to steepest descent in M⁻¹
-      for (std::uint32_t i : active_) dir_[i] = -grad_[i] / grid_.mass[i];
-      slope = 0;
-      for (std::uint32_t i : active_) slope += double(grad_[i].dot(dir_[i]));
-    }
-    double step = 1, trial = 0;
-    for (int ls = 0; ls < 30; ++ls, step *= 0.5) {
-      for (std::uint32_t i : active_) work_[i] = dv_[i] + T(step) * dir_[i];
-      trial = implicit_energy<K>(work_, false);
-      if (trial <= energy + 1e-4 * step * slope) break;
-    }
-    if (!(trial <= energy + 1e-4 * step * slope)) break;  // no progress possible at this precision
-    for (std::uint32_t i : active_) dv_[i] = work_[i];
-    energy = implicit_energy<K>(dv_, true);
-  }
-  last_newton_iters_ = newton;
-  last_cg_iters_ = cg_total;
-  last_residual_ = residual;
-  last_converged_ = residual <= tol;
-  for_each_box_node([&](std::size_t i) { grid_.velocity_new[i] = grid_.velocity[i] + dv_[i]; });
+    void project(std::vector<Vec<T, D>>& z) const { sim.implicit_project(z); }
+  } problem{*this};
+  const double vref = std::max({imp_.velocity_ref, double(imp_.gravity.norm() * dt), 1e-12});
+  const SolverDesc& sv = scene_.solver;
+  const NewtonCgOptions options{sv.newton_tolerance * vref, sv.newton_max_iterations, sv.cg_tolerance,
+                                sv.cg_max_iterations};
+  last_solve_ = newton_cg_minimise<T, D>(problem, imp_.dv, imp_.grad, imp_.active, grid_.mass, imp_.mass_sum,
+                                         options, imp_.cg, imp_.residuals);
+  for_each_box_node([&](std::size_t i) { grid_.velocity_new[i] = grid_.velocity[i] + imp_.dv[i]; });
 }
 
 }  // namespace apiclab

@@ -93,19 +93,31 @@ struct FixedCorotated {
   }
 };
 
-// Runtime dispatch on the registry key.
+// Runtime dispatch on the registry key. Switches without a default, so a model added to the
+// registry and not here is a -Wswitch warning instead of silently becoming another model.
 template <class T, int D>
 T energy_density(MaterialModel m, const Mat<T, D>& F, Lame<T> l) {
-  return m == MaterialModel::neo_hookean ? NeoHookean<T, D>::energy(F, l) : FixedCorotated<T, D>::energy(F, l);
+  switch (m) {
+    case MaterialModel::neo_hookean: return NeoHookean<T, D>::energy(F, l);
+    case MaterialModel::fixed_corotated: break;
+  }
+  return FixedCorotated<T, D>::energy(F, l);
 }
 template <class T, int D>
 Mat<T, D> first_piola(MaterialModel m, const Mat<T, D>& F, Lame<T> l) {
-  return m == MaterialModel::neo_hookean ? NeoHookean<T, D>::stress(F, l) : FixedCorotated<T, D>::stress(F, l);
+  switch (m) {
+    case MaterialModel::neo_hookean: return NeoHookean<T, D>::stress(F, l);
+    case MaterialModel::fixed_corotated: break;
+  }
+  return FixedCorotated<T, D>::stress(F, l);
 }
 template <class T, int D>
 Mat<T, D> first_piola_differential(MaterialModel m, const Mat<T, D>& F, const Mat<T, D>& dF, Lame<T> l) {
-  return m == MaterialModel::neo_hookean ? NeoHookean<T, D>::stress_differential(F, dF, l)
-                                         : FixedCorotated<T, D>::stress_differential(F, dF, l);
+  switch (m) {
+    case MaterialModel::neo_hookean: return NeoHookean<T, D>::stress_differential(F, dF, l);
+    case MaterialModel::fixed_corotated: break;
+  }
+  return FixedCorotated<T, D>::stress_differential(F, dF, l);
 }
 
 }  // namespace apiclab

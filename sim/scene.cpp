@@ -1,5 +1,7 @@
 #include "scene.hpp"
 
+#include "method_registry.hpp"
+
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -117,6 +119,24 @@ class Reader {
   std::set<std::string> used_;
 };
 
+// A Reader as the SceneSection a method's validate hook sees.
+class SectionOf final : public SceneSection {
+ public:
+  explicit SectionOf(Reader& r) : r_(r) {}
+  bool has(const std::string& key) const override { return r_.has(key); }
+  double number(const std::string& key, double fallback) override { return r_.number(key, fallback); }
+  double positive(const std::string& key, double fallback) override { return r_.positive(key, fallback); }
+  int integer(const std::string& key, int fallback) override { return r_.integer(key, fallback); }
+  bool boolean(const std::string& key, bool fallback) override { return r_.boolean(key, fallback); }
+  std::string string(const std::string& key, const std::string& fallback) override {
+    return r_.string(key, fallback);
+  }
+  std::string where(const std::string& key) const override { return r_.file() + ": key '" + r_.join(key) + "'"; }
+
+ private:
+  Reader& r_;
+};
+
 void read_domain(Reader r, SceneDesc& s) {
   auto& d = s.domain;
   d.min = r.vec("min", {0, 0, 0}, s.dim, true);
@@ -171,23 +191,17 @@ void read_time(Reader r, SceneDesc& s) {
   }
 }
 
+// The solver section: `method` picks the solver family, whose validate hook reads the rest.
 void read_solver(Reader r, SceneDesc& s) {
-  auto& v = s.solver;
-  v.scheme = r.choice("scheme", scheme_choices(), v.scheme, "scheme");
-  v.flip_alpha = r.number("flip_alpha", v.flip_alpha);
-  if (v.flip_alpha < 0 || v.flip_alpha > 1) r.fail("flip_alpha", "must be in [0, 1]");
-  v.kernel = r.choice("kernel", kernel_choices(), v.kernel, "kernel");
-  v.integrator = r.choice("integrator", integrator_choices(), v.integrator, "integrator");
-  v.lambda = r.number("lambda", v.lambda);
-  if (v.lambda > 1) r.fail("lambda", "must be in [0, 1]");
-  v.newton_tolerance = r.positive("newton_tolerance", v.newton_tolerance);
-  v.newton_max_iterations = r.integer("newton_max_iterations", v.newton_max_iterations);
-  v.cg_tolerance = r.positive("cg_tolerance", v.cg_tolerance);
-  v.cg_max_iterations = r.integer("cg_max_iterations", v.cg_max_iterations);
-  if (v.newton_max_iterations < 1) r.fail("newton_max_iterations", "must be at least 1");
-  if (v.cg_max_iterations < 1) r.fail("cg_max_iterations", "must be at least 1");
-  v.stop_on_nonconvergence = r.boolean("stop_on_nonconvergence", v.stop_on_nonconvergence);
-  v.blowup_energy_factor = r.positive("blowup_energy_factor", v.blowup_energy_factor);
+  s.solver.method = r.string("method", s.solver.method);
+  const SolverMethod* method = find_method(s.solver.method);
+  if (!method) {
+    std::string names;
+    for (const std::string& n : method_names()) names += (names.empty() ? "" : ", ") + n;
+    r.fail("method", "unknown solver method '" + s.solver.method + "' (one of: " + names + ")");
+  }
+  SectionOf section(r);
+  method->validate(section, s);
 }
 
 MaterialDesc read_material(Reader r, int index) {

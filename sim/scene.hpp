@@ -1,5 +1,5 @@
 // Scene description: everything a paper scene states, as plain data read from JSON
-// (DESIGN.md, Scenes). All values are double; the solver converts to its scalar type.
+// (docs/architecture.md, Scenes). All values are double; the solver converts to its scalar type.
 #pragma once
 #include <array>
 #include <cmath>
@@ -38,6 +38,7 @@ struct TimeDesc {
 };
 
 struct SolverDesc {
+  std::string method = "mpm";  // the solver family (sim/method_registry.hpp); the keys below are MPM's
   Scheme scheme = Scheme::apic;
   double flip_alpha = 1.0;  // eq 3 blend: 1 = pure FLIP, 0 = PIC
   KernelType kernel = KernelType::quadratic;
@@ -49,6 +50,9 @@ struct SolverDesc {
   int cg_max_iterations = 200;
   bool stop_on_nonconvergence = false;
   double blowup_energy_factor = 10.0;
+  // Scenes with fewer particles run their loops on one thread (an OpenMP region costs more
+  // than it saves there). Not a scene key: tests set it to 0 to exercise the parallel paths.
+  std::size_t parallel_min_particles = 20000;
   double integrator_lambda() const {
     if (lambda >= 0) return lambda;
     return integrator == Integrator::midpoint ? 0.5 : 0.0;
@@ -118,6 +122,35 @@ struct SceneDesc {
   std::vector<MaterialDesc> materials;
   std::vector<ObjectDesc> objects;
   std::vector<ColliderDesc> colliders;
+};
+
+// A section of the scene file as a method's validate hook sees it (sim/method_registry.hpp):
+// strict, so a key left unread is an error, and every failure is one SceneError line naming the
+// file and key.
+class SceneSection {
+ public:
+  virtual ~SceneSection() = default;
+  virtual bool has(const std::string& key) const = 0;
+  virtual double number(const std::string& key, double fallback) = 0;
+  virtual double positive(const std::string& key, double fallback) = 0;
+  virtual int integer(const std::string& key, int fallback) = 0;
+  virtual bool boolean(const std::string& key, bool fallback) = 0;
+  virtual std::string string(const std::string& key, const std::string& fallback) = 0;
+  // "file: key 'solver.KEY'", the prefix of every error about that key.
+  virtual std::string where(const std::string& key) const = 0;
+  [[noreturn]] void fail(const std::string& key, const std::string& what) const {
+    throw SceneError(where(key) + ": " + what);
+  }
+  template <class E>
+  E choice(const std::string& key, const std::vector<Choice<E>>& choices, E fallback, const char* what) {
+    if (!has(key)) return fallback;
+    const std::string s = string(key, "");
+    try {
+      return parse_choice(choices, s, what);
+    } catch (const std::invalid_argument& e) {
+      fail(key, e.what());
+    }
+  }
 };
 
 // Reads a scene file, applies `--set KEY=VALUE` overrides (JSON paths like

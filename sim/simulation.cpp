@@ -1,6 +1,6 @@
 #include "simulation.hpp"
 
-#include "mpm.hpp"
+#include "method_registry.hpp"
 
 namespace apiclab {
 
@@ -15,12 +15,9 @@ std::optional<Failure> Simulation::advance_to(double t_target,
 }
 
 std::unique_ptr<Simulation> make_simulation(const SceneDesc& scene, Precision precision) {
-  const bool single = precision == Precision::single;
-  if (scene.dim == 2)
-    return single ? std::unique_ptr<Simulation>(new MpmSimulation<float, 2>(scene))
-                  : std::unique_ptr<Simulation>(new MpmSimulation<double, 2>(scene));
-  return single ? std::unique_ptr<Simulation>(new MpmSimulation<float, 3>(scene))
-                : std::unique_ptr<Simulation>(new MpmSimulation<double, 3>(scene));
+  const SolverMethod* method = find_method(scene.solver.method);
+  if (!method) throw SceneError(scene.source + ": key 'solver.method': unknown solver method '" + scene.solver.method + "'");
+  return method->make(scene, precision);
 }
 
 }  // namespace apiclab

@@ -1,7 +1,9 @@
-// The solver seen from outside: one Simulation per pane or run, chosen at run time by
-// dimension and precision (the implementation, MpmSimulation<T, D>, is a template).
+// The solver seen from outside: one Simulation per pane or run, made at run time from the
+// scene's `solver.method` through the method registry (sim/method_registry.hpp). The core below
+// is what every solver family has; a family with particle transfers (MPM) adds TransferControls.
 #pragma once
 #include <functional>
+#include <iosfwd>
 #include <memory>
 #include <optional>
 #include <string>
@@ -12,6 +14,8 @@
 
 namespace apiclab {
 
+class TransferControls;
+
 class Simulation {
  public:
   virtual ~Simulation() = default;
@@ -20,7 +24,6 @@ class Simulation {
   virtual int dim() const = 0;
   virtual Precision precision() const = 0;
   virtual const SceneDesc& scene() const = 0;
-  virtual std::size_t particle_count() const = 0;
   virtual double time() const = 0;
   virtual long steps() const = 0;
 
@@ -34,27 +37,40 @@ class Simulation {
   // One step of exactly dt, without diagnostics or blow-up checks (benchmarks, tests).
   virtual void step_fixed(double dt) = 0;
 
-  virtual DiagnosticsRow measure() const = 0;
-  virtual double total_mass() const = 0;  // energies and momenta of the current state
+  virtual DiagnosticsRow measure() const = 0;  // energies and momenta of the current state
+  virtual double total_mass() const = 0;
   virtual const std::optional<Failure>& failure() const = 0;
 
+  // Immutable copy of the state for drawing.
+  virtual std::shared_ptr<Snapshot> snapshot() const = 0;
+
+  // The particle-transfer controls, or nullptr for a family without particle transfers.
+  virtual TransferControls* transfers() { return nullptr; }
+  virtual const TransferControls* transfers() const { return nullptr; }
+};
+
+// What a solver with particle-grid transfers (PIC/FLIP/APIC/RPIC) offers beyond the core.
+class TransferControls {
+ public:
+  virtual ~TransferControls() = default;
+  virtual std::size_t particle_count() const = 0;
   // Switches the transfer scheme live, from the current state (PIC/FLIP drop C_p).
   virtual void set_scheme(Scheme scheme, double flip_alpha) = 0;
-
-  // Immutable copy for drawing; with_noise adds |v_p − PIC-interpolated fresh P2G velocity|.
-  virtual std::shared_ptr<Snapshot> snapshot(bool with_noise = false) const = 0;
-  // Particle state as CSV (DESIGN.md, --dump), one row per particle ordered by id.
+  // Fills s.noise (by particle id) with |v_p − PIC-interpolated fresh P2G velocity|, a field
+  // for drawing: velocity modes the grid cannot see.
+  virtual void fill_velocity_noise(Snapshot& s) const = 0;
+  // Particle state as CSV (docs/architecture.md, --dump), one row per particle ordered by id.
   virtual void write_particles_csv(std::ostream& out) const = 0;
 };
 
-// Scenes with fewer particles than this run their loops on one thread (an OpenMP region
-// costs more than it saves there). Tests set it to 0 to exercise the parallel paths.
-inline std::size_t& parallel_min_particles() {
-  static std::size_t n = 20000;
-  return n;
+// Particles of a solver with particle transfers, 0 for one without (for reports and titles).
+inline std::size_t particle_count(const Simulation& sim) {
+  const TransferControls* t = sim.transfers();
+  return t ? t->particle_count() : 0;
 }
 
-// Builds the initial particles from the scene. Throws SceneError for scenes it cannot build.
+// Builds the scene's solver (`solver.method`) with its initial state. Throws SceneError for
+// scenes it cannot build.
 std::unique_ptr<Simulation> make_simulation(const SceneDesc& scene,
                                             Precision precision = Precision::dbl);
 

@@ -199,7 +199,7 @@ TEST(Implicit, NewtonConvergesQuadratically) {
   MpmSimulation<double, 2> sim(s);
   for (auto& F : sim.particles().F) F << 1.2, 0.1, -0.05, 0.85;
   sim.step_fixed(0.02);
-  const auto& r = sim.residuals_;
+  const auto& r = sim.newton_residuals();
   ASSERT_GE(r.size(), 3u);
   bool saw_quadratic = false;
   for (std::size_t k = 1; k + 1 < r.size(); ++k) {

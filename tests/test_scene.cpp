@@ -93,7 +93,7 @@ TEST(Scene, ShippedScenesLoadAndBuild) {
   EXPECT_GE(count, 1);
   // The scene the conservation tests use builds particles.
   auto sim = make_simulation(load_scene(std::string(APICLAB_SOURCE_DIR) + "/assets/scenes/rotating-disk.json"));
-  EXPECT_GT(sim->particle_count(), 1000u);
+  EXPECT_GT(particle_count(*sim), 1000u);
 }
 
 TEST(Scene, MissingFile) {

@@ -79,7 +79,7 @@ void SimWorker::restart_panes() {
 void SimWorker::rewind_panes() {
   for (auto& p : panes_) {
     p.sim = p.initial->clone();
-    p.sim->set_scheme(p.config.scheme, p.config.flip_alpha);
+    if (auto* t = p.sim->transfers()) t->set_scheme(p.config.scheme, p.config.flip_alpha);
     p.history = {};
     p.history.push(p.sim->measure());
   }
@@ -123,7 +123,7 @@ void SimWorker::set_scheme(std::size_t pane, Scheme scheme, double flip_alpha) {
     if (pane >= panes_.size()) return;
     panes_[pane].config.scheme = scheme;
     panes_[pane].config.flip_alpha = flip_alpha;
-    panes_[pane].sim->set_scheme(scheme, flip_alpha);
+    if (auto* t = panes_[pane].sim->transfers()) t->set_scheme(scheme, flip_alpha);
   });
 }
 
@@ -213,7 +213,7 @@ void SimWorker::advance() {
       if (reached(p)) continue;
       DiagnosticsRow row;
       if (!p.sim->step(target_, &row)) p.history.push(row);
-      particle_steps += double(p.sim->particle_count());
+      particle_steps += double(particle_count(*p.sim));
       stepped = true;
     }
     std::lock_guard lock(mutex_);
@@ -249,7 +249,9 @@ void SimWorker::publish() {
   for (auto& p : panes_) {
     PaneState s;
     s.config = p.config;
-    s.snapshot = p.sim->snapshot(noise_);
+    auto snapshot = p.sim->snapshot();
+    if (noise_ && p.sim->transfers()) p.sim->transfers()->fill_velocity_noise(*snapshot);
+    s.snapshot = snapshot;
     s.history = p.history;
     s.failure = p.sim->failure();
     out->panes.push_back(std::move(s));

@@ -1,0 +1,141 @@
+// Grid to particles: the gather of eqs 37-40 and the particle update (eqs 39-40).
+#pragma once
+#include <cmath>
+#include <type_traits>
+
+#include "kernel_dispatch.hpp"
+#include "mpm.hpp"
+#include "transfer_schemes.hpp"
+
+namespace apiclab {
+
+// Grid to particles. With u_i = λ v_i + (1 − λ) ṽ_i the moved node is x̃_i = x_i + Δt u_i
+// (eq 30), so x_p^{n+1} = Σ w x̃_i = x_p + Δt Σ w u_i (eq 39) and F^{n+1} = (I + Δt Σ u_i ∇wᵀ) F
+// (eq 40). APIC's eq 38 expands to B = Σ w ṽ rᵀ + Δt/2 (S − Sᵀ − v_p ūᵀ + ū v_pᵀ) with
+// S = Σ w ṽ u_iᵀ and ū = Σ w u_i, which is exact and needs one pass over the stencil.
+template <class T, int D>
+template <class K, Scheme S>
+void MpmSimulation<T, D>::g2p_impl(T dt) {
+  const T lambda = T(scene_.solver.integrator_lambda());
+  const T alpha = T(scene_.solver.flip_alpha);
+  const bool lagged = K::type == KernelType::linear;  // Sec 5.9: lagged C for multilinear
+  const T inv_k = lagged ? T(0) : T(1) / inertia_scale();
+  const std::ptrdiff_t n = std::ptrdiff_t(p_.size());
+  bool bad = false;
+  double max_move = 0;
+  Vec<T, D> lo, hi;
+  for (int a = 0; a < D; ++a) { lo[a] = T(scene_.domain.min[a]); hi[a] = T(scene_.domain.max[a]); }
+  using Lanes = typename Grid<T, D>::Lanes;
+  const Lanes* packed = grid_.accumulator.data();
+  pack_velocities();
+  // Lanes of ṽ × vⁿ: c_a = ṽ_{a+1} vⁿ_{a+2} − ṽ_{a+2} vⁿ_{a+1} in 3D, c_0 = ṽ_0 vⁿ_1 − ṽ_1 vⁿ_0 in 2D.
+  auto cross = [](const Lanes& n) {
+    if constexpr (D == 3)
+      return permute<T, 1, 2, 0>(n) * permute<T, 5, 3, 4>(n) - permute<T, 2, 0, 1>(n) * permute<T, 4, 5, 3>(n);
+    else
+      return permute<T, 0, 0, 0>(n) * permute<T, 3, 3, 3>(n) - permute<T, 1, 1, 1>(n) * permute<T, 2, 2, 2>(n);
+  };
+#pragma omp parallel for schedule(static) reduction(|| : bad) reduction(max : max_move) if (parallel_worthwhile())
+  for (std::ptrdiff_t q = 0; q < n; ++q) {
+    Stencil<T, D, K> st;
+    st.compute(p_.x[std::size_t(q)], grid_);
+    // Gather row by row (see Stencil::for_each_row) on nodes packed as [ṽ (D), vⁿ (D), pad],
+    // whole vectors at a time: lanes 0..D−1 give the sums over ṽ, lanes D..2D−1 over vⁿ.
+    constexpr int W = K::width;
+    const T* wx = st.w[0];
+    T wr[W];
+    for (int i = 0; i < W; ++i) wr[i] = wx[i] * st.r[0][i];
+    Lanes vsum{}, grad_cols[D] = {}, b_cols[D] = {}, twist{};
+    auto gather = [&](auto moving_nodes) {  // Σ w (ṽ × vⁿ) only for λ > 0
+      st.for_each_row([&](const typename Stencil<T, D, K>::Row& row) {
+        Lanes s0{}, s1{}, g0{}, t0{};
+        for (int i = 0; i < W; ++i) {
+          const Lanes node = packed[st.off[0][i] + row.off];
+          s0 += wx[i] * node;
+          s1 += wr[i] * node;
+          g0 += st.dw[0][i] * node;
+          if constexpr (decltype(moving_nodes)::value) t0 += wx[i] * cross(node);
+        }
+        vsum += row.w * s0;
+        if constexpr (decltype(moving_nodes)::value) twist += row.w * t0;
+        grad_cols[0] += row.w * g0;
+        b_cols[0] += row.w * s1;
+        for (int ax = 1; ax < D; ++ax) {
+          grad_cols[ax] += row.dw[ax] * s0;
+          b_cols[ax] += (row.w * row.r[ax]) * s0;
+        }
+      });
+    };
+    if (lambda != T(0)) gather(std::true_type{});
+    else gather(std::false_type{});
+    // u_i = λ vⁿ_i + (1 − λ) ṽ_i (eq 30): ū = Σ w u, ∇u = Σ u ∇wᵀ.
+    Vec<T, D> vpic, vold_p, ubar;
+    Mat<T, D> Bsum, gradu, gradv;
+    for (int a = 0; a < D; ++a) {
+      vpic[a] = vsum[a];
+      vold_p[a] = vsum[D + a];
+      ubar[a] = lambda * vsum[D + a] + (T(1) - lambda) * vsum[a];
+      for (int c = 0; c < D; ++c) {
+        gradv(a, c) = grad_cols[c][a];
+        gradu(a, c) = lambda * grad_cols[c][D + a] + (T(1) - lambda) * grad_cols[c][a];
+        Bsum(a, c) = b_cols[c][a];
+      }
+    }
+    // Velocity and affine matrix per scheme (sim/transfer_schemes.hpp).
+    GatheredVelocity<T, D> gathered{vpic, vold_p, Mat<T, D>::Zero()};
+    if constexpr (is_affine(S)) {
+      if (lagged) {
+        gathered.apic_C = gradv;  // Sec 5.9: C = Σ ṽ_i ∇w_ipᵀ
+      } else {
+        Mat<T, D> B = Bsum;
+        if (lambda != T(0)) {
+          // S − Sᵀ with S = Σ w ṽ uᵀ is λ Σ w (ṽ vⁿᵀ − vⁿ ṽᵀ), whose entries are Σ w (ṽ × vⁿ).
+          Mat<T, D> skew;
+          if constexpr (D == 3) skew << T(0), twist[2], -twist[1], -twist[2], T(0), twist[0], twist[1], -twist[0], T(0);
+          else skew << T(0), twist[0], -twist[0], T(0);
+          B += T(0.5) * dt * (lambda * skew - vpic * ubar.transpose() + ubar * vpic.transpose());
+        }
+        gathered.apic_C = B * inv_k;  // C = B D⁻¹ with D = k Δx² I
+      }
+    }
+    update_particle_velocity<S>(gathered, alpha, lagged, [&] { return Mat<T, D>(st.inertia()); }, p_.v[q], p_.C[q]);
+    // Particle update: positions on the moved grid (eq 39), F by eq 40.
+    Vec<T, D> x = p_.x[q] + dt * ubar;
+    max_move = std::max(max_move, double((dt * ubar).cwiseAbs().maxCoeff()));
+    for (int a = 0; a < D; ++a) {
+      if (grid_.periodic[a]) {
+        const T L = hi[a] - lo[a];
+        if (x[a] < lo[a] || x[a] >= hi[a]) x[a] -= L * std::floor((x[a] - lo[a]) / L);
+        if (x[a] >= hi[a]) x[a] = lo[a];  // round-off of the line above
+      } else {
+        x[a] = std::min(std::max(x[a], lo[a]), hi[a]);  // walls: keep the stencil on the grid
+      }
+    }
+    p_.x[q] = x;
+    const Mat<T, D> F0 = p_.F[q];
+    for (int b = 0; b < D; ++b)
+      for (int a = 0; a < D; ++a) {
+        T s = F0(a, b);
+        for (int k = 0; k < D; ++k) s += dt * gradu(a, k) * F0(k, b);
+        p_.F[q](a, b) = s;
+      }
+    if (!std::isfinite(x.sum() + p_.v[q].sum())) bad = true;
+  }
+  non_finite_ = non_finite_ || bad;
+  blocks_.add_drift(std::isfinite(max_move) ? max_move * double(grid_.inv_dx) : 1e30);
+}
+
+template <class T, int D>
+void MpmSimulation<T, D>::grid_to_particles(T dt) {
+  with_kernel(scene_.solver.kernel, [&](auto kernel) {
+    using K = decltype(kernel);
+    switch (scene_.solver.scheme) {
+      case Scheme::pic: g2p_impl<K, Scheme::pic>(dt); break;
+      case Scheme::flip: g2p_impl<K, Scheme::flip>(dt); break;
+      case Scheme::apic: g2p_impl<K, Scheme::apic>(dt); break;
+      case Scheme::rpic: g2p_impl<K, Scheme::rpic>(dt); break;
+    }
+  });
+}
+
+}  // namespace apiclab

@@ -1,0 +1,37 @@
+// Solver methods by the scene's `solver.method` key (the idea of Nori's NORI_REGISTER_CLASS):
+// each method registers a constructor, which dispatches on dimension and precision itself, and
+// a validate hook the scene reader calls on the method's own keys of the `solver` section.
+#pragma once
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "scene.hpp"
+
+namespace apiclab {
+
+class Simulation;
+
+struct SolverMethod {
+  std::string name;  // the `solver.method` value
+  std::string help;
+  std::function<std::unique_ptr<Simulation>(const SceneDesc&, Precision)> make;
+  // Reads and checks the method's keys of the scene's `solver` section into scene.solver;
+  // throws SceneError with one line naming the file and key.
+  std::function<void(SceneSection&, SceneDesc&)> validate;
+};
+
+// Adds a method; a second method of the same name replaces nothing and throws std::logic_error.
+// The methods built into apiclab_sim are listed in method_registry.cpp (a static library drops
+// a self-registering object file that nothing references), each defined next to its solver.
+void register_method(SolverMethod method);
+// The method of that name, or nullptr.
+const SolverMethod* find_method(const std::string& name);
+// All registered method names, sorted, for error messages and help.
+std::vector<std::string> method_names();
+
+// The built-in methods, each defined with its solver.
+SolverMethod mpm_method();  // sim/mpm_method.cpp
+
+}  // namespace apiclab

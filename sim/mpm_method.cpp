@@ -1,0 +1,47 @@
+// The MPM solver family as a registered method: its constructor (dimension × precision) and
+// the validation of its keys in the scene's `solver` section.
+#include "method_registry.hpp"
+#include "mpm.hpp"
+
+namespace apiclab {
+namespace {
+
+std::unique_ptr<Simulation> make_mpm(const SceneDesc& scene, Precision precision) {
+  const bool single = precision == Precision::single;
+  if (scene.dim == 2)
+    return single ? std::unique_ptr<Simulation>(new MpmSimulation<float, 2>(scene))
+                  : std::unique_ptr<Simulation>(new MpmSimulation<double, 2>(scene));
+  return single ? std::unique_ptr<Simulation>(new MpmSimulation<float, 3>(scene))
+                : std::unique_ptr<Simulation>(new MpmSimulation<double, 3>(scene));
+}
+
+void validate_mpm(SceneSection& r, SceneDesc& s) {
+  auto& v = s.solver;
+  v.scheme = r.choice("scheme", scheme_choices(), v.scheme, "scheme");
+  v.flip_alpha = r.number("flip_alpha", v.flip_alpha);
+  if (v.flip_alpha < 0 || v.flip_alpha > 1) r.fail("flip_alpha", "must be in [0, 1]");
+  v.kernel = r.choice("kernel", kernel_choices(), v.kernel, "kernel");
+  if (v.kernel == KernelType::linear && s.time.rule == DtRule::cfl)  // see sim/time_step_rules.hpp
+    r.fail("kernel", "the 'cfl' time-step rule needs the quadratic or cubic kernel (Sec 4.3 bounds D_p^-1 (x_i - x_p) "
+                     "only when D_p = k dx^2 I; Sec 5.9)");
+  v.integrator = r.choice("integrator", integrator_choices(), v.integrator, "integrator");
+  v.lambda = r.number("lambda", v.lambda);
+  if (v.lambda > 1) r.fail("lambda", "must be in [0, 1]");
+  v.newton_tolerance = r.positive("newton_tolerance", v.newton_tolerance);
+  v.newton_max_iterations = r.integer("newton_max_iterations", v.newton_max_iterations);
+  v.cg_tolerance = r.positive("cg_tolerance", v.cg_tolerance);
+  v.cg_max_iterations = r.integer("cg_max_iterations", v.cg_max_iterations);
+  if (v.newton_max_iterations < 1) r.fail("newton_max_iterations", "must be at least 1");
+  if (v.cg_max_iterations < 1) r.fail("cg_max_iterations", "must be at least 1");
+  v.stop_on_nonconvergence = r.boolean("stop_on_nonconvergence", v.stop_on_nonconvergence);
+  v.blowup_energy_factor = r.positive("blowup_energy_factor", v.blowup_energy_factor);
+}
+
+}  // namespace
+
+SolverMethod mpm_method() {
+  return {"mpm", "Material Point Method with PIC/FLIP/APIC/RPIC transfers (Jiang et al. 2017)", make_mpm,
+          validate_mpm};
+}
+
+}  // namespace apiclab

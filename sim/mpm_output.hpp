@@ -1,0 +1,117 @@
+// What leaves the solver: scheme switching, drawing snapshots, velocity noise, particle CSV.
+#pragma once
+#include <iomanip>
+#include <limits>
+#include <ostream>
+
+#include "kernel_dispatch.hpp"
+#include "mpm.hpp"
+#include "transfer_schemes.hpp"
+
+namespace apiclab {
+
+template <class T, int D>
+void MpmSimulation<T, D>::set_scheme(Scheme scheme, double flip_alpha) {
+  const bool was_affine = is_affine(scene_.solver.scheme);
+  scene_.solver.scheme = scheme;
+  scene_.solver.flip_alpha = flip_alpha;
+  if (scheme == Scheme::pic || scheme == Scheme::flip) {
+    for (auto& C : p_.C) C.setZero();
+  } else if (scheme == Scheme::rpic && was_affine) {
+    for (auto& C : p_.C) C = rpic_skew_part<T, D>(C);  // returns a new matrix: C is not aliased
+  }
+}
+
+// |v_p − Σ w_ip v_i| with v_i from a fresh P2G of the current particles (this scheme's own
+// transfer, so an affine field gives zero): velocity modes the grid cannot see.
+template <class T, int D>
+template <class K>
+void MpmSimulation<T, D>::velocity_noise(std::vector<float>& out) const {
+  const bool affine = is_affine(scene_.solver.scheme);
+  std::vector<T> mass(grid_.size(), T(0));
+  std::vector<Vec<T, D>> mom(grid_.size(), Vec<T, D>::Zero());
+  Stencil<T, D, K> st;
+  for (std::size_t q = 0; q < p_.size(); ++q) {
+    st.compute(p_.x[q], grid_);
+    const T m = p_.mass[q];
+    st.for_each([&](std::size_t i, T w, const Vec<T, D>&, const Vec<T, D>& r) {
+      mass[i] += w * m;
+      mom[i] += w * m * (affine ? Vec<T, D>(p_.v[q] + p_.C[q] * r) : p_.v[q]);
+    });
+  }
+  out.assign(p_.size(), 0.f);
+  for (std::size_t q = 0; q < p_.size(); ++q) {
+    st.compute(p_.x[q], grid_);
+    Vec<T, D> v = Vec<T, D>::Zero();
+    st.for_each([&](std::size_t i, T w, const Vec<T, D>&, const Vec<T, D>&) {
+      if (mass[i] > T(0)) v += w * mom[i] / mass[i];
+    });
+    out[std::size_t(p_.id[q])] = float((p_.v[q] - v).norm());
+  }
+}
+
+template <class T, int D>
+std::shared_ptr<Snapshot> MpmSimulation<T, D>::snapshot() const {
+  auto s = std::make_shared<Snapshot>();
+  s->dim = D;
+  s->step = steps_;
+  s->time = time_;
+  s->scene_name = scene_.name;
+  s->scheme = key_of(scene_.solver.scheme);
+  s->kernel = key_of(scene_.solver.kernel);
+  s->integrator = key_of(scene_.solver.integrator);
+  s->flip_alpha = scene_.solver.flip_alpha;
+  const std::size_t n = p_.size();
+  s->positions.resize(n * D);
+  s->velocities.resize(n * D);
+  s->material.resize(n);
+  s->object.resize(n);
+  for (std::size_t q = 0; q < n; ++q) {
+    std::size_t k = std::size_t(p_.id[q]);
+    for (int a = 0; a < D; ++a) {
+      s->positions[k * D + a] = float(p_.x[q][a]);
+      s->velocities[k * D + a] = float(p_.v[q][a]);
+    }
+    s->material[k] = p_.material[q];
+    s->object[k] = p_.object[q];
+  }
+  s->radius = radius_;
+  s->domain_min = scene_.domain.min;
+  s->domain_max = scene_.domain.max;
+  s->dx = scene_.domain.dx;
+  s->colliders = scene_.colliders;
+  for (auto& m : scene_.materials) s->material_names.push_back(m.name);
+  s->failure = failure_;
+  return s;
+}
+
+template <class T, int D>
+void MpmSimulation<T, D>::fill_velocity_noise(Snapshot& s) const {
+  with_kernel(scene_.solver.kernel, [&](auto kernel) { velocity_noise<decltype(kernel)>(s.noise); });
+}
+
+template <class T, int D>
+void MpmSimulation<T, D>::write_particles_csv(std::ostream& out) const {
+  out << "id,object,x,y" << (D == 3 ? ",z" : "") << ",vx,vy" << (D == 3 ? ",vz" : "") << ",mass,volume0";
+  for (int i = 0; i < D; ++i)
+    for (int j = 0; j < D; ++j) out << ",F" << i << j;
+  for (int i = 0; i < D; ++i)
+    for (int j = 0; j < D; ++j) out << ",C" << i << j;
+  out << "\n";
+  std::vector<std::size_t> by_id(p_.size());
+  for (std::size_t q = 0; q < p_.size(); ++q) by_id[std::size_t(p_.id[q])] = q;
+  out << std::setprecision(std::numeric_limits<T>::max_digits10);
+  for (std::size_t q : by_id) {
+    out << p_.id[q] << ',' << p_.object[q];
+    for (int a = 0; a < D; ++a) out << ',' << p_.x[q][a];
+    for (int a = 0; a < D; ++a) out << ',' << p_.v[q][a];
+    out << ',' << p_.mass[q] << ',' << p_.volume0[q];
+    for (int i = 0; i < D; ++i)
+      for (int j = 0; j < D; ++j) out << ',' << p_.F[q](i, j);
+    for (int i = 0; i < D; ++i)
+      for (int j = 0; j < D; ++j) out << ',' << p_.C[q](i, j);
+    out << '\n';
+  }
+}
+
+}  // namespace apiclab

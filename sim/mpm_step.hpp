@@ -1,0 +1,75 @@
+// One step: the phases in the paper's order, and step()'s failure checks.
+#pragma once
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "kernel_dispatch.hpp"
+#include "mpm.hpp"
+
+namespace apiclab {
+
+// Block sort for the coloured parallel P2G (sim/block_partition.hpp).
+template <class T, int D>
+void MpmSimulation<T, D>::sort_particles() {
+  if (blocks_.sort(p_, scratch_, grid_, constraints_, scene_.solver.kernel, parallel_worthwhile()))
+    rebuild_index_of_id();
+}
+
+template <class T, int D>
+void MpmSimulation<T, D>::step_fixed(double dt) {
+  // A non-finite position would index the grid out of range: the state stays frozen, and
+  // step() (or the caller of step_fixed, through measure()) reports it.
+  if (non_finite_) return;
+  sort_particles();
+  clear_grid();
+  if (!uses_implicit_solve()) {
+    particles_to_grid(true);  // forces at F^n, fused into the transfer
+    if (!mesh_.empty())
+      with_kernel(scene_.solver.kernel, [&](auto kernel) { add_mesh_forces<decltype(kernel)>(); });
+    grid_velocity_update(T(dt));
+    last_solve_ = NewtonCgReport{};
+  } else {
+    particles_to_grid(false);
+    with_kernel(scene_.solver.kernel, [&](auto kernel) { implicit_velocity_update<decltype(kernel)>(T(dt)); });
+  }
+  apply_boundary_conditions();
+  grid_to_particles(T(dt));
+  time_ += dt;
+  ++steps_;
+}
+
+template <class T, int D>
+std::optional<Failure> MpmSimulation<T, D>::step(double t_limit, DiagnosticsRow* row) {
+  if (failure_) return failure_;
+  if (!(t_limit > time_)) return std::nullopt;
+  auto start = std::chrono::steady_clock::now();
+  double dt = choose_dt(t_limit);
+  step_fixed(dt);
+  if (t_limit - time_ < 1e-12 * std::max(1.0, std::abs(t_limit))) time_ = t_limit;  // exact landing
+  DiagnosticsRow r = measure();
+  r.dt = dt;
+  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (row) *row = r;
+  auto fail = [&](const std::string& quantity, const std::string& detail) {
+    std::ostringstream msg;
+    msg << "simulation blew up at step " << steps_ << ", t = " << time_ << ": " << quantity << " " << detail;
+    failure_ = Failure{steps_, time_, quantity, msg.str()};
+  };
+  if (!last_solve_.converged && scene_.solver.stop_on_nonconvergence) {
+    std::ostringstream d;
+    d << "did not converge in " << last_solve_.newton_iterations << " Newton iterations (residual "
+      << last_solve_.residual << ")";
+    fail("implicit solve", d.str());
+  } else if (non_finite_ || !std::isfinite(r.total) || !std::isfinite(r.kinetic)) {
+    fail("particle state", "became non-finite (NaN or Inf)");
+  } else if (r.kinetic + r.elastic > scene_.solver.blowup_energy_factor * energy_ref_) {
+    std::ostringstream d;
+    d << "grew to " << r.kinetic + r.elastic << ", more than " << scene_.solver.blowup_energy_factor
+      << " x the energy available (" << energy_ref_ << ")";
+    fail("kinetic + elastic energy", d.str());
+  }
+  return failure_;
+}
+
+}  // namespace apiclab

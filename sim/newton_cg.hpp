@@ -1,0 +1,105 @@
+// Newton's method for a minimisation over velocity-like node vectors (Gast et al. 2015;
+// Jiang et al. 2017, Sec 4.2, Algorithm 1). Each Newton system P H P d = −P g is solved by
+// conjugate gradients on M⁻¹ P H P in the mass inner product <u, w> = Σ_i m_i u_i·w_i, so
+// every CG vector is velocity-like; a backtracking (Armijo) line search on E then takes the
+// step, never accepting E = +∞. Only the nodes in `active` are read or written.
+#pragma once
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "math.hpp"
+
+namespace apiclab {
+
+template <class T, int D>
+struct NewtonCgVectors {
+  std::vector<Vec<T, D>> direction, residual, search, product, trial;
+};
+
+struct NewtonCgOptions {
+  double tolerance;  // on the mass-weighted RMS of M⁻¹ P g, a velocity
+  int max_newton_iterations;
+  double cg_tolerance;  // relative to the first CG residual
+  int max_cg_iterations;
+};
+
+struct NewtonCgReport {
+  int newton_iterations = 0, cg_iterations = 0;
+  double residual = 0;
+  bool converged = true;
+};
+
+// Problem: energy(x, gradient) → E(x), writing ∇E into `grad` when gradient is true (+∞ for an
+// inadmissible x); update_hessian() at the last x whose gradient was taken; hessian_apply(in,
+// out) → out = H in; project(z) applies P, the constraints. x holds the start and the result.
+template <class T, int D, class Problem>
+NewtonCgReport newton_cg_minimise(Problem& problem, std::vector<Vec<T, D>>& x, std::vector<Vec<T, D>>& grad,
+                                  const std::vector<std::uint32_t>& active, const std::vector<T>& mass,
+                                  double mass_sum, const NewtonCgOptions& options, NewtonCgVectors<T, D>& v,
+                                  std::vector<double>& residuals) {
+  auto dot_m = [&](const std::vector<Vec<T, D>>& a, const std::vector<Vec<T, D>>& b) {
+    double s = 0;
+    for (std::uint32_t i : active) s += double(mass[i]) * double(a[i].dot(b[i]));
+    return s;
+  };
+  auto& dir = v.direction;
+  double energy = problem.energy(x, true);
+  NewtonCgReport report;
+  residuals.clear();
+  for (;; ++report.newton_iterations) {
+    problem.project(grad);
+    double r2 = 0;  // residual: mass-weighted RMS of M⁻¹g
+    for (std::uint32_t i : active) r2 += double(grad[i].squaredNorm()) / double(mass[i]);
+    report.residual = std::sqrt(r2 / std::max(mass_sum, 1e-300));
+    residuals.push_back(report.residual);
+    if (report.residual <= options.tolerance || report.newton_iterations >= options.max_newton_iterations) break;
+    problem.update_hessian();
+    // CG on A = M⁻¹ P H P, rhs = −M⁻¹ P g (Algorithm 1).
+    for (std::uint32_t i : active) {
+      dir[i].setZero();
+      v.residual[i] = -grad[i] / mass[i];
+      v.search[i] = v.residual[i];
+    }
+    double gamma = dot_m(v.residual, v.residual), rhs_norm = std::sqrt(gamma);
+    for (int k = 0; k < options.max_cg_iterations; ++k) {
+      if (std::sqrt(gamma) <= options.cg_tolerance * rhs_norm) break;
+      problem.hessian_apply(v.search, v.product);
+      for (std::uint32_t i : active) v.product[i] /= mass[i];
+      problem.project(v.product);
+      double ps = dot_m(v.search, v.product);
+      ++report.cg_iterations;
+      if (!(ps > 0)) break;
+      T alpha = T(gamma / ps);
+      for (std::uint32_t i : active) {
+        dir[i] += alpha * v.search[i];
+        v.residual[i] -= alpha * v.product[i];
+      }
+      double kappa = dot_m(v.residual, v.residual);
+      T beta = T(kappa / gamma);
+      for (std::uint32_t i : active) v.search[i] = v.residual[i] + beta * v.search[i];
+      gamma = kappa;
+    }
+    // Backtracking line search on E (Armijo), never accepting an inverted F (E = +∞).
+    double slope = 0;
+    for (std::uint32_t i : active) slope += double(grad[i].dot(dir[i]));
+    if (!(slope < 0)) {  // not a descent direction: fall back to steepest descent in M⁻¹
+      for (std::uint32_t i : active) dir[i] = -grad[i] / mass[i];
+      slope = 0;
+      for (std::uint32_t i : active) slope += double(grad[i].dot(dir[i]));
+    }
+    double step = 1, trial = 0;
+    for (int ls = 0; ls < 30; ++ls, step *= 0.5) {
+      for (std::uint32_t i : active) v.trial[i] = x[i] + T(step) * dir[i];
+      trial = problem.energy(v.trial, false);
+      if (trial <= energy + 1e-4 * step * slope) break;
+    }
+    if (!(trial <= energy + 1e-4 * step * slope)) break;  // no progress possible at this precision
+    for (std::uint32_t i : active) x[i] = v.trial[i];
+    energy = problem.energy(x, true);
+  }
+  report.converged = report.residual <= options.tolerance;
+  return report;
+}
+
+}  // namespace apiclab

@@ -1,0 +1,126 @@
+// Particles to grid (Jiang et al. 2017, eqs 24-25 and the explicit forces of eq 34).
+#pragma once
+#include "kernel_dispatch.hpp"
+#include "mpm.hpp"
+
+namespace apiclab {
+
+// Forces of the triangle mesh and anchors at x^n, scattered to the grid: f_i −= Σ_p w_ip ∂Φ/∂x_p.
+template <class T, int D>
+template <class K>
+void MpmSimulation<T, D>::add_mesh_forces() {
+  if constexpr (D == 2) {
+    mesh_g_.assign(p_.size(), Vec<T, 2>::Zero());
+    mesh_.energy(p_.x, index_of_id_, &mesh_g_);
+    const auto& st = stencils<K>();
+    for (std::size_t q = 0; q < p_.size(); ++q) {
+      if (mesh_g_[q].isZero()) continue;
+      st[q].for_each([&](std::size_t i, T w, const Vec<T, D>&, const Vec<T, D>&) { grid_.force[i] -= w * mesh_g_[q]; });
+    }
+  }
+}
+template <class T, int D>
+void MpmSimulation<T, D>::clear_grid() {
+  auto* acc = grid_.accumulator.data();
+  for_each_box_node([&](std::size_t i) { acc[i] = typename Grid<T, D>::Lanes{}; });
+}
+
+// −V_p P(F_p) F_pᵀ per particle, so that f_i = Σ_p (this) ∇w_ip (eq 34 at λ = 0). A pass of
+// its own: without the scatter in the loop, the CPU overlaps the square roots and divisions of
+// neighbouring particles instead of waiting on each.
+template <class T, int D>
+void MpmSimulation<T, D>::compute_stress() {
+  stress_.resize(p_.size());
+  const std::ptrdiff_t n = std::ptrdiff_t(p_.size());
+#pragma omp parallel for schedule(static) if (parallel_worthwhile())
+  for (std::ptrdiff_t q = 0; q < n; ++q) {
+    const MaterialParams<T>& mat = materials_[std::size_t(p_.material[q])];
+    const Mat<T, D>& F = p_.F[q];
+    stress_[q] = -p_.volume0[q] * first_piola<T, D>(mat.model, F, mat.lame) * F.transpose();
+  }
+}
+
+template <class T, int D>
+template <class K, bool affine, bool with_forces>
+void MpmSimulation<T, D>::p2g_impl() {
+  // The implicit solve and mesh forces reuse these weights (same x_p^n); G2P recomputes them,
+  // which is cheaper than storing and reloading them.
+  const bool keep = keeps_stencils();
+  auto& cache = stencils<K>();
+  if (keep) cache.resize(p_.size());
+  constexpr int W = K::width;
+  auto* acc = grid_.accumulator.data();
+  blocks_.for_each_block_coloured(
+      [&](std::uint32_t begin, std::uint32_t end) {
+        for (std::uint32_t q = begin; q < end; ++q) {
+          Stencil<T, D, K> st;
+          st.compute(p_.x[q], grid_);
+          if (keep) cache[q] = st;
+          const T m = p_.mass[q];
+          const Vec<T, D> mv = m * p_.v[q];
+          const Mat<T, D> mC = m * p_.C[q];
+          Mat<T, D> stress = Mat<T, D>::Zero();
+          if constexpr (with_forces) stress = stress_[q];
+          // Node i of a row gets w = wx_i row.w and ∇w = (dwx_i row.w, wx_i row.dw[1..]), so with
+          // the lanes [m, m v, f]
+          //   node_i += row.w (wx_i (mass_mom + r0_i affine[0]) + dwx_i stress_lanes[0])
+          //           + wx_i Σ_{a≥1} (row.w row.r_a affine[a] + row.dw_a stress_lanes[a]),
+          // where affine[a] = [0, m C col a, 0] and stress_lanes[a] = [0, 0, stress col a]:
+          // whole-vector multiply-adds only.
+          using Lanes = typename Grid<T, D>::Lanes;
+          Lanes mass_mom{}, affine_lanes[D] = {}, stress_lanes[D] = {};
+          mass_mom[0] = m;
+          for (int a = 0; a < D; ++a) {
+            mass_mom[1 + a] = mv[a];
+            for (int c = 0; c < D; ++c) {
+              if constexpr (affine) affine_lanes[c][1 + a] = mC(a, c);
+              stress_lanes[c][1 + D + a] = stress(a, c);
+            }
+          }
+          Lanes per_x[W];
+          for (int i = 0; i < W; ++i)
+            per_x[i] = st.w[0][i] * (mass_mom + st.r[0][i] * affine_lanes[0]) + st.dw[0][i] * stress_lanes[0];
+          st.for_each_row([&](const typename Stencil<T, D, K>::Row& row) {
+            Lanes per_row{};
+            for (int ax = 1; ax < D; ++ax) {
+              if constexpr (affine) per_row += (row.w * row.r[ax]) * affine_lanes[ax];
+              if constexpr (with_forces) per_row += row.dw[ax] * stress_lanes[ax];
+            }
+            const T rw = row.w;
+            for (int i = 0; i < W; ++i) acc[st.off[0][i] + row.off] += rw * per_x[i] + st.w[0][i] * per_row;
+          });
+        }
+      },
+      parallel_worthwhile());
+}
+
+// Accumulator lanes to the grid's arrays: m_i, (m v)_i (held in Grid::velocity until eq 26), f_i.
+template <class T, int D>
+void MpmSimulation<T, D>::unpack_accumulator() {
+  const auto* acc = grid_.accumulator.data();
+  for_each_box_node([&](std::size_t i) {
+    const auto& node = acc[i];
+    grid_.mass[i] = node[0];
+    for (int a = 0; a < D; ++a) {
+      grid_.velocity[i][a] = node[1 + a];
+      grid_.force[i][a] = node[1 + D + a];
+    }
+  });
+}
+
+// Eqs 24-25: m_i = Σ w m_p and (m v)_i = Σ w m_p (v_p + C_p (x_i − x_p)) (C_p = 0 for PIC
+// and FLIP), with f_i = Σ (−V_p P F_pᵀ) ∇w (eq 34 at λ = 0) when with_forces. The velocity
+// v_i = (m v)_i / m_i (eq 26) is left to the grid update (velocity_from_momentum).
+template <class T, int D>
+void MpmSimulation<T, D>::particles_to_grid(bool with_forces) {
+  const bool affine = is_affine(scene_.solver.scheme);
+  if (with_forces) compute_stress();
+  with_kernel(scene_.solver.kernel, [&](auto kernel) {
+    using K = decltype(kernel);
+    if (affine) with_forces ? p2g_impl<K, true, true>() : p2g_impl<K, true, false>();
+    else with_forces ? p2g_impl<K, false, true>() : p2g_impl<K, false, false>();
+  });
+  unpack_accumulator();
+}
+
+}  // namespace apiclab

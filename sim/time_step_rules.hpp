@@ -1,0 +1,48 @@
+// Time-step rules (registry `dt_rule_choices`), then the Sec 6.7 landing rule on t_limit.
+//
+// The CFL rule of Sec 4.3: Δt ≤ ν Δx / max_p (|v_p| + 6√d/Δx ‖B_p‖_F). It bounds the grid
+// velocity of eq 24 through |D_p⁻¹ (x_i − x_p)|, which needs D_p = k Δx² I (quadratic k = 1/4,
+// cubic k = 1/3); with B_p = C_p D_p = k Δx² C_p the particle term is |v_p| + 6√d k Δx ‖C_p‖_F.
+// For the multilinear kernel D_p is not invertible and Sec 5.9 shows the grid velocity of an
+// affine particle is unbounded (∇w_ip / w_ip), so there is no CFL bound: the scene reader
+// rejects the `cfl` rule with the linear kernel (validate_mpm, sim/mpm_method.cpp).
+#pragma once
+#include <cmath>
+
+#include "mpm.hpp"
+
+namespace apiclab {
+
+template <class T, int D>
+double MpmSimulation<T, D>::choose_dt(double t_limit) const {
+  const TimeDesc& tm = scene_.time;
+  const double dx = scene_.domain.dx;
+  double dt_star = tm.dt;
+  if (tm.rule != DtRule::fixed) {
+    double vmax = 0, cterm = 0;
+    const double affine_reach = 6.0 * std::sqrt(double(D)) * inertia_factor(scene_.solver.kernel) * dx;
+    const std::ptrdiff_t n = std::ptrdiff_t(p_.size());
+#pragma omp parallel for reduction(max : vmax, cterm) if (parallel_worthwhile())
+    for (std::ptrdiff_t q = 0; q < n; ++q) {
+      double v = double(p_.v[q].norm());
+      vmax = std::max(vmax, v);
+      cterm = std::max(cterm, v + affine_reach * double(p_.C[q].norm()));  // |v_p| + 6√d/Δx ‖B_p‖_F
+    }
+    if (tm.rule == DtRule::cfl) {
+      dt_star = std::min(dt_star, tm.nu * dx / std::max(cterm, 1e-300));
+    } else if (tm.rule == DtRule::elastic) {
+      dt_star = std::min(dt_star, tm.nu * dx / (max_wave_speed_ + vmax));
+    } else {
+      // Sec 6.7: dt* = max(dt_min, min(dt_max, ν Δx / max(v_max, v_τ))) with grid speeds.
+      vmax = std::max(vmax, max_grid_speed_);
+      dt_star = std::max(tm.dt_min, std::min(tm.dt, tm.nu * dx / std::max(vmax, tm.v_tau)));
+    }
+  }
+  dt_star = std::min(dt_star, 1.0 / tm.fps);
+  double to_frame = t_limit - time_;
+  if (to_frame < 1.001 * dt_star) return to_frame;  // land on the frame time
+  if (to_frame < 2.0 * dt_star) return 0.5 * to_frame;  // avoid a sliver step
+  return dt_star;
+}
+
+}  // namespace apiclab

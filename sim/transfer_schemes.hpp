@@ -1,0 +1,65 @@
+// The per-scheme particle velocity and affine matrix after G2P (Jiang et al. 2017, Secs 5.1-5.9):
+// PIC (eq 2), FLIP (eq 3), APIC (eqs 37-38), RPIC (Sec 5.6.3). Also the C_p a live scheme
+// switch keeps (set_scheme).
+#pragma once
+#include "math.hpp"
+#include "registry.hpp"
+
+namespace apiclab {
+
+// RPIC keeps only the rigid part of C: its skew part, ω = K⁻¹ l (Sec 5.6.3), with D_p = k Δx² I.
+template <class T, int D>
+Mat<T, D> rpic_skew_part(const Mat<T, D>& C) {
+  return T(0.5) * (C - C.transpose());
+}
+
+// RPIC with the multilinear kernel, whose D_p is not a multiple of I (Sec 5.9): ω = K_p⁻¹ l_p
+// with K_p = tr(D_p) I − D_p and l_p the skew part of B = C D_p (Sec 2.1).
+template <class T, int D>
+Mat<T, D> rpic_rigid_part(const Mat<T, D>& C, const Mat<T, D>& Dp) {
+  const Mat<T, D> B = C * Dp;
+  const Mat<T, D> skewB = T(0.5) * (B - B.transpose());
+  Mat<T, D> Cr = Mat<T, D>::Zero();
+  if constexpr (D == 2) {
+    T kk = Dp.trace();
+    T w = kk > T(0) ? T(2) * skewB(1, 0) / kk : T(0);
+    Cr << T(0), -w, w, T(0);
+  } else {
+    Vec<T, 3> l(T(2) * skewB(2, 1), T(2) * skewB(0, 2), T(2) * skewB(1, 0));
+    Vec<T, 3> w;
+    for (int a = 0; a < 3; ++a) {
+      T kk = Dp.trace() - Dp(a, a);
+      w[a] = kk > T(0) ? l[a] / kk : T(0);
+    }
+    Cr << T(0), -w[2], w[1], w[2], T(0), -w[0], -w[1], w[0], T(0);
+  }
+  return Cr;
+}
+
+// What G2P gathered at one particle: v^PIC = Σ w ṽ_i, Σ w v_i^n, and for the affine schemes
+// C^APIC: B D⁻¹ (eq 38) or, for the multilinear kernel, Σ ṽ_i ∇w_ipᵀ (Sec 5.9).
+template <class T, int D>
+struct GatheredVelocity {
+  Vec<T, D> pic, old;
+  Mat<T, D> apic_C;
+};
+
+// v_p and C_p of scheme S from the gathered velocities; `inertia()` gives D_p, read only by RPIC
+// with the multilinear kernel (`lagged`).
+template <Scheme S, class T, int D, class Inertia>
+inline void update_particle_velocity(const GatheredVelocity<T, D>& g, T flip_alpha, bool lagged, Inertia&& inertia,
+                                     Vec<T, D>& v, Mat<T, D>& C) {
+  if constexpr (S == Scheme::pic) {
+    v = g.pic;  // eq 2
+  } else if constexpr (S == Scheme::flip) {
+    v = flip_alpha * (v + g.pic - g.old) + (T(1) - flip_alpha) * g.pic;  // eq 3, PIC blend
+  } else if constexpr (S == Scheme::apic) {
+    v = g.pic;  // eq 37
+    C = g.apic_C;
+  } else {
+    v = g.pic;
+    C = lagged ? rpic_rigid_part<T, D>(g.apic_C, inertia()) : rpic_skew_part<T, D>(g.apic_C);
+  }
+}
+
+}  // namespace apiclab
