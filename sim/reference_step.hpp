@@ -54,12 +54,14 @@ struct Setup {
 };
 
 // The B-spline N(d) and its derivative, d = (x_p − x_i)/Δx in cells (Sec 3.2; Steffen 2008).
+// The hat's kink takes the derivative of the cell the particle is in (d ∈ [−1, 1)), so that
+// Σ ∇w = 0 also for a particle exactly on a node.
 template <class T>
 void bspline(KernelType kernel, T d, T& N, T& dN) {
   const T a = std::abs(d), s = d < 0 ? T(-1) : T(1);
   N = dN = T(0);
   if (kernel == KernelType::linear) {
-    if (a < 1) N = 1 - a, dN = -s;
+    if (d >= -1 && d < 1) N = 1 - a, dN = -s;
   } else if (kernel == KernelType::quadratic) {
     if (a < T(0.5))
       N = T(0.75) - a * a, dN = -2 * d;
@@ -104,7 +106,8 @@ struct Nodes {
   }
 };
 
-// f(node, w_ip (eq 18), ∇w_ip (eq 19), x_i) for the 4^D nodes around x_p (enough for any kernel).
+// f(node, w_ip (eq 18), ∇w_ip (eq 19), x_i) for the 4^D nodes around x_p: every node the
+// kernel reaches, and for linear and quadratic weights a few with w = ∇w = 0.
 template <class T, int D, class Fn>
 void for_each_node(const Setup<T, D>& s, const Nodes<T, D>& g, const Vec<T, D>& xp, Fn&& f) {
   for (int c = 0; c < (D == 2 ? 16 : 64); ++c) {
@@ -116,7 +119,6 @@ void for_each_node(const Setup<T, D>& s, const Nodes<T, D>& g, const Vec<T, D>& 
       bspline(s.kernel, (xp[a] - xi[a]) / s.dx, N[a], dN[a]);
     }
     const T w = N.prod();
-    if (w == T(0)) continue;
     Vec<T, D> grad;
     for (int a = 0; a < D; ++a) {
       grad[a] = dN[a] / s.dx;
@@ -136,6 +138,7 @@ void constrain(Vec<T, D>& v, const Vec<T, D>& n, BoundaryCondition condition) {
     v -= vn * n;
 }
 
+// One step of size dt; the particles are updated in place.
 template <class T, int D>
 void step(const Setup<T, D>& s, ParticleState<T, D>& ps, T dt) {
   Nodes<T, D> g(s);  // clear grid
@@ -155,11 +158,11 @@ void step(const Setup<T, D>& s, ParticleState<T, D>& ps, T dt) {
         });
   }
 
-  // Grid update: v_i = (mv)_i / m_i (eqs 1, 26), then eq 29 with λ = 0, plus gravity.
+  // Grid update.
   for (std::size_t i = 0; i < g.mass.size(); ++i) {
-    if (g.mass[i] <= T(0)) continue;  // v_i = ṽ_i = 0
-    g.v[i] = g.momentum[i] / g.mass[i];
-    g.v_new[i] = g.v[i] + dt * (g.force[i] / g.mass[i] + s.gravity);
+    if (g.mass[i] <= T(0)) continue;                                  // v_i = ṽ_i = 0
+    g.v[i] = g.momentum[i] / g.mass[i];                               // eqs 1, 26
+    g.v_new[i] = g.v[i] + dt * (g.force[i] / g.mass[i] + s.gravity);  // eq 29 (λ = 0), gravity
   }
 
   // Boundary: walls on nodes on or beyond a domain face (lower face first, axis by axis), then
@@ -221,8 +224,10 @@ void step(const Setup<T, D>& s, ParticleState<T, D>& ps, T dt) {
         ps.C[p] = B * Dp.inverse();  // eq 26: C = B D⁻¹, D_p = kΔx² I (quadratic ¼, cubic ⅓)
       }
     } else {
-      ps.v[p] = v_pic;                          // eq 44
-      const Vec<T, S> omega = K.inverse() * l;  // eq 42: ω_p = K_p⁻¹ l_p, K_p at x_p^n
+      ps.v[p] = v_pic;  // eq 44
+      // eq 42: ω_p = K_p⁻¹ l_p, with K_p at x_p^n: for linear weights (K_p not constant) this
+      // lags K_p as Sec 5.9 lags D_p; quadratic and cubic K_p = 2kΔx² I is constant.
+      const Vec<T, S> omega = K.inverse() * l;
       if constexpr (D == 2)
         ps.C[p] << 0, -omega[0], omega[0], 0;  // C_p = ω_p*
       else
