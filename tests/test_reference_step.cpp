@@ -31,8 +31,9 @@ struct Case {
   }
 };
 
-// Unit square (cube), Δx = 1/16. Walls: every boundary condition once, and a slanted collider
-// plane near the block's far corner. Neo-Hookean in 2D, fixed corotated in 3D.
+// Unit square (cube), Δx = 1/16. The block touches the lower walls: slip and separate in 2D,
+// sticky, separate and slip in 3D; in 2D also a slanted collider plane (slip) at its far
+// corner. Neo-Hookean in 2D, fixed corotated in 3D.
 SceneDesc scene_for(int dim, const Case& c) {
   SceneDesc s;
   s.name = "reference-step";
@@ -239,33 +240,41 @@ TEST(ReferenceStep, OptimisedStepMatches2D) { compare_all<2>(); }
 TEST(ReferenceStep, OptimisedStepMatches3D) { compare_all<3>(); }
 
 // The comparison is only worth something if the scene exercises the step: over the 20 steps
-// the walls and the collider must change the motion, and the stress must change F.
-TEST(ReferenceStep, SceneTouchesWallsAndDeforms) {
+// the walls, the collider plane and the stress must each change the motion. Checked on the
+// reference step (which the solver matches) by leaving each out in turn.
+TEST(ReferenceStep, WallsColliderAndStressChangeTheMotion) {
   const Case c{Scheme::apic, 1.0, KernelType::quadratic, false};
-  SceneDesc free_scene = scene_for(2, c);
-  free_scene.domain.walls.fill(BoundaryCondition::periodic);
-  free_scene.colliders.clear();
-  MpmSimulation<double, 2> walled(scene_for(2, c)), free_sim(free_scene);
-  place_block<2>(walled, c);
-  place_block<2>(free_sim, c);
-  reference::ParticleState<double, 2> a, b;
-  for (auto* s : {&a, &b}) {
-    const auto& p = walled.particles();
-    s->x = p.x, s->v = p.v, s->C = p.C, s->F = p.F, s->mass = p.mass, s->volume = p.volume0;
-  }
-  // In the periodic copy the block stays clear of the wrap (it starts at x ≥ 0.02).
-  const auto F0 = a.F;
-  for (int k = 0; k < kSteps; ++k) {
-    reference::step<double, 2>(setup_of<2>(scene_for(2, c)), a, kDt);
-    reference::step<double, 2>(setup_of<2>(free_scene), b, kDt);
-  }
-  double dv = 0, dF = 0;
-  for (std::size_t q = 0; q < a.x.size(); ++q) {
-    dv = std::max(dv, (a.v[q] - b.v[q]).norm());
-    dF = std::max(dF, (a.F[q] - F0[q]).norm());
-  }
-  EXPECT_GT(dv, 0.1) << "the walls barely changed the velocities";
-  EXPECT_GT(dF, 1e-2) << "F barely changed";
+  MpmSimulation<double, 2> sim(scene_for(2, c));
+  place_block<2>(sim, c);
+  const auto& p = sim.particles();
+  auto final_velocities = [&](const reference::Setup<double, 2>& setup) {
+    reference::ParticleState<double, 2> s;
+    s.x = p.x, s.v = p.v, s.C = p.C, s.F = p.F, s.mass = p.mass, s.volume = p.volume0;
+    for (int k = 0; k < kSteps; ++k) reference::step<double, 2>(setup, s, kDt);
+    return s.v;
+  };
+  auto largest_change = [&](const std::vector<Vec<double, 2>>& a,
+                            const std::vector<Vec<double, 2>>& b) {
+    double d = 0;
+    for (std::size_t q = 0; q < a.size(); ++q) d = std::max(d, (a[q] - b[q]).norm());
+    return d;
+  };
+  const reference::Setup<double, 2> full = setup_of<2>(scene_for(2, c));
+  reference::Setup<double, 2> no_walls = full, no_collider = full, no_stress = full;
+  no_walls.walls.fill(BoundaryCondition::periodic);  // the block stays clear of the wrap
+  no_walls.colliders.clear();
+  no_collider.colliders.clear();
+  no_stress.lame = {0, 0};
+  const auto v = final_velocities(full);
+  const double walls = largest_change(v, final_velocities(no_walls));
+  const double collider = largest_change(v, final_velocities(no_collider));
+  const double stress = largest_change(v, final_velocities(no_stress));
+  std::printf(
+      "[ reference ] largest |Δv| without walls %.3g, without collider %.3g, without stress %.3g\n",
+      walls, collider, stress);
+  EXPECT_GT(walls, 0.1);
+  EXPECT_GT(collider, 1e-3);
+  EXPECT_GT(stress, 0.1);
 }
 
 }  // namespace
