@@ -1,4 +1,4 @@
-// `apiclab roundtrip`: the Sec 6.8 transfer-error probe, CSV on stdout.
+// `apiclab roundtrip`: Sec 6.8 round-trip error of the solver's own G2P and P2G; CSV on stdout.
 #include <cstdio>
 #include <sstream>
 

@@ -1,4 +1,5 @@
-// The round-trip transfer error probe of Jiang et al. 2017, Sec 6.8 (Fig 11).
+// The round-trip transfer error probe of Jiang et al. 2017, Sec 6.8 (Fig 11), measured on the
+// solver's own G2P and P2G (MpmSimulation's public phases), not on a copy of them.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -15,7 +16,9 @@ struct RoundTripResult {
 };
 
 // Periodic [0, 2π]², Poisson disk particles with minimum separation Δx/3, grid velocity
-// (1.1 sin x, 0.9 cos y); G2P then P2G with Δt = 0. Scheme pic, apic or rpic.
-RoundTripResult roundtrip_error(KernelType kernel, Scheme scheme, int resolution, std::uint64_t seed = 1);
+// (1.1 sin x, 0.9 cos y); the solver's G2P then P2G with Δt = 0. Scheme pic, apic or rpic
+// (std::invalid_argument for flip or a resolution below 4).
+RoundTripResult roundtrip_error(KernelType kernel, Scheme scheme, int resolution,
+                                std::uint64_t seed = 1);
 
 }  // namespace apiclab
