@@ -75,24 +75,6 @@ std::vector<Vec3> plane_in_box(Vec3 p, Vec3 n, const Box3& box, int dim) {
 
 }  // namespace
 
-Box3 domain_box(const Snapshot& s) {
-  Box3 b{to_vec3(s.domain_min), to_vec3(s.domain_max)};
-  if (s.dim == 2) b.min.z = b.max.z = 0;
-  return b;
-}
-
-Box3 particle_box(const Snapshot& s) {
-  if (s.count() == 0) return domain_box(s);
-  Box3 b{{1e30f, 1e30f, 0}, {-1e30f, -1e30f, 0}};
-  if (s.dim == 3) b.min.z = 1e30f, b.max.z = -1e30f;
-  for (std::size_t i = 0; i < s.count(); ++i)
-    for (int k = 0; k < s.dim; ++k) {
-      b.min[k] = std::min(b.min[k], s.positions[i * s.dim + k]);
-      b.max[k] = std::max(b.max[k], s.positions[i * s.dim + k]);
-    }
-  return b;
-}
-
 Rgba8 particle_color(const Snapshot& s, std::size_t i, const SceneStyle& style) {
   switch (style.color) {
     case ColorMode::material:
@@ -104,10 +86,7 @@ Rgba8 particle_color(const Snapshot& s, std::size_t i, const SceneStyle& style) 
     case ColorMode::speed:
       break;
   }
-  const float* v = &s.velocities[i * s.dim];
-  float speed2 = 0;
-  for (int k = 0; k < s.dim; ++k) speed2 += v[k] * v[k];
-  return to_rgba8(viridis(std::sqrt(speed2) / style.color_max));
+  return to_rgba8(viridis(particle_speed(s, i) / style.color_max));
 }
 
 bool carries_arrow(std::size_t id, int every) {
@@ -254,6 +233,8 @@ void Renderer::draw_scene(const Snapshot& s, const Camera& camera, Rect rect,
   if (style.grid && s.dx > 0 && s.dx * ppu >= 3)
     add_grid(box, float(s.dx), three_d ? (up + 1) % 3 : 0, three_d ? (up + 2) % 3 : 1,
              style.line_px);
+  if (!s.grids.empty()) add_grid_layers(s, camera, style.line_px, ppu, style.grid_field);
+  draw_fills(scene_fills_, view_projection);
   draw_segments(scene_lines_, camera.view, camera.projection, viewport);
 
   // 2. Particles. Alpha to coverage antialiases sphere silhouettes without sorting; 2D
@@ -276,6 +257,7 @@ void Renderer::draw_scene(const Snapshot& s, const Camera& camera, Rect rect,
 
   // 3. Domain box and colliders over the particles (depth-tested in 3D), then the arrows.
   scene_lines_.clear();
+  scene_fills_.clear();
   if (style.box) add_box(box, s.dim, style.line_px);
   if (style.colliders)
     for (const ColliderDesc& c : s.colliders) add_collider(c, box, s.dim, style.line_px, ppu);
