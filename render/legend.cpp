@@ -118,8 +118,11 @@ void draw_legend(Renderer& r, Rect area, float font, float pad, const SceneStyle
     y += 0.8f * f;
     r.text("arrows", x, y, f, kText);
     y += 0.9f * f;
-    const float lw = std::max(1.0f, f / 16);
-    r.line({x, y}, {x + len, y}, 0.9f * lw, {20, 20, 20, 235}, std::max(4.0f, 3.5f * lw));
+    // On a pixel centre and at least a pixel wide: without multisampling (the GUI under a
+    // software rasterizer) a thinner line between pixel rows vanishes.
+    const float lw = std::max(1.0f, f / 16), line_y = std::round(y) + 0.5f;
+    r.line({x, line_y}, {x + len, line_y}, std::max(1.0f, 0.9f * lw), {20, 20, 20, 235},
+           std::max(4.0f, 3.5f * lw));
     y += 1.3f * f;
     r.text("|v| = " + format_g(speed), x, y, f, kText);
   }

@@ -1,7 +1,8 @@
 // The one categorical palette: materials, objects, GUI panes, plot series and the schemes'
 // colours in figures all index it, so index k is the same colour everywhere. Okabe & Ito's
 // colour-blind-safe colours, ordered so that the four schemes (pic, flip, apic, rpic) take
-// the first four. tests/figures_tests.sh checks the schemes' hex values against this table.
+// the first four. tests/figures_tests.sh repeats the schemes' hex values (a shell script
+// cannot include this); test_render's Palette test pins them to the same strings.
 #pragma once
 #include <cctype>
 #include <cstdint>

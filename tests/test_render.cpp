@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
@@ -15,6 +16,7 @@
 #include "render/target.hpp"
 #include "render/text.hpp"
 #include "render/palette.hpp"
+#include "render/scene_geometry.hpp"
 #include "render_scenes.hpp"
 
 namespace {
@@ -345,6 +347,16 @@ TEST(Palette, OneColourPerSchemeAndCategory) {
   EXPECT_EQ(packed_abgr(scheme_color("rpic")), packed_abgr(category_color(3)));
   EXPECT_EQ(packed_abgr(scheme_color("pic")), packed_abgr(palette_color(0)));
   EXPECT_EQ(scheme_label("apic"), "APIC");
+  // The hex values tests/figures_tests.sh looks for in the figures' lines.
+  auto hex = [](Rgba8 c) {
+    char buf[8];
+    std::snprintf(buf, sizeof buf, "%02x%02x%02x", c.r, c.g, c.b);
+    return std::string(buf);
+  };
+  EXPECT_EQ(hex(scheme_color("pic")), "0072b2");
+  EXPECT_EQ(hex(scheme_color("flip")), "d55e00");
+  EXPECT_EQ(hex(scheme_color("apic")), "009e73");
+  EXPECT_EQ(hex(scheme_color("rpic")), "cc79a7");
   Snapshot s;
   s.scheme = "flip";
   s.flip_alpha = 0.95;
@@ -434,6 +446,20 @@ TEST(Render, UnknownKeysAreRejected) {
   EXPECT_THROW(parse_backend("vulkan"), std::invalid_argument);
   EXPECT_THROW(parse_color_mode("rainbow"), std::invalid_argument);
   EXPECT_EQ(parse_color_mode("noise"), ColorMode::noise);
+}
+
+TEST(SceneGeometry, PlaneInBox) {
+  const Box3 unit{{0, 0, 0}, {1, 1, 1}};
+  // A horizontal plane through the middle of the cube: its square cross-section.
+  const std::vector<Vec3> square = plane_in_box({0.5f, 0.5f, 0.5f}, {0, 1, 0}, unit, 3);
+  ASSERT_EQ(square.size(), 4u);
+  for (const Vec3& c : square) EXPECT_NEAR(c.y, 0.5f, 1e-6f);
+  // A diagonal plane cutting three edges at one corner: a triangle.
+  EXPECT_EQ(plane_in_box({0.2f, 0, 0}, normalize(Vec3{1, 1, 1}), unit, 3).size(), 3u);
+  // 2D: a slanted line crosses the square in two points; a plane outside misses it.
+  const Box3 square2d{{0, 0, 0}, {2, 1, 0}};
+  EXPECT_EQ(plane_in_box({0, 0.25f, 0}, normalize(Vec3{0.1f, 1, 0}), square2d, 2).size(), 2u);
+  EXPECT_TRUE(plane_in_box({0, 5, 0}, {0, 1, 0}, square2d, 2).empty());
 }
 
 TEST(Image, ComparisonToleratesSmallDifferences) {
