@@ -12,9 +12,9 @@
 namespace apiclab::render {
 
 inline constexpr float kScaleQuantile = 0.995f;
-inline constexpr float kNoiseFloor = 1e-3f;       // of the speed scale
-inline constexpr float kArrowSpacings = 2.5f;     // an arrow at the speed scale spans this many
-inline constexpr float kPixelsPerArrow = 12 * 12; // about one arrow per 12 x 12 pixels of scene
+inline constexpr float kNoiseFloor = 1e-3f;        // of the speed scale
+inline constexpr float kArrowSpacings = 2.5f;      // an arrow at the speed scale spans this many
+inline constexpr float kPixelsPerArrow = 12 * 12;  // about one arrow per 12 x 12 pixels of scene
 
 // How the scales follow a run: `grow` only ever raises them (colours keep their meaning and
 // arrows only shorten), `first_frame` keeps the first non-zero values for the whole run.

@@ -39,14 +39,13 @@ void Renderer::add_grid_layers(const Snapshot& s, const Camera& camera, float li
     // Outline: the box from node 0 to the last node.
     const Vec3 extent{dx * float(n[0] - 1), dx * float(n[1] - 1), dx * float(n[2] - 1)};
     auto corner = [&](int c) {
-      return to_world(g, {c & 1 ? extent.x : 0, c & 2 ? extent.y : 0, c & 4 ? extent.z : 0},
-                      s.dim);
+      return to_world(g, {c & 1 ? extent.x : 0, c & 2 ? extent.y : 0, c & 4 ? extent.z : 0}, s.dim);
     };
     for (int c = 0; c < (s.dim == 3 ? 8 : 4); ++c)
       for (int axis = 0; axis < s.dim; ++axis)
         if (!(c & (1 << axis)))
-          scene_lines_.push_back({corner(c), corner(c | (1 << axis)), kGridOutline,
-                                  1.4f * line_px, 0, 0});
+          scene_lines_.push_back(
+              {corner(c), corner(c | (1 << axis)), kGridOutline, 1.4f * line_px, 0, 0});
     const GridLayer::Field* f = field_of(g, field);
     if (!f) continue;
     const auto [lo, hi] = std::minmax_element(f->values.begin(), f->values.end());
@@ -60,10 +59,9 @@ void Renderer::add_grid_layers(const Snapshot& s, const Camera& camera, float li
           if (s.dim == 2) {
             const Rgba8 c = to_rgba8(viridis(t), 0.6f);
             const float h = 0.5f * dx;
-            const Vec3 quad[4] = {to_world(g, q + Vec3{-h, -h, 0}, 2),
-                                  to_world(g, q + Vec3{h, -h, 0}, 2),
-                                  to_world(g, q + Vec3{h, h, 0}, 2),
-                                  to_world(g, q + Vec3{-h, h, 0}, 2)};
+            const Vec3 quad[4] = {
+                to_world(g, q + Vec3{-h, -h, 0}, 2), to_world(g, q + Vec3{h, -h, 0}, 2),
+                to_world(g, q + Vec3{h, h, 0}, 2), to_world(g, q + Vec3{-h, h, 0}, 2)};
             for (int v : {0, 1, 2, 0, 2, 3}) scene_fills_.push_back({quad[v], c});
           } else {
             const Vec3 p = to_world(g, q, 3), half = right * (0.18f * dx);

@@ -30,7 +30,8 @@ float draw_color_bar(Renderer& r, float x, float y, float f, float height, float
   const float bar_w = 0.9f * f, bar_h = std::min(0.5f * height, 14.0f * f);
   constexpr int steps = 48;
   for (int k = 0; k < steps; ++k) {
-    const float y0 = y + bar_h * (1 - float(k + 1) / steps), y1 = y + bar_h * (1 - float(k) / steps);
+    const float y0 = y + bar_h * (1 - float(k + 1) / steps),
+                y1 = y + bar_h * (1 - float(k) / steps);
     const Rgba8 c0 = to_rgba8(viridis(float(k) / steps)),
                 c1 = to_rgba8(viridis(float(k + 1) / steps));
     const Vec2 q[4] = {{x, y1}, {x + bar_w, y1}, {x + bar_w, y0}, {x, y0}};
@@ -95,8 +96,9 @@ void draw_legend(Renderer& r, Rect area, float font, float pad, const SceneStyle
       y += 1.4f * f;
     }
   } else {
-    const int n = s.color == ColorMode::material ? std::max<int>(1, int(first.material_names.size()))
-                                                 : object_count(first);
+    const int n = s.color == ColorMode::material
+                      ? std::max<int>(1, int(first.material_names.size()))
+                      : object_count(first);
     for (int k = 0; k < n; ++k) {
       y += 0.3f * f;
       r.fill_rect({x, std::round(y), std::round(bar_w), std::round(bar_w)}, category_color(k));

@@ -14,9 +14,8 @@
 namespace apiclab::render {
 
 // Blue, vermillion, bluish green, reddish purple, orange, sky blue, yellow, dark grey.
-inline constexpr Rgba8 kPalette[] = {{0, 114, 178},  {213, 94, 0},    {0, 158, 115},
-                                     {204, 121, 167}, {230, 159, 0},  {86, 180, 233},
-                                     {240, 228, 66},  {60, 60, 60}};
+inline constexpr Rgba8 kPalette[] = {{0, 114, 178}, {213, 94, 0},   {0, 158, 115},  {204, 121, 167},
+                                     {230, 159, 0}, {86, 180, 233}, {240, 228, 66}, {60, 60, 60}};
 inline constexpr int kPaletteSize = int(sizeof kPalette / sizeof kPalette[0]);
 
 // Colour `index` of the palette, cycling (negative indices too).

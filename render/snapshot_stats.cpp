@@ -46,17 +46,20 @@ float quantile_of(std::vector<float>& values, float q) {
 }
 
 float speed_quantile(const Snapshot& s, float q) {
-  return sampled_quantile(s.count(), [&](std::size_t i) { return particle_speed(s, i); }, q);
+  return sampled_quantile(
+      s.count(), [&](std::size_t i) { return particle_speed(s, i); }, q);
 }
 
 float noise_quantile(const Snapshot& s, float q) {
   const std::size_t n = std::min(s.count(), s.noise.size());
-  return sampled_quantile(n, [&](std::size_t i) { return s.noise[i]; }, q);
+  return sampled_quantile(
+      n, [&](std::size_t i) { return s.noise[i]; }, q);
 }
 
 float typical_radius(const Snapshot& s) {
   if (s.radius.empty()) return float(s.dx) * 0.25f;
-  return sampled_quantile(s.radius.size(), [&](std::size_t i) { return s.radius[i]; }, 0.5f);
+  return sampled_quantile(
+      s.radius.size(), [&](std::size_t i) { return s.radius[i]; }, 0.5f);
 }
 
 int up_axis_from_gravity(const Vec3d& gravity, int dim) {

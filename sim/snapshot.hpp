@@ -45,7 +45,8 @@ struct Snapshot {
   double flip_alpha = 1;  // FLIP's blend (eq 3); labels show it for the FLIP scheme only
   // Per particle, in a stable order (particle id), dim floats each.
   std::vector<float> positions, velocities;
-  std::vector<float> noise;  // |v_p − Σ w_ip v_i| after a fresh P2G: FLIP's null modes (may be empty)
+  // |v_p − Σ w_ip v_i| after a fresh P2G: FLIP's null modes (may be empty).
+  std::vector<float> noise;
   std::vector<std::int32_t> material, object;
   std::vector<float> radius;  // drawing radius per particle (half the sampling spacing)
   // The scene's frame of reference.

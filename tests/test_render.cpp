@@ -13,10 +13,10 @@
 #include "render/auto_scale.hpp"
 #include "render/context.hpp"
 #include "render/figure.hpp"
-#include "render/target.hpp"
-#include "render/text.hpp"
 #include "render/palette.hpp"
 #include "render/scene_geometry.hpp"
+#include "render/target.hpp"
+#include "render/text.hpp"
 #include "render_scenes.hpp"
 
 namespace {
@@ -205,7 +205,8 @@ TEST(Render, LargeParticlesBecomeQuads) {
 Image crop(const Image& img, const Rect& r) {
   Image c(int(r.w), int(r.h));
   for (int y = 0; y < c.height; ++y)
-    for (int x = 0; x < c.width; ++x) std::copy_n(img.pixel(int(r.x) + x, int(r.y) + y), 4, c.pixel(x, y));
+    for (int x = 0; x < c.width; ++x)
+      std::copy_n(img.pixel(int(r.x) + x, int(r.y) + y), 4, c.pixel(x, y));
   return c;
 }
 
@@ -269,16 +270,18 @@ TEST(RenderPaths, ArrowLengthDoesNotDependOnTheColourMode) {
   FigureStyle base;
   base.vectors = true;
   base.particle_scale = 0.2f;  // small particles: the arrows are what shows
-  base.legend = false;  // the legend's width depends on the mode; the scene rect must not
+  base.legend = false;         // the legend's width depends on the mode; the scene rect must not
   const int w = 480, h = 300;
   const Rect rect = scene_rect_of(s, base, w, h);
   std::vector<bool> png_ink, gui_ink;
   float vector_scale = 0;
-  for (ColorMode mode : {ColorMode::speed, ColorMode::material, ColorMode::noise, ColorMode::object}) {
+  for (ColorMode mode :
+       {ColorMode::speed, ColorMode::material, ColorMode::noise, ColorMode::object}) {
     FigureStyle style = base;
     style.color = mode;
     SceneStyle resolved;
-    const std::vector<bool> gui = arrow_ink(crop(draw_like_gui(s, style, rect, w, h, &resolved), rect));
+    const std::vector<bool> gui =
+        arrow_ink(crop(draw_like_gui(s, style, rect, w, h, &resolved), rect));
     const std::vector<bool> png = arrow_ink(crop(draw({&s}, style, w, h), rect));
     if (png_ink.empty()) {
       png_ink = png, gui_ink = gui, vector_scale = resolved.vector_scale;
