@@ -25,7 +25,10 @@ float hold(ScaleHold how, float held, float now) {
 
 void update_scales(ScaleState& state, const std::vector<const Snapshot*>& panes) {
   float speed = 0, noise = 0;
-  for (const Snapshot* p : healthy_panes(panes)) {
+  const std::vector<const Snapshot*> healthy = healthy_panes(panes);
+  if (healthy.empty()) return;
+  state.radius = typical_radius(*healthy.front());
+  for (const Snapshot* p : healthy) {
     speed = std::max(speed, speed_quantile(*p, kScaleQuantile));
     noise = std::max(noise, noise_quantile(*p, kScaleQuantile));
   }
@@ -52,7 +55,8 @@ SceneStyle resolve_scene_style(const FigureStyle& style, const std::vector<const
   if (panes.empty()) return s;
   s.color_max = style.color_max > 0 ? style.color_max : color_top(state, style.color);
 
-  const Snapshot& first = *healthy_panes(panes).front();
+  const auto healthy = std::find_if(panes.begin(), panes.end(), [](auto p) { return !p->failure; });
+  const Snapshot& first = healthy != panes.end() ? **healthy : *panes.front();
   if (style.vector_every > 0) {
     s.vector_every = style.vector_every;
   } else {
@@ -65,7 +69,7 @@ SceneStyle resolve_scene_style(const FigureStyle& style, const std::vector<const
     // Spacing between arrows: one per `every` particles sampled 2r apart, in `dim`
     // dimensions (the particles' drawing size does not move them apart).
     const float spacing =
-        2 * typical_radius(first) * std::pow(float(s.vector_every), 1.0f / float(first.dim));
+        2 * state.radius * std::pow(float(s.vector_every), 1.0f / float(first.dim));
     s.vector_scale = kArrowSpacings * spacing / state.speed * style.vector_gain;
   } else {
     s.vector_scale = 0;  // nothing moves: no arrows to draw

@@ -23,9 +23,10 @@ enum class ScaleHold { grow, first_frame };
 // The scales of a run, shared by all its panes; hold one across frames.
 struct ScaleState {
   ScaleHold hold = ScaleHold::grow;
-  float speed = 0;  // speed scale: top of the speed colours, reference speed of the arrows
-  float noise = 0;  // top of the noise colours
-  void reset() { speed = noise = 0; }
+  float speed = 0;   // speed scale: top of the speed colours, reference speed of the arrows
+  float noise = 0;   // top of the noise colours
+  float radius = 0;  // median drawing radius of the latest panes: sets the arrows' spacing
+  void reset() { speed = noise = radius = 0; }
 };
 using FigureState = ScaleState;  // the name the frame loops know it by
 
