@@ -27,6 +27,7 @@
 #include "commands.hpp"
 #include "render/figure.hpp"
 #include "render/image.hpp"
+#include "render/palette.hpp"
 #include "render/renderer.hpp"
 #include "render/target.hpp"
 #include "sim/roundtrip.hpp"
@@ -39,22 +40,13 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
-// One color per scheme, the same in every figure (Okabe–Ito, readable by color-blind eyes).
+// One colour and label per scheme, the same in every figure and the GUI (render/palette.hpp).
 struct SchemeStyle {
-  const char* key;
-  const char* label;
+  std::string label;
   ImU32 color;
 };
-constexpr SchemeStyle kSchemes[] = {
-    {"pic", "PIC", IM_COL32(0, 114, 178, 255)},
-    {"flip", "FLIP", IM_COL32(213, 94, 0, 255)},
-    {"apic", "APIC", IM_COL32(0, 158, 115, 255)},
-    {"rpic", "RPIC", IM_COL32(204, 121, 167, 255)},
-};
-const SchemeStyle& style_of(const std::string& key) {
-  for (auto& s : kSchemes)
-    if (key == s.key) return s;
-  return kSchemes[0];
+SchemeStyle style_of(const std::string& key) {
+  return {render::scheme_label(key), render::packed_abgr(render::scheme_color(key))};
 }
 
 // One simulation run: the diagnostics rows from t = 0 and, when asked, snapshots at given times.
@@ -255,7 +247,7 @@ void write_roundtrip_figure(figures::ChartCanvas& canvas, const std::vector<int>
     const double slope = fitted_slope(results[s]);
     slopes.push_back(slope);
     char label[64];
-    std::snprintf(label, sizeof label, "%s (slope %.2f)", style_of(schemes[s]).label, slope);
+    std::snprintf(label, sizeof label, "%s (slope %.2f)", style_of(schemes[s]).label.c_str(), slope);
     gui::PlotSeries p;
     p.label = label;
     p.color = style_of(schemes[s]).color;

@@ -145,11 +145,7 @@ struct Session {
     fit_particles = o.fit == "particles";
     scene = load_scene_with_options(o.run);
     style.time_step = 1 / scene.time.fps;
-    // Up on screen is against gravity (y when there is none).
-    double strongest = 0;
-    for (int a = 0; a < scene.dim; ++a)
-      if (std::abs(scene.gravity[a]) > strongest)
-        strongest = std::abs(scene.gravity[a]), style.up_axis = a;
+    style.up_axis = render::up_axis_from_gravity(scene.gravity, scene.dim);
     apply_threads(o.run.threads);
     ensure_writable_dir(o.out);
     if (!o.video.empty()) {

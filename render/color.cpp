@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "render/palette.hpp"
+
 namespace apiclab::render {
 
 ColorMode parse_color_mode(std::string_view key) {
@@ -44,13 +46,7 @@ Vec3 viridis(float t) {
   return {std::clamp(r.x, 0.0f, 1.0f), std::clamp(r.y, 0.0f, 1.0f), std::clamp(r.z, 0.0f, 1.0f)};
 }
 
-Rgba8 category_color(int index) {
-  // Blue, vermillion, bluish green, orange, sky blue, reddish purple, yellow, black.
-  static const Rgba8 palette[] = {{0, 114, 178},  {213, 94, 0},    {0, 158, 115},  {230, 159, 0},
-                                  {86, 180, 233}, {204, 121, 167}, {240, 228, 66}, {60, 60, 60}};
-  constexpr int n = sizeof palette / sizeof palette[0];
-  return palette[((index % n) + n) % n];
-}
+Rgba8 category_color(int index) { return palette_color(index); }
 
 Rgba8 to_rgba8(Vec3 c, float alpha) {
   auto q = [](float v) { return std::uint8_t(std::clamp(v, 0.0f, 1.0f) * 255.0f + 0.5f); };

@@ -21,7 +21,7 @@ inline bool is_scalar(ColorMode m) { return m == ColorMode::speed || m == ColorM
 // Viridis (van der Walt & Smith, matplotlib), perceptually uniform, legible in grey;
 // t in [0, 1], clamped.
 Vec3 viridis(float t);
-// Okabe & Ito's color-blind-safe palette, cycling.
+// Materials and objects: render/palette.hpp's palette, cycling.
 Rgba8 category_color(int index);
 Rgba8 to_rgba8(Vec3 rgb, float alpha = 1);
 

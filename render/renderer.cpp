@@ -6,6 +6,7 @@
 
 #include "render/gl.hpp"
 #include "render/program.hpp"
+#include "render/scene_geometry.hpp"
 
 namespace apiclab::render {
 namespace {
@@ -36,62 +37,7 @@ void upload(GLuint vbo, const std::vector<T>& data) {
   gl::BufferData(GL_ARRAY_BUFFER, GLsizeiptr(data.size() * sizeof(T)), data.data(), GL_STREAM_DRAW);
 }
 
-// Corners of the plane n·(x − p) = 0 inside the box, in order around the polygon
-// (2 points in 2D, 3 to 6 in 3D); empty when the plane misses the box.
-std::vector<Vec3> plane_in_box(Vec3 p, Vec3 n, const Box3& box, int dim) {
-  const int corners = dim == 2 ? 4 : 8;
-  auto corner = [&](int i) {
-    return Vec3{i & 1 ? box.max.x : box.min.x, i & 2 ? box.max.y : box.min.y,
-                i & 4 ? box.max.z : box.min.z};
-  };
-  const float eps = 1e-5f * std::max(length(box.size()), 1e-12f);
-  std::vector<Vec3> points;
-  auto add = [&](Vec3 q) {
-    for (const Vec3& o : points)
-      if (length(o - q) < eps) return;
-    points.push_back(q);
-  };
-  for (int i = 0; i < corners; ++i) {
-    float si = dot(corner(i) - p, n);
-    if (std::abs(si) < eps) add(corner(i));
-    for (int axis = 0; axis < dim; ++axis) {
-      int j = i | (1 << axis);
-      if (j == i) continue;
-      float sj = dot(corner(j) - p, n);
-      if ((si < -eps && sj > eps) || (si > eps && sj < -eps))
-        add(corner(i) + (corner(j) - corner(i)) * (si / (si - sj)));
-    }
-  }
-  if (points.size() < 3) return points;
-  // Sort around the centroid in the plane.
-  Vec3 c;
-  for (const Vec3& q : points) c = c + q * (1.0f / float(points.size()));
-  Vec3 u = normalize(points[0] - c), v = cross(normalize(n), u);
-  std::sort(points.begin(), points.end(), [&](Vec3 a, Vec3 b) {
-    return std::atan2(dot(a - c, v), dot(a - c, u)) < std::atan2(dot(b - c, v), dot(b - c, u));
-  });
-  return points;
-}
-
 }  // namespace
-
-Box3 domain_box(const Snapshot& s) {
-  Box3 b{to_vec3(s.domain_min), to_vec3(s.domain_max)};
-  if (s.dim == 2) b.min.z = b.max.z = 0;
-  return b;
-}
-
-Box3 particle_box(const Snapshot& s) {
-  if (s.count() == 0) return domain_box(s);
-  Box3 b{{1e30f, 1e30f, 0}, {-1e30f, -1e30f, 0}};
-  if (s.dim == 3) b.min.z = 1e30f, b.max.z = -1e30f;
-  for (std::size_t i = 0; i < s.count(); ++i)
-    for (int k = 0; k < s.dim; ++k) {
-      b.min[k] = std::min(b.min[k], s.positions[i * s.dim + k]);
-      b.max[k] = std::max(b.max[k], s.positions[i * s.dim + k]);
-    }
-  return b;
-}
 
 Rgba8 particle_color(const Snapshot& s, std::size_t i, const SceneStyle& style) {
   switch (style.color) {
@@ -104,10 +50,7 @@ Rgba8 particle_color(const Snapshot& s, std::size_t i, const SceneStyle& style) 
     case ColorMode::speed:
       break;
   }
-  const float* v = &s.velocities[i * s.dim];
-  float speed2 = 0;
-  for (int k = 0; k < s.dim; ++k) speed2 += v[k] * v[k];
-  return to_rgba8(viridis(std::sqrt(speed2) / style.color_max));
+  return to_rgba8(viridis(particle_speed(s, i) / style.color_max));
 }
 
 bool carries_arrow(std::size_t id, int every) {
@@ -254,6 +197,8 @@ void Renderer::draw_scene(const Snapshot& s, const Camera& camera, Rect rect,
   if (style.grid && s.dx > 0 && s.dx * ppu >= 3)
     add_grid(box, float(s.dx), three_d ? (up + 1) % 3 : 0, three_d ? (up + 2) % 3 : 1,
              style.line_px);
+  if (!s.grids.empty()) add_grid_layers(s, camera, style.line_px, ppu, style.grid_field);
+  draw_fills(scene_fills_, view_projection);
   draw_segments(scene_lines_, camera.view, camera.projection, viewport);
 
   // 2. Particles. Alpha to coverage antialiases sphere silhouettes without sorting; 2D
@@ -276,6 +221,7 @@ void Renderer::draw_scene(const Snapshot& s, const Camera& camera, Rect rect,
 
   // 3. Domain box and colliders over the particles (depth-tested in 3D), then the arrows.
   scene_lines_.clear();
+  scene_fills_.clear();
   if (style.box) add_box(box, s.dim, style.line_px);
   if (style.colliders)
     for (const ColliderDesc& c : s.colliders) add_collider(c, box, s.dim, style.line_px, ppu);

@@ -1,16 +1,18 @@
 // Draws immutable Snapshots into whatever OpenGL 3.3 core context is current (an offscreen
-// one for `apiclab render`, the GUI's window later): particles as discs (2D) or sphere
+// one for `apiclab render` and the tests, the GUI's window): particles as discs (2D) or sphere
 // impostors (3D), velocity arrows, domain box, colliders, grid lines, and a pixel-space
 // overlay (panels, lines, text) drawn over everything at end_frame().
 #pragma once
 #include <map>
 #include <memory>
+#include <string>
 #include <string_view>
 #include <vector>
 
 #include "render/camera.hpp"
 #include "render/color.hpp"
 #include "render/math.hpp"
+#include "render/snapshot_stats.hpp"
 #include "render/text.hpp"
 #include "sim/snapshot.hpp"
 
@@ -22,7 +24,7 @@ struct Rect {
   float x = 0, y = 0, w = 0, h = 0;  // pixels, origin at the top left
 };
 
-// How one scene is drawn, every value resolved (figure.hpp picks the automatic ones).
+// How one scene is drawn, every value resolved (auto_scale.hpp picks the automatic ones).
 struct SceneStyle {
   ColorMode color = ColorMode::speed;
   float color_max = 1;  // speed or noise at the top of the colormap
@@ -32,12 +34,9 @@ struct SceneStyle {
   bool box = true, colliders = true, grid = false;
   float particle_scale = 1;  // multiplies each particle's drawing radius
   float line_px = 1;         // width of thin lines, pixels
+  std::string grid_field;    // grid layers: the node field to colour by (empty: each one's first)
 };
 
-// Box of a snapshot's domain (2D: z from 0 to 0).
-Box3 domain_box(const Snapshot& s);
-// Bounding box of the particles' centres (the domain box when there are none).
-Box3 particle_box(const Snapshot& s);
 // The color of particle i in `style`'s mode.
 Rgba8 particle_color(const Snapshot& s, std::size_t i, const SceneStyle& style);
 // Whether particle `id` carries an arrow when one in `every` does (steady across frames).
@@ -102,6 +101,9 @@ class Renderer {
   void add_box(const Box3& box, int dim, float line_px);
   void add_collider(const ColliderDesc& c, const Box3& box, int dim, float line_px,
                     float pixels_per_unit);
+  // The snapshot's grid layers into scene_lines_ / scene_fills_ (render/grid_layers.cpp).
+  void add_grid_layers(const Snapshot& s, const Camera& camera, float line_px,
+                       float pixels_per_unit, const std::string& field);
   void draw_arrows(const Snapshot& s, const Camera& camera, Vec2 viewport, const SceneStyle& style);
   // The floor of a 3D domain (the face at the minimum of axis `up`) with contact shadows.
   void draw_floor(const Box3& box, int up, const Mat4& view_projection, Rect rect);

@@ -51,6 +51,31 @@ void RenderTarget::bind() {
   gl::Viewport(0, 0, width_, height_);
 }
 
+namespace {
+
+// The pixels of the bound read buffer, flipped so that the top row comes first.
+Image read_bound_pixels(int width, int height) {
+  gl::PixelStorei(GL_PACK_ALIGNMENT, 1);
+  Image image(width, height);
+  std::vector<std::uint8_t> rows(image.rgba.size());
+  gl::ReadPixels(0, 0, width, height, GL_RGBA, GL_UNSIGNED_BYTE, rows.data());
+  // OpenGL's first row is the bottom one.
+  const std::size_t stride = std::size_t(width) * 4;
+  for (int y = 0; y < height; ++y)
+    std::memcpy(&image.rgba[y * stride], &rows[(height - 1 - y) * stride], stride);
+  return image;
+}
+
+}  // namespace
+
+Image read_window_pixels(int width, int height) {
+  gl::BindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  gl::ReadBuffer(GL_BACK);
+  Image image = read_bound_pixels(width, height);
+  for (std::size_t i = 3; i < image.rgba.size(); i += 4) image.rgba[i] = 255;
+  return image;
+}
+
 Image RenderTarget::read() {
   gl::BindFramebuffer(GL_READ_FRAMEBUFFER, msaa_fbo_);
   gl::BindFramebuffer(GL_DRAW_FRAMEBUFFER, resolve_fbo_);
@@ -58,14 +83,7 @@ Image RenderTarget::read() {
                       GL_NEAREST);
   gl::BindFramebuffer(GL_READ_FRAMEBUFFER, resolve_fbo_);
   gl::ReadBuffer(GL_COLOR_ATTACHMENT0);
-  gl::PixelStorei(GL_PACK_ALIGNMENT, 1);
-  Image image(width_, height_);
-  std::vector<std::uint8_t> rows(image.rgba.size());
-  gl::ReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, rows.data());
-  // OpenGL's first row is the bottom one.
-  const std::size_t stride = std::size_t(width_) * 4;
-  for (int y = 0; y < height_; ++y)
-    std::memcpy(&image.rgba[y * stride], &rows[(height_ - 1 - y) * stride], stride);
+  Image image = read_bound_pixels(width_, height_);
   bind();
   return image;
 }

@@ -4,6 +4,9 @@
 
 namespace apiclab::render {
 
+// The window's back buffer (framebuffer 0) as an opaque image, top row first: GUI screenshots.
+Image read_window_pixels(int width, int height);
+
 class RenderTarget {
  public:
   // Needs a current context. samples is clamped to what the driver offers (llvmpipe: 4).

@@ -1,5 +1,6 @@
 // An immutable picture of one simulation at one time: what the renderer draws and the GUI
-// shows (DESIGN.md, Threads). Produced by the simulation owner, shared as shared_ptr<const>.
+// shows (docs/architecture.md, Threads). Produced by the simulation owner, shared as
+// shared_ptr<const>.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -7,7 +8,6 @@
 #include <string>
 #include <vector>
 
-#include "diagnostics.hpp"
 #include "scene.hpp"
 
 namespace apiclab {
@@ -20,15 +20,33 @@ struct Failure {
   std::string message;   // one line for the user
 };
 
+// A grid that carries values at its nodes, in a frame of its own: node (i, j, k) sits at
+// world x = R (dx (i, j, k)) + t. Solvers with moving grids (Eulerian-on-Lagrangian) fill
+// these; the renderer draws each grid's outline and colours its nodes by one field.
+struct GridLayer {
+  struct Field {
+    std::string name;
+    std::vector<float> values;  // one per node, i fastest, then j, then k
+  };
+  std::string name;
+  std::array<double, 9> rotation{1, 0, 0, 0, 1, 0, 0, 0, 1};  // R, row-major, orthonormal
+  Vec3d translation{0, 0, 0};                                 // t: world position of node 0
+  std::array<int, 3> nodes{1, 1, 1};                          // per axis (2D: nodes[2] = 1)
+  double dx = 0;
+  std::vector<Field> fields;
+  std::size_t node_count() const { return std::size_t(nodes[0]) * nodes[1] * nodes[2]; }
+};
+
 struct Snapshot {
   int dim = 2;
   long step = 0;
   double time = 0;
   std::string scene_name, scheme, kernel, integrator;
-  double flip_alpha = 1;
+  double flip_alpha = 1;  // FLIP's blend (eq 3); labels show it for the FLIP scheme only
   // Per particle, in a stable order (particle id), dim floats each.
   std::vector<float> positions, velocities;
-  std::vector<float> noise;  // |v_p − Σ w_ip v_i| after a fresh P2G: FLIP's null modes (may be empty)
+  // |v_p − Σ w_ip v_i| after a fresh P2G: FLIP's null modes (may be empty).
+  std::vector<float> noise;
   std::vector<std::int32_t> material, object;
   std::vector<float> radius;  // drawing radius per particle (half the sampling spacing)
   // The scene's frame of reference.
@@ -36,8 +54,7 @@ struct Snapshot {
   double dx = 0;
   std::vector<ColliderDesc> colliders;
   std::vector<std::string> material_names;
-  // Diagnostics rows since the start of the run (the GUI plots them).
-  std::vector<DiagnosticsRow> diagnostics;
+  std::vector<GridLayer> grids;  // optional grid layers (none for the MPM solvers)
   std::optional<Failure> failure;
   std::size_t count() const { return dim ? positions.size() / size_t(dim) : 0; }
 };

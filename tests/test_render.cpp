@@ -3,13 +3,18 @@
 // Regenerate the golden images: APICLAB_REGENERATE_GOLDEN=1 ctest --test-dir BUILD -R render
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <string>
 
+#include "render/auto_scale.hpp"
 #include "render/context.hpp"
 #include "render/figure.hpp"
+#include "render/palette.hpp"
+#include "render/scene_geometry.hpp"
 #include "render/target.hpp"
 #include "render/text.hpp"
 #include "render_scenes.hpp"
@@ -107,15 +112,17 @@ TEST(Render, VectorsChangeTheImage) {
 }
 
 TEST(Render, ColorModesDiffer) {
-  const Snapshot s = synthetic::scene_2d();
+  Snapshot s = synthetic::scene_2d();
+  // The synthetic scene numbers objects like materials; swap them so the two modes differ.
+  for (std::int32_t& o : s.object) o = 1 - o;
   std::vector<Image> images;
   for (ColorMode m : {ColorMode::speed, ColorMode::material, ColorMode::noise, ColorMode::object}) {
     FigureStyle style;
     style.color = m;
     images.push_back(draw({&s}, style, 320, 240));
   }
-  for (std::size_t a = 0; a < 3; ++a)
-    for (std::size_t b = a + 1; b < 3; ++b)
+  for (std::size_t a = 0; a < images.size(); ++a)
+    for (std::size_t b = a + 1; b < images.size(); ++b)
       EXPECT_GT(differing_pixels(images[a], images[b]), 1000) << "modes " << a << " and " << b;
 }
 
@@ -194,6 +201,235 @@ TEST(Render, LargeParticlesBecomeQuads) {
   EXPECT_GT(coloured_pixels(img, scene), 200000);
 }
 
+// The scene area of a figure: what both paths draw.
+Image crop(const Image& img, const Rect& r) {
+  Image c(int(r.w), int(r.h));
+  for (int y = 0; y < c.height; ++y)
+    for (int x = 0; x < c.width; ++x)
+      std::copy_n(img.pixel(int(r.x) + x, int(r.y) + y), 4, c.pixel(x, y));
+  return c;
+}
+
+// The GUI pane path (app/gui/scene_view.cpp): scales updated from the panes, the style
+// resolved for the pane's rect, the scene drawn by draw_pane_scene through the linked
+// camera framed on the domain; no header or legend around it.
+Image draw_like_gui(const Snapshot& s, const FigureStyle& style, Rect rect, int w, int h,
+                    SceneStyle* resolved = nullptr) {
+  context().make_current();
+  static std::unique_ptr<Renderer> renderer;
+  if (!renderer) renderer = std::make_unique<Renderer>();
+  RenderTarget target(w, h);
+  ScaleState scales;
+  update_scales(scales, {&s});
+  const SceneStyle scene = resolve_scene_style(style, {&s}, rect, scales);
+  if (resolved) *resolved = scene;
+  const View view = frame_view(s.dim, domain_box(s), rect.w / rect.h, style.up_axis);
+  renderer->begin_frame(w, h);
+  draw_pane_scene(*renderer, s, view, rect, scene);
+  renderer->end_frame();
+  return target.read();
+}
+
+Rect scene_rect_of(const Snapshot& s, const FigureStyle& style, int w, int h) {
+  context().make_current();
+  Renderer r;
+  return figure_scene_rects(r, w, h, 1, s, style).front();
+}
+
+TEST(RenderPaths, GuiPaneDrawsWhatThePngDraws) {
+  for (const Snapshot& s : {synthetic::scene_2d(), synthetic::scene_3d()}) {
+    for (ColorMode mode : {ColorMode::speed, ColorMode::noise, ColorMode::material}) {
+      FigureStyle style;
+      style.color = mode;
+      style.vectors = true;
+      const int w = 480, h = 300;
+      const Rect rect = scene_rect_of(s, style, w, h);
+      const Image png = crop(draw({&s}, style, w, h), rect);
+      const Image gui = crop(draw_like_gui(s, style, rect, w, h), rect);
+      EXPECT_LE(differing_pixels(png, gui), long(rect.w * rect.h) / 500)
+          << s.scene_name << ", colour by " << key_of(mode);
+    }
+  }
+}
+
+// Pixels dark enough to be arrow ink (20, 20, 20), not particles (viridis and the palette
+// stay above it in some channel).
+std::vector<bool> arrow_ink(const Image& img) {
+  std::vector<bool> ink(std::size_t(img.width) * img.height);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const std::uint8_t* p = img.pixel(x, y);
+      ink[std::size_t(y) * img.width + x] = std::max({p[0], p[1], p[2]}) < 60;
+    }
+  return ink;
+}
+
+TEST(RenderPaths, ArrowLengthDoesNotDependOnTheColourMode) {
+  Snapshot s = synthetic::scene_2d();
+  for (float& n : s.noise) n *= 1e-3f;  // noise far below the speeds: the old GUI rule's bug
+  FigureStyle base;
+  base.vectors = true;
+  base.particle_scale = 0.2f;  // small particles: the arrows are what shows
+  base.legend = false;         // the legend's width depends on the mode; the scene rect must not
+  const int w = 480, h = 300;
+  const Rect rect = scene_rect_of(s, base, w, h);
+  std::vector<bool> png_ink, gui_ink;
+  float vector_scale = 0;
+  for (ColorMode mode :
+       {ColorMode::speed, ColorMode::material, ColorMode::noise, ColorMode::object}) {
+    FigureStyle style = base;
+    style.color = mode;
+    SceneStyle resolved;
+    const std::vector<bool> gui =
+        arrow_ink(crop(draw_like_gui(s, style, rect, w, h, &resolved), rect));
+    const std::vector<bool> png = arrow_ink(crop(draw({&s}, style, w, h), rect));
+    if (png_ink.empty()) {
+      png_ink = png, gui_ink = gui, vector_scale = resolved.vector_scale;
+      ASSERT_GT(std::count(png.begin(), png.end(), true), 300) << "no arrows drawn";
+      continue;
+    }
+    EXPECT_EQ(resolved.vector_scale, vector_scale) << key_of(mode);
+    long png_changed = 0, gui_changed = 0;
+    for (std::size_t i = 0; i < png.size(); ++i) png_changed += png[i] != png_ink[i];
+    for (std::size_t i = 0; i < gui.size(); ++i) gui_changed += gui[i] != gui_ink[i];
+    EXPECT_LT(png_changed, 40) << "PNG arrows change with colour by " << key_of(mode);
+    EXPECT_LT(gui_changed, 40) << "GUI arrows change with colour by " << key_of(mode);
+  }
+}
+
+TEST(RenderPaths, RoundOffNoiseIsNotPaintedAsFullRange) {
+  Snapshot s = synthetic::scene_2d();
+  for (float& n : s.noise) n = 1e-16f;
+  FigureStyle style;
+  style.color = ColorMode::noise;
+  const int w = 480, h = 300;
+  const Rect rect = scene_rect_of(s, style, w, h);
+  const Image img = crop(draw({&s}, style, w, h), rect);
+  const Rgba8 low = to_rgba8(viridis(0)), high = to_rgba8(viridis(1));
+  long near_low = 0, near_high = 0;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const std::uint8_t* p = img.pixel(x, y);
+      auto near = [&](Rgba8 c) {
+        return std::abs(p[0] - c.r) < 30 && std::abs(p[1] - c.g) < 30 && std::abs(p[2] - c.b) < 30;
+      };
+      near_low += near(low), near_high += near(high);
+    }
+  EXPECT_GT(near_low, 2000) << "round-off should sit at the bottom of the scale";
+  EXPECT_LT(near_high, 50) << "round-off painted as full-range signal";
+  ScaleState scales;
+  update_scales(scales, {&s});
+  EXPECT_GE(scales.noise, kNoiseFloor * scales.speed);
+}
+
+TEST(AutoScale, GrowsOrHoldsTheFirstFrame) {
+  Snapshot slow = synthetic::scene_2d(), fast = slow;
+  for (float& v : fast.velocities) v *= 10;
+  ScaleState grow, first;
+  first.hold = ScaleHold::first_frame;
+  update_scales(grow, {&slow});
+  update_scales(first, {&slow});
+  const float initial = grow.speed;
+  EXPECT_GT(initial, 0);
+  EXPECT_EQ(first.speed, initial);
+  update_scales(grow, {&fast});
+  update_scales(first, {&fast});
+  EXPECT_GE(grow.speed, 9 * initial);
+  EXPECT_EQ(first.speed, initial);
+  update_scales(grow, {&slow});  // never shrinks
+  EXPECT_GE(grow.speed, 9 * initial);
+  // A pane that blew up does not set the scales of the healthy ones.
+  Snapshot blown = fast;
+  blown.failure = Failure{};
+  ScaleState shared;
+  update_scales(shared, {&slow, &blown});
+  EXPECT_EQ(shared.speed, initial);
+}
+
+TEST(Palette, OneColourPerSchemeAndCategory) {
+  EXPECT_EQ(packed_abgr(scheme_color("rpic")), packed_abgr(category_color(3)));
+  EXPECT_EQ(packed_abgr(scheme_color("pic")), packed_abgr(palette_color(0)));
+  EXPECT_EQ(scheme_label("apic"), "APIC");
+  // The hex values tests/figures_tests.sh looks for in the figures' lines.
+  auto hex = [](Rgba8 c) {
+    char buf[8];
+    std::snprintf(buf, sizeof buf, "%02x%02x%02x", c.r, c.g, c.b);
+    return std::string(buf);
+  };
+  EXPECT_EQ(hex(scheme_color("pic")), "0072b2");
+  EXPECT_EQ(hex(scheme_color("flip")), "d55e00");
+  EXPECT_EQ(hex(scheme_color("apic")), "009e73");
+  EXPECT_EQ(hex(scheme_color("rpic")), "cc79a7");
+  Snapshot s;
+  s.scheme = "flip";
+  s.flip_alpha = 0.95;
+  EXPECT_EQ(scheme_label(s), "FLIP \u03B1=0.95");
+  s.scheme = "pic";
+  EXPECT_EQ(scheme_label(s), "PIC");
+}
+
+// A rotated 2D grid layer with a ramp field over a few particles, and its 3D counterpart.
+Snapshot with_grid_layer(Snapshot s) {
+  GridLayer g;
+  g.name = "eol";
+  g.dx = s.dim == 2 ? 0.1 : 0.12;
+  g.nodes = {8, 5, s.dim == 3 ? 4 : 1};
+  const double c = std::cos(0.4), sn = std::sin(0.4);
+  g.rotation = {c, -sn, 0, sn, c, 0, 0, 0, 1};
+  g.translation = {s.dim == 2 ? 0.9 : 0.2, 0.2, s.dim == 3 ? 0.2 : 0.0};
+  GridLayer::Field ramp{"ramp", {}};
+  for (std::size_t n = 0; n < g.node_count(); ++n) ramp.values.push_back(float(n % 8));
+  g.fields.push_back(ramp);
+  s.grids.push_back(g);
+  return s;
+}
+
+// Pixel of world point p in a single-pane figure's scene rect.
+Vec2 to_pixel(const Snapshot& s, const FigureStyle& style, Rect rect, Vec3 p) {
+  const View v = frame_view(s.dim, domain_box(s), rect.w / rect.h, style.up_axis);
+  const Camera cam = make_camera(v, rect.w / rect.h, domain_box(s));
+  const Vec4 q = cam.projection * (cam.view * Vec4{p.x, p.y, p.z, 1});
+  return {rect.x + (q.x / q.w * 0.5f + 0.5f) * rect.w, rect.y + (0.5f - q.y / q.w * 0.5f) * rect.h};
+}
+
+TEST(RenderGridLayers, NodesAreColouredByTheirFieldInTheGridsFrame) {
+  const Snapshot plain = synthetic::scene_2d(), s = with_grid_layer(plain);
+  FigureStyle style;
+  style.color = ColorMode::material;
+  const int w = 640, h = 400;
+  const Rect rect = scene_rect_of(s, style, w, h);
+  const Image img = draw({&s}, style, w, h);
+  const GridLayer& g = s.grids.front();
+  // Node (i, j) at R (dx i, dx j) + t: low ramp values purple, high ones yellow-green.
+  auto node_pixel = [&](int i, int j) {
+    const double x = g.dx * i, y = g.dx * j;
+    return to_pixel(s, style, rect,
+                    {float(g.rotation[0] * x + g.rotation[1] * y + g.translation[0]),
+                     float(g.rotation[3] * x + g.rotation[4] * y + g.translation[1]), 0});
+  };
+  const Vec2 low = node_pixel(1, 2), high = node_pixel(6, 2);  // inside the outline
+  const std::uint8_t* a = img.pixel(int(low.x), int(low.y));
+  const std::uint8_t* b = img.pixel(int(high.x), int(high.y));
+  EXPECT_GT(a[2], a[1]) << "the field's minimum is not at the purple end";
+  EXPECT_GT(b[1], b[2]) << "the field's maximum is not at the yellow end";
+  EXPECT_GT(differing_pixels(crop(img, rect), crop(draw({&plain}, style, w, h), rect)), 1500);
+  // Outside the rotated grid (near the domain's top right corner) nothing changes.
+  const Vec2 outside = to_pixel(s, style, rect, {1.95f, 0.95f, 0});
+  const std::uint8_t* o = img.pixel(int(outside.x), int(outside.y));
+  EXPECT_GT(std::min({o[0], o[1], o[2]}), 200);
+}
+
+TEST(RenderGridLayers, ThreeDGridsAreDrawn) {
+  const Snapshot plain = synthetic::scene_3d(), s = with_grid_layer(plain);
+  FigureStyle style;
+  style.color = ColorMode::material;
+  const int w = 480, h = 360;
+  const Rect rect = scene_rect_of(s, style, w, h);
+  EXPECT_GT(differing_pixels(crop(draw({&s}, style, w, h), rect),
+                             crop(draw({&plain}, style, w, h), rect)),
+            300);
+}
+
 TEST(Render, TextComesFromTheFont) {
   Font font(20);
   EXPECT_GT(font.width("W"), 1.5f * font.width("i"));              // proportional, not a fixed grid
@@ -213,6 +449,20 @@ TEST(Render, UnknownKeysAreRejected) {
   EXPECT_THROW(parse_backend("vulkan"), std::invalid_argument);
   EXPECT_THROW(parse_color_mode("rainbow"), std::invalid_argument);
   EXPECT_EQ(parse_color_mode("noise"), ColorMode::noise);
+}
+
+TEST(SceneGeometry, PlaneInBox) {
+  const Box3 unit{{0, 0, 0}, {1, 1, 1}};
+  // A horizontal plane through the middle of the cube: its square cross-section.
+  const std::vector<Vec3> square = plane_in_box({0.5f, 0.5f, 0.5f}, {0, 1, 0}, unit, 3);
+  ASSERT_EQ(square.size(), 4u);
+  for (const Vec3& c : square) EXPECT_NEAR(c.y, 0.5f, 1e-6f);
+  // A diagonal plane cutting three edges at one corner: a triangle.
+  EXPECT_EQ(plane_in_box({0.2f, 0, 0}, normalize(Vec3{1, 1, 1}), unit, 3).size(), 3u);
+  // 2D: a slanted line crosses the square in two points; a plane outside misses it.
+  const Box3 square2d{{0, 0, 0}, {2, 1, 0}};
+  EXPECT_EQ(plane_in_box({0, 0.25f, 0}, normalize(Vec3{0.1f, 1, 0}), square2d, 2).size(), 2u);
+  EXPECT_TRUE(plane_in_box({0, 5, 0}, {0, 1, 0}, square2d, 2).empty());
 }
 
 TEST(Image, ComparisonToleratesSmallDifferences) {

@@ -9,11 +9,13 @@
 #include <string>
 #include <vector>
 
+#include "render/palette.hpp"
+
 namespace apiclab::gui {
 
 struct PlotSeries {
   std::string label;
-  ImU32 color = IM_COL32(0, 114, 178, 255);
+  ImU32 color = render::packed_abgr(render::palette_color(0));
   std::size_t count = 0;
   std::function<double(std::size_t)> x, y;  // point i; x must not decrease
   float thickness = 1.6f;

@@ -4,12 +4,15 @@
 
 #include "app/gui/plot.hpp"
 #include "app/gui/viewer_state.hpp"
+#include "render/palette.hpp"
 
 namespace apiclab::gui {
 namespace {
 
-constexpr ImU32 kComponent[3] = {IM_COL32(0, 114, 178, 255), IM_COL32(213, 94, 0, 255),
-                                 IM_COL32(0, 158, 115, 255)};
+// x, y, z (or kinetic, potential, total): the palette's first three colours.
+constexpr ImU32 kComponent[3] = {render::packed_abgr(render::palette_color(0)),
+                                 render::packed_abgr(render::palette_color(1)),
+                                 render::packed_abgr(render::palette_color(2))};
 const char* kAxes[3] = {"x", "y", "z"};
 
 PlotSeries series_of(const History& h, std::string label, ImU32 color,

@@ -1,6 +1,8 @@
 #include "app/gui/scene_view.hpp"
 
 #include "render/figure.hpp"
+#include "render/legend.hpp"
+#include "render/snapshot_stats.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,37 +12,22 @@ namespace apiclab::gui {
 namespace {
 
 constexpr float kTitle = 26;  // pane title strip, pixels
-constexpr float kLegend = 44; // legend strip under the panes
+constexpr float kHint = 22;   // strip under the panes: how to move the camera
+constexpr float kLegendFont = 13, kLegendPad = 8;  // the renderer's legend, pixels
 
 render::Rect scene_rect(render::Rect pane) { return {pane.x, pane.y + kTitle, pane.w, pane.h - kTitle}; }
 bool inside(render::Rect r, ImVec2 p) { return p.x >= r.x && p.y >= r.y && p.x < r.x + r.w && p.y < r.y + r.h; }
 ImU32 to_u32(render::Rgba8 c) { return IM_COL32(c.r, c.g, c.b, c.a); }
 
-float speed(const Snapshot& s, std::size_t i) {
-  float v2 = 0;
-  for (int k = 0; k < s.dim; ++k) v2 += s.velocities[i * s.dim + k] * s.velocities[i * s.dim + k];
-  return std::sqrt(v2);
-}
-
-
-// The color scale follows the 98th percentile over all panes and only grows, so colors
-// mean the same thing from frame to frame and pane to pane.
+// The scales follow the panes' snapshots (render/auto_scale.hpp, the PNGs' rules); they are
+// updated once per new snapshot, not once per displayed frame.
 void update_scales(ViewerState& st, const Published& pub) {
   const Snapshot* first = pub.panes.empty() ? nullptr : pub.panes[0].snapshot.get();
   if (first == st.scaled_for) return;
   st.scaled_for = first;
-  if (!st.auto_scale || !render::is_scalar(st.color)) return;
-  std::vector<float> v;
-  for (auto& p : pub.panes) {
-    const Snapshot& s = *p.snapshot;
-    const std::size_t n = s.count(), stride = std::max<std::size_t>(1, n / 20000);
-    for (std::size_t i = 0; i < n; i += stride)
-      v.push_back(st.color == render::ColorMode::noise ? (s.noise.empty() ? 0 : s.noise[i]) : speed(s, i));
-  }
-  if (v.empty()) return;
-  auto k = v.begin() + std::ptrdiff_t(0.98 * double(v.size() - 1));
-  std::nth_element(v.begin(), k, v.end());
-  st.color_max = std::max(st.color_max, render::nice_ceil(*k));
+  std::vector<const Snapshot*> snapshots;
+  for (const PaneState& p : pub.panes) snapshots.push_back(p.snapshot.get());
+  render::update_scales(st.scales, snapshots);
 }
 
 render::Camera camera_for(const ViewerState& st, const Snapshot& s, render::Rect r) {
@@ -117,63 +104,17 @@ void particle_tooltip(const Snapshot& s, std::size_t i) {
     ImGui::Text("x = (%.5g, %.5g, %.5g)", x[0], x[1], x[2]);
     ImGui::Text("v = (%.5g, %.5g, %.5g)", v[0], v[1], v[2]);
   }
-  ImGui::Text("|v| = %.5g", speed(s, i));
+  ImGui::Text("|v| = %.5g", render::particle_speed(s, i));
   if (!s.noise.empty()) ImGui::Text("noise |v - v_PIC| = %.4g", s.noise[i]);
   ImGui::EndTooltip();
 }
 
-void draw_legend(ViewerState& st, const Published& pub, render::Rect r, float arrow_px_per_speed) {
+void draw_hint(render::Rect r) {
+  const char* hint = "drag: pan/orbit   wheel: zoom   double-click: frame";
   ImDrawList* dl = ImGui::GetBackgroundDrawList();
-  dl->AddRectFilled(ImVec2(r.x, r.y), ImVec2(r.x + r.w, r.y + r.h), IM_COL32(250, 250, 250, 255));
   dl->AddLine(ImVec2(r.x, r.y), ImVec2(r.x + r.w, r.y), IM_COL32(210, 210, 210, 255));
-  const float fh = ImGui::GetFontSize();
-  float x = r.x + 14;
-  const float y = r.y + 8;
-  const ImU32 text = IM_COL32(40, 40, 40, 255);
-  if (render::is_scalar(st.color)) {
-    const char* title = st.color == render::ColorMode::speed ? "speed |v| [m/s]" : "noise |v - v_PIC| [m/s]";
-    dl->AddText(ImVec2(x, y), text, title);
-    x += ImGui::CalcTextSize(title).x + 12;
-    const float w = 260, h = 12;
-    for (int k = 0; k < 64; ++k) {  // the colormap as 64 gradient strips
-      const ImU32 c0 = to_u32(render::to_rgba8(render::viridis(k / 64.0f)));
-      const ImU32 c1 = to_u32(render::to_rgba8(render::viridis((k + 1) / 64.0f)));
-      dl->AddRectFilledMultiColor(ImVec2(x + w * k / 64, y + 2), ImVec2(x + w * (k + 1) / 64 + 0.5f, y + 2 + h), c0, c1, c1, c0);
-    }
-    dl->AddRect(ImVec2(x, y + 2), ImVec2(x + w, y + 2 + h), IM_COL32(120, 120, 120, 255));
-    char buf[32];
-    for (int k = 0; k <= 4; ++k) {
-      std::snprintf(buf, sizeof buf, "%.3g", st.color_max * k / 4);
-      const float tx = x + w * k / 4, tw = ImGui::CalcTextSize(buf).x;
-      dl->AddLine(ImVec2(tx, y + 2 + h), ImVec2(tx, y + 5 + h), IM_COL32(120, 120, 120, 255));
-      dl->AddText(ImVec2(tx - tw / 2, y + h + 5), text, buf);
-    }
-    x += w + 30;
-  } else if (!pub.panes.empty()) {
-    const Snapshot& s = *pub.panes[0].snapshot;
-    const bool by_material = st.color == render::ColorMode::material;
-    int count = 0;
-    for (auto o : by_material ? s.material : s.object) count = std::max(count, o + 1);
-    for (int k = 0; k < count; ++k) {
-      dl->AddCircleFilled(ImVec2(x + 6, y + fh / 2 + 4), 6, to_u32(render::category_color(k)));
-      std::string name = by_material && k < int(s.material_names.size()) ? s.material_names[size_t(k)]
-                                                                           : "object " + std::to_string(k);
-      dl->AddText(ImVec2(x + 16, y + 4), text, name.c_str());
-      x += ImGui::CalcTextSize(name.c_str()).x + 34;
-    }
-  }
-  if (st.vectors && arrow_px_per_speed > 0) {  // an arrow of a round speed, to scale
-    const float speed_ref = render::nice_ceil(std::max(st.color_max * 0.5f, 1e-6f));
-    const float len = std::clamp(arrow_px_per_speed * speed_ref, 4.0f, 200.0f);
-    const ImU32 col = IM_COL32(40, 40, 40, 255);
-    dl->AddLine(ImVec2(x, y + 10), ImVec2(x + len, y + 10), col, 1.6f);
-    dl->AddTriangleFilled(ImVec2(x + len + 1, y + 10), ImVec2(x + len - 6, y + 6), ImVec2(x + len - 6, y + 14), col);
-    char buf[48];
-    std::snprintf(buf, sizeof buf, "%.3g m/s", speed_ref);
-    dl->AddText(ImVec2(x + len + 8, y + 3), text, buf);
-  }
-  dl->AddText(ImVec2(r.x + r.w - 14 - ImGui::CalcTextSize("drag: pan/orbit   wheel: zoom   double-click: frame").x, y + 4),
-              IM_COL32(130, 130, 130, 255), "drag: pan/orbit   wheel: zoom   double-click: frame");
+  dl->AddText(ImVec2(r.x + r.w - 14 - ImGui::CalcTextSize(hint).x, r.y + 3), IM_COL32(130, 130, 130, 255),
+              hint);
 }
 
 }  // namespace
@@ -186,42 +127,46 @@ std::vector<render::Rect> pane_scene_rects(render::Rect area, std::size_t n) {
   return out;
 }
 
-void draw_scene_panes(render::Renderer& r, ViewerState& st, const Published& pub, render::Rect area) {
+render::FigureStyle figure_style(const ViewerState& st, int up_axis) {
+  render::FigureStyle style;
+  style.color = st.color;
+  style.color_max = st.auto_scale ? 0 : st.color_max;
+  style.vectors = st.vectors;
+  style.vector_gain = st.vector_gain;
+  style.grid = st.grid;
+  style.particle_scale = st.particle_scale;
+  style.up_axis = up_axis;
+  return style;
+}
+
+std::vector<render::Rect> draw_scene_panes(render::Renderer& r, ViewerState& st, const Published& pub,
+                                           render::Rect area) {
   ImDrawList* dl = ImGui::GetBackgroundDrawList();
-  const render::Rect panes_area{area.x, area.y, area.w, area.h - kLegend};
-  const render::Rect legend{area.x, area.y + area.h - kLegend, area.w, kLegend};
   if (pub.panes.empty()) {
     const char* msg = st.load_error.empty() ? "Loading scene..." : "No scene: see the error on the left.";
     const ImVec2 ts = ImGui::CalcTextSize(msg);
     dl->AddText(ImVec2(area.x + (area.w - ts.x) / 2, area.y + area.h / 2), IM_COL32(90, 90, 90, 255), msg);
-    return;
+    return {};
   }
-  const auto rects = pane_scene_rects(panes_area, pub.panes.size());
   const Snapshot& first = *pub.panes[0].snapshot;
+  const int up_axis = pub.scene ? render::up_axis_from_gravity(pub.scene->gravity, first.dim) : 1;
+  const render::FigureStyle wanted = figure_style(st, up_axis);
+  // The legend is the renderer's, as in the PNGs, in a column right of the panes.
+  const float legend_w = render::legend_width(r, kLegendFont, kLegendPad, st.color, st.vectors, first);
+  const render::Rect panes_area{area.x, area.y, area.w - legend_w, area.h - kHint};
+  const render::Rect legend{area.x + area.w - legend_w, area.y + kTitle, legend_w, area.h - kHint - kTitle};
+  const auto rects = pane_scene_rects(panes_area, pub.panes.size());
   if (st.framed_generation != pub.generation) {  // new scene or reset: frame the domain
-    render::View v;
-    v.dim = first.dim;
-    v.up_axis = 1;
-    if (pub.scene) {
-      const auto& g = pub.scene->gravity;
-      if (std::abs(g[2]) > std::abs(g[1]) && std::abs(g[2]) > std::abs(g[0])) v.up_axis = 2;
-    }
-    st.view = render::frame_view(v, render::domain_box(first), rects[0].w / rects[0].h);
+    st.view = render::frame_view(first.dim, render::domain_box(first), rects[0].w / rects[0].h, up_axis);
     st.framed_generation = pub.generation;
-    if (st.auto_scale) st.color_max = 0;
+    st.scales.reset();
     st.scaled_for = nullptr;
   }
   update_scales(st, pub);
-
-  render::SceneStyle style;
-  style.color = st.color;
-  style.color_max = std::max(st.color_max, 1e-6f);
-  style.grid = st.grid;
-  style.particle_scale = st.particle_scale;
-  style.vectors = st.vectors;
-  // An arrow of the top-of-scale speed spans about 1.6 cells.
-  style.vector_scale = float(1.6 * first.dx) / style.color_max * st.vector_gain;
-  style.vector_every = int(std::max<std::size_t>(1, first.count() / 450));
+  std::vector<const Snapshot*> snapshots;
+  for (const PaneState& p : pub.panes) snapshots.push_back(p.snapshot.get());
+  const render::SceneStyle style = render::resolve_scene_style(wanted, snapshots, rects[0], st.scales);
+  if (st.auto_scale) st.color_max = style.color_max;  // the controls show the scale in use
 
   const ImVec2 mouse = ImGui::GetIO().MousePos;
   for (std::size_t k = 0; k < pub.panes.size(); ++k) {
@@ -229,12 +174,13 @@ void draw_scene_panes(render::Renderer& r, ViewerState& st, const Published& pub
     const render::Rect sr = rects[k];
     handle_input(st, *p.snapshot, sr, inside(sr, mouse));
   }
+  float pixels_per_unit = 0;
   for (std::size_t k = 0; k < pub.panes.size(); ++k) {
     const PaneState& p = pub.panes[k];
     const Snapshot& s = *p.snapshot;
     const render::Rect sr = rects[k];
     const render::Camera cam = camera_for(st, s, sr);
-    r.draw_scene(s, cam, sr, style);
+    pixels_per_unit = render::draw_pane_scene(r, s, st.view, sr, style);
 
     // Title strip: color chip, scheme, time.
     const ImVec2 t0(sr.x, sr.y - kTitle), t1(sr.x + sr.w, sr.y);
@@ -268,10 +214,9 @@ void draw_scene_panes(render::Renderer& r, ViewerState& st, const Published& pub
       if (i >= 0) particle_tooltip(s, std::size_t(i));
     }
   }
-  // Pixels per world unit at the scene's centre, for the arrow legend.
-  const float world_h = first.dim == 2 ? 2 * st.view.half_height
-                                       : 2 * st.view.distance * std::tan(render::radians(st.view.fov_y) / 2);
-  draw_legend(st, pub, legend, style.vector_scale * rects[0].h / std::max(world_h, 1e-9f));
+  render::draw_legend(r, legend, kLegendFont, kLegendPad, style, first, pixels_per_unit);
+  draw_hint({area.x, area.y + area.h - kHint, area.w, kHint});
+  return rects;
 }
 
 }  // namespace apiclab::gui

@@ -18,6 +18,8 @@
 #include "app/gui/viewer_state.hpp"
 #include "render/gl.hpp"
 #include "render/image.hpp"
+#include "render/palette.hpp"
+#include "render/target.hpp"
 #include "render/renderer.hpp"
 
 namespace apiclab::gui {
@@ -45,28 +47,11 @@ void setup_style() {
   if (std::filesystem::exists(font)) ImGui::GetIO().Fonts->AddFontFromFileTTF(font, 14.5f);
 }
 
-// The window's back buffer as an image, top row first.
-render::Image read_window(int w, int h) {
-  render::Image img(w, h);
-  std::vector<std::uint8_t> rows(std::size_t(w) * h * 4);
-  gl::PixelStorei(GL_PACK_ALIGNMENT, 1);
-  gl::ReadBuffer(GL_BACK);
-  gl::ReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, rows.data());
-  for (int y = 0; y < h; ++y)
-    std::copy_n(&rows[std::size_t(h - 1 - y) * w * 4], std::size_t(w) * 4, img.pixel(0, y));
-  for (std::size_t i = 3; i < img.rgba.size(); i += 4) img.rgba[i] = 255;
-  return img;
-}
-
 void* gl_proc(const char* name) { return reinterpret_cast<void*>(glfwGetProcAddress(name)); }
 
 }  // namespace
 
-ImU32 pane_color(std::size_t pane) {
-  static const ImU32 colors[4] = {IM_COL32(0, 114, 178, 255), IM_COL32(213, 94, 0, 255),
-                                  IM_COL32(0, 158, 115, 255), IM_COL32(204, 121, 167, 255)};
-  return colors[pane % 4];
-}
+ImU32 pane_color(std::size_t pane) { return render::packed_abgr(render::palette_color(int(pane))); }
 
 std::string pane_label(const PaneState& p) {
   std::string s(key_of(p.config.scheme));
@@ -205,18 +190,17 @@ int run_viewer(const ViewerOptions& opt) {
       const float scene_h = std::round(H * kSceneShare);
       draw_plots(st, *pub, ImVec2(kSidebar, scene_h), ImVec2(W - kSidebar, H - scene_h));
       renderer.begin_frame(fw, fh, {255, 255, 255, 255});
-      draw_scene_panes(renderer, st, *pub, {kSidebar, 0, W - kSidebar, scene_h});
+      const auto rects = draw_scene_panes(renderer, st, *pub, {kSidebar, 0, W - kSidebar, scene_h});
       renderer.end_frame();
       ImGui::Render();
       gl::Viewport(0, 0, fw, fh);
       ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
       ++frame;
       if (!opt.screenshot.empty() && frame >= std::max(opt.frames, 1)) {
-        const auto rects = pane_scene_rects({kSidebar, 0, W - kSidebar, scene_h - 44}, pub->panes.size());
         for (std::size_t k = 0; k < rects.size(); ++k)  // where each pane is, for the smoke test
           std::printf("pane %zu: %.0f %.0f %.0f %.0f\n", k, rects[k].x, rects[k].y, rects[k].w, rects[k].h);
         try {
-          render::write_png(read_window(fw, fh), opt.screenshot);
+          render::write_png(render::read_window_pixels(fw, fh), opt.screenshot);
           std::printf("screenshot: %s (%dx%d, %ld frames, t = %.4g s)\n", opt.screenshot.c_str(), fw, fh, frame,
                       pub->panes.empty() ? 0.0 : pub->panes[0].snapshot->time);
         } catch (const std::exception& e) {

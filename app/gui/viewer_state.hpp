@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "app/gui/sim_worker.hpp"
+#include "render/auto_scale.hpp"
 #include "render/camera.hpp"
 #include "render/color.hpp"
 #include "sim/scene.hpp"
@@ -34,10 +35,11 @@ struct ViewerState {
   std::uint64_t framed_generation = ~std::uint64_t(0);
   render::ColorMode color = render::ColorMode::speed;
   bool vectors = false, grid = false, auto_scale = true;
-  float color_max = 0;       // speed or noise at the top of the colormap (grows only)
+  float color_max = 0;       // top of the colormap: shown (auto scale) or set by hand
   float vector_gain = 1;     // multiplies the automatic arrow length
   float particle_scale = 1;
   const Snapshot* scaled_for = nullptr;  // snapshot the scales were last updated from
+  render::ScaleState scales;             // render/auto_scale.hpp: shared by all panes
 
   // Plots: which component each plot shows when several panes share it.
   int energy_component = 2;    // kinetic, potential, total

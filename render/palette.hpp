@@ -1,0 +1,56 @@
+// The one categorical palette: materials, objects, GUI panes, plot series and the schemes'
+// colours in figures all index it, so index k is the same colour everywhere. Okabe & Ito's
+// colour-blind-safe colours, ordered so that the four schemes (pic, flip, apic, rpic) take
+// the first four. tests/figures_tests.sh repeats the schemes' hex values (a shell script
+// cannot include this); test_render's Palette test pins them to the same strings.
+#pragma once
+#include <cctype>
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "render/color.hpp"
+
+namespace apiclab::render {
+
+// Blue, vermillion, bluish green, reddish purple, orange, sky blue, yellow, dark grey.
+inline constexpr Rgba8 kPalette[] = {{0, 114, 178}, {213, 94, 0},   {0, 158, 115},  {204, 121, 167},
+                                     {230, 159, 0}, {86, 180, 233}, {240, 228, 66}, {60, 60, 60}};
+inline constexpr int kPaletteSize = int(sizeof kPalette / sizeof kPalette[0]);
+
+// Colour `index` of the palette, cycling (negative indices too).
+constexpr Rgba8 palette_color(int index) {
+  return kPalette[((index % kPaletteSize) + kPaletteSize) % kPaletteSize];
+}
+
+// Schemes by their registry key (sim/registry.hpp): the palette slot each one owns.
+struct SchemeLook {
+  std::string_view key, label;
+  int color;
+};
+inline constexpr SchemeLook kSchemeLooks[] = {
+    {"pic", "PIC", 0}, {"flip", "FLIP", 1}, {"apic", "APIC", 2}, {"rpic", "RPIC", 3}};
+
+// The scheme's colour; a key outside the table gets the palette's grey.
+constexpr Rgba8 scheme_color(std::string_view key) {
+  for (const SchemeLook& s : kSchemeLooks)
+    if (s.key == key) return palette_color(s.color);
+  return palette_color(kPaletteSize - 1);
+}
+
+// "PIC", "FLIP", ...; a key outside the table in upper case.
+inline std::string scheme_label(std::string_view key) {
+  for (const SchemeLook& s : kSchemeLooks)
+    if (s.key == key) return std::string(s.label);
+  std::string label(key);
+  for (char& c : label) c = char(std::toupper(static_cast<unsigned char>(c)));
+  return label;
+}
+
+// Packed as Dear ImGui's IM_COL32 packs (red in the low byte), without including ImGui.
+constexpr std::uint32_t packed_abgr(Rgba8 c) {
+  return std::uint32_t(c.r) | std::uint32_t(c.g) << 8 | std::uint32_t(c.b) << 16 |
+         std::uint32_t(c.a) << 24;
+}
+
+}  // namespace apiclab::render
