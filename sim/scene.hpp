@@ -1,9 +1,10 @@
 // Scene description: everything a paper scene states, as plain data read from JSON
-// (DESIGN.md, Scenes). All values are double; the solver converts to its scalar type.
+// (docs/architecture.md, Scenes). All values are double; the solver converts to its scalar type.
 #pragma once
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -42,7 +43,7 @@ struct SolverDesc {
   double flip_alpha = 1.0;  // eq 3 blend: 1 = pure FLIP, 0 = PIC
   KernelType kernel = KernelType::quadratic;
   Integrator integrator = Integrator::symplectic;
-  double lambda = -1.0;  // λ of eqs 27-30; < 0 means "from the integrator"
+  std::optional<double> lambda;  // λ of eqs 27-30; empty: the integrator's
   double newton_tolerance = 1e-6;
   int newton_max_iterations = 20;
   double cg_tolerance = 1e-6;
@@ -50,7 +51,7 @@ struct SolverDesc {
   bool stop_on_nonconvergence = false;
   double blowup_energy_factor = 10.0;
   double integrator_lambda() const {
-    if (lambda >= 0) return lambda;
+    if (lambda) return *lambda;
     return integrator == Integrator::midpoint ? 0.5 : 0.0;
   }
 };
@@ -110,6 +111,9 @@ struct ColliderDesc {
 struct SceneDesc {
   std::string name, description;
   std::string source;  // file it came from, for messages and relative paths
+  // Where relative mesh files are looked for after the scene's own folder and its parent
+  // (the app adds its asset folder; sim does no discovery of its own).
+  std::vector<std::string> asset_dirs;
   int dim = 2;
   DomainDesc domain;
   Vec3d gravity{0, 0, 0};
@@ -121,15 +125,11 @@ struct SceneDesc {
 };
 
 // Reads a scene file, applies `--set KEY=VALUE` overrides (JSON paths like
-// `materials.0.E`), and validates it. Throws SceneError naming file and key.
+// `materials.0.E`), and validates it (numbers through sim/parameters.hpp's registry).
+// Throws SceneError naming file and key.
 SceneDesc load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
 // Same, from JSON text (tests, GUI).
 SceneDesc parse_scene_text(const std::string& json_text, const std::string& source_name,
                            const std::vector<std::string>& overrides = {});
-
-// The directory holding the shipped scenes (build-time path, then ./assets/scenes).
-std::string scenes_directory();
-// Resolves a scene argument: a path, or a bare name like `rotating-disk`.
-std::string resolve_scene_path(const std::string& arg);
 
 }  // namespace apiclab

@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <thread>
 
+#include "app/assets.hpp"
 #include "app/gui/scene_view.hpp"
 #include "app/gui/viewer_state.hpp"
 #include "render/gl.hpp"
