@@ -23,7 +23,8 @@ std::string assets_directory() { return fs::path(scenes_directory()).parent_path
 std::string resolve_scene_path(const std::string& arg) {
   if (fs::exists(arg)) return arg;
   if (arg.find('/') == std::string::npos) {
-    fs::path p = fs::path(scenes_directory()) / (arg + (fs::path(arg).extension() == ".json" ? "" : ".json"));
+    fs::path p = fs::path(scenes_directory()) /
+                 (arg + (fs::path(arg).extension() == ".json" ? "" : ".json"));
     if (fs::exists(p)) return p.string();
   }
   return arg;  // load_scene reports it as missing

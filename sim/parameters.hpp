@@ -24,24 +24,24 @@ struct NumericParameter {
   // Scene JSON path; '*' stands for an index (a material, or a vector component).
   std::string_view key;
   std::string_view label;
-  std::string_view unit;     // SI; "1" for dimensionless
-  std::string_view unit_3d;  // when it differs in 3D (density); empty: same as unit
+  std::string_view unit;          // SI; "1" for dimensionless
+  std::string_view unit_3d = {};  // when it differs in 3D (density); empty: same as unit
   Range range;
-  double default_value;  // the reader's default (unused when required)
-  bool required;         // the scene must give it
-  bool integer;
+  double default_value = 0;  // the reader's default (unused when required)
+  bool required = false;     // the scene must give it
+  bool integer = false;
   std::string_view help;  // cites the paper where there is a source
   double (*get)(const SceneDesc&, int index);
   void (*set)(SceneDesc&, int index, double value);
   // How many indices '*' takes in this scene; null for keys without '*'.
-  int (*count)(const SceneDesc&);
+  int (*count)(const SceneDesc&) = nullptr;
   // Whether the scene gives a value at all (solver.lambda is optional); null: always.
-  bool (*is_set)(const SceneDesc&, int index);
+  bool (*is_set)(const SceneDesc&, int index) = nullptr;
 
-  std::string key_at(int index) const;             // "materials.*.E", 0 -> "materials.0.E"
-  std::string unit_for(int dim) const;             // unit in a scene of this dimension
-  std::string default_text() const;                // "1", "required", ...
-  std::string describe() const;                    // help, unit, range and default in one line
+  std::string key_at(int index) const;  // "materials.*.E", 0 -> "materials.0.E"
+  std::string unit_for(int dim) const;  // unit in a scene of this dimension
+  std::string default_text() const;     // "1", "required", ...
+  std::string describe() const;         // help, unit, range and default in one line
 };
 
 const std::vector<NumericParameter>& numeric_parameters();
@@ -51,7 +51,8 @@ const std::vector<NumericParameter>& numeric_parameters();
 const NumericParameter* find_parameter(std::string_view key, int* index = nullptr);
 
 // Why `value` is not allowed for `p`, or nothing. The one message format the reader, the
-// CLI and the GUI show: "<file>: key '<key>': <label> <value> is outside the allowed range <range>".
+// CLI and the GUI show: "<file>: key '<key>': <label> <value> is outside the allowed range
+// <range>".
 std::optional<std::string> parameter_error(const NumericParameter& p, int index, double value,
                                            const std::string& file);
 
