@@ -89,6 +89,7 @@ void load_scene_file(ViewerState& st, SimWorker& worker, const std::string& path
                      const std::vector<std::string>& overrides) {
   try {
     st.scene = load_scene(resolve_scene_path(path), overrides);
+    st.scene.asset_dirs.push_back(assets_directory());
     st.scene_path = resolve_scene_path(path);
     st.scene_loaded = true;
     st.load_error.clear();
