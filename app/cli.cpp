@@ -18,12 +18,13 @@ namespace {
 // "--flip-alpha": the registry's label and help, unit, range and default (the scene's value
 // when the scene gives one).
 template <class T>
-CLI::Option* add_parameter_option(CLI::App* cmd, const std::string& flag, T& target, std::string_view key,
-                                  const std::string& note = "") {
+CLI::Option* add_parameter_option(CLI::App* cmd, const std::string& flag, T& target,
+                                  std::string_view key, const std::string& note = "") {
   const NumericParameter* p = find_parameter(key);
   if (!p) throw std::logic_error("no numeric parameter " + std::string(key));
-  return cmd->add_option(flag, target,
-                         std::string(p->label) + note + " (--set " + std::string(key) + "): " + p->describe());
+  return cmd->add_option(
+      flag, target,
+      std::string(p->label) + note + " (--set " + std::string(key) + "): " + p->describe());
 }
 
 template <class E>
@@ -49,17 +50,21 @@ void add_run_options(CLI::App* cmd, RunOptions& o, bool scene_required) {
   cmd->add_option("--integrator", o.integrator, choice_help("grid update", integrator_choices()));
   add_parameter_option(cmd, "--lambda", o.lambda, "solver.lambda", ", overrides the integrator's");
   add_parameter_option(cmd, "--t-end", o.t_end, "time.end");
-  cmd->add_option("--frames", o.frames, "number of frames (end time = frames / fps) [allowed: integer >= 1]");
+  cmd->add_option("--frames", o.frames,
+                  "number of frames (end time = frames / fps) [allowed: integer >= 1]");
   add_parameter_option(cmd, "--fps", o.fps, "time.fps");
   add_parameter_option(cmd, "--dt", o.dt, "time.dt.value", ", with the fixed rule");
   cmd->add_option("--csv", o.csv, "diagnostics CSV, one row per step [default: none]");
-  cmd->add_option("--dump", o.dump, "directory for particle state per frame (frame_0000.csv, ...) [default: none]");
-  cmd->add_option("--set", o.sets,
-                  "override a scene value by JSON path, e.g. --set materials.0.E=2000; numeric keys are "
-                  "checked against their allowed range (apiclab run --help lists them)")
+  cmd->add_option("--dump", o.dump,
+                  "directory for particle state per frame (frame_0000.csv, ...) [default: none]");
+  cmd->add_option(
+         "--set", o.sets,
+         "override a scene value by JSON path, e.g. --set materials.0.E=2000; numeric keys are "
+         "checked against their allowed range (apiclab run --help lists them)")
       ->take_all();
   cmd->add_option("--threads", o.threads, "OpenMP threads [default: all cores]");
-  cmd->add_option("--precision", o.precision, "scalar type: " + choice_keys(precision_choices()) + " [default: double]");
+  cmd->add_option("--precision", o.precision,
+                  "scalar type: " + choice_keys(precision_choices()) + " [default: double]");
   cmd->add_flag("--quiet", o.quiet, "no progress line");
   cmd->footer(parameter_table());
 }

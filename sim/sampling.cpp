@@ -255,7 +255,10 @@ SampledParticles sample_object(const SceneDesc& scene, int object_index) {
       std::vector<fs::path> candidates{folder / file, folder.parent_path() / file};
       for (const auto& dir : scene.asset_dirs) candidates.push_back(fs::path(dir) / file);
       for (const auto& c : candidates)
-        if (fs::exists(c)) { file = c; break; }
+        if (fs::exists(c)) {
+          file = c;
+          break;
+        }
     }
     if (!fs::exists(file)) throw SceneError(scene.source + ": key '" + key + ".shape.file': mesh file '" + shape.file + "' not found");
     mesh = std::make_unique<MeshSolid>(file.string(), shape);

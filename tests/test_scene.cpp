@@ -2,7 +2,6 @@
 // file and the offending key (docs/architecture.md, Scenes and Command line); the numeric-parameter
 // registry and the GUI's edit path, which must refuse what the reader refuses.
 #include <gtest/gtest.h>
-
 #include <unistd.h>
 
 #include <algorithm>
@@ -231,7 +230,9 @@ TEST(Parameters, DeclaredOnceWithLabelUnitHelpAndDefaultInRange) {
     EXPECT_FALSE(p.label.empty());
     EXPECT_FALSE(p.unit.empty());
     EXPECT_FALSE(p.help.empty());
-    if (!p.required) EXPECT_TRUE(p.range.contains(p.default_value)) << p.default_value << " not in " << p.range.text();
+    if (!p.required)
+      EXPECT_TRUE(p.range.contains(p.default_value))
+          << p.default_value << " not in " << p.range.text();
     int index = -1;
     EXPECT_EQ(find_parameter(p.key_at(3), &index), &p);
     EXPECT_EQ(index, p.key.find('*') == std::string_view::npos ? 0 : 3);
@@ -269,12 +270,15 @@ TEST(Parameters, EveryRangeBoundIsRejectedOrAcceptedWithTheOneMessage) {
       const bool open = lower ? p.range.lo_open : p.range.hi_open;
       const double step = p.integer ? 1 : 1e-3 * std::max(1.0, std::abs(bound));
       const double outside = bound + (lower ? -step : step);
-      const double inside = p.integer ? bound + (lower ? 1 : -1) : std::nextafter(bound, lower ? 1e300 : -1e300);
+      const double inside =
+          p.integer ? bound + (lower ? 1 : -1) : std::nextafter(bound, lower ? 1e300 : -1e300);
       SCOPED_TRACE(key + (lower ? " lower bound " : " upper bound ") + format_value(bound));
-      // Outside: rejected by the reader with the registry's message, naming file, key, value, range.
+      // Outside: rejected by the reader with the registry's message, naming file, key, value,
+      // range.
       const std::string msg = reader_message({key + "=" + format_value(outside)});
       EXPECT_EQ(msg, range_message(key, outside, "good.json"));
-      for (const std::string& needle : {std::string("good.json"), "'" + key + "'", format_value(outside), p.range.text()})
+      for (const std::string& needle :
+           {std::string("good.json"), "'" + key + "'", format_value(outside), p.range.text()})
         EXPECT_NE(msg.find(needle), std::string::npos) << "'" << needle << "' not in: " << msg;
       // On the bound: rejected when open, accepted when closed.
       EXPECT_EQ(reader_message({key + "=" + format_value(bound)}),
@@ -286,7 +290,8 @@ TEST(Parameters, EveryRangeBoundIsRejectedOrAcceptedWithTheOneMessage) {
   // Integer caps reject a fraction through the same check.
   SceneDesc s = parse_scene_text(kGood, "good.json");
   expect_scene_error([&] { apply_parameter(s, "solver.cg_max_iterations", 2.5); },
-                     {"good.json", "'solver.cg_max_iterations'", "2.5", "[1, inf)"}, "fractional CG cap");
+                     {"good.json", "'solver.cg_max_iterations'", "2.5", "[1, inf)"},
+                     "fractional CG cap");
 }
 
 // The GUI's edit path (controls.cpp calls apply_parameter, then validate before restarting)
@@ -323,16 +328,19 @@ TEST(Parameters, GuiEditPathRejectsWhatTheReaderRejects) {
     expect_scene_error([&] { validate(gui); }, {reader}, "validate " + c.key);
   }
   SceneDesc gui = parse_scene_text(kGood, "good.json");
-  expect_scene_error([&] { apply_parameter(gui, "materials.3.E", 10); }, {"good.json", "materials.3.E"},
-                     "no material 3");
-  expect_scene_error([&] { apply_parameter(gui, "solver.scheme", 1); }, {"good.json", "solver.scheme"},
-                     "not numeric");
+  expect_scene_error([&] { apply_parameter(gui, "materials.3.E", 10); },
+                     {"good.json", "materials.3.E"}, "no material 3");
+  expect_scene_error([&] { apply_parameter(gui, "solver.scheme", 1); },
+                     {"good.json", "solver.scheme"}, "not numeric");
 }
 
 TEST(Parameters, LambdaIsOptional) {
   EXPECT_FALSE(parse_scene_text(kGood, "good.json").solver.lambda.has_value());
-  EXPECT_EQ(parse_scene_text(kGood, "good.json", {"solver.integrator=midpoint"}).solver.integrator_lambda(), 0.5);
-  EXPECT_EQ(parse_scene_text(kGood, "good.json", {"solver.lambda=0.25"}).solver.integrator_lambda(), 0.25);
+  EXPECT_EQ(parse_scene_text(kGood, "good.json", {"solver.integrator=midpoint"})
+                .solver.integrator_lambda(),
+            0.5);
+  EXPECT_EQ(parse_scene_text(kGood, "good.json", {"solver.lambda=0.25"}).solver.integrator_lambda(),
+            0.25);
   bad("/solver/lambda", -0.5, "solver.lambda");  // once a negative value meant "unset"
 }
 

@@ -91,8 +91,10 @@ void parameter_field(ViewerState& st, SimWorker& worker, const std::string& key)
   double value = edit.id == id ? edit.value : p->get(st.scene, index);
   const Range& r = p->range;
   const bool bounded = std::isfinite(r.lo) && std::isfinite(r.hi);
-  const bool changed = bounded ? ImGui::SliderScalar(label.c_str(), ImGuiDataType_Double, &value, &r.lo, &r.hi, "%.3g")
-                               : ImGui::InputDouble(label.c_str(), &value, 0, 0, p->integer ? "%.0f" : "%.4g");
+  const bool changed =
+      bounded
+          ? ImGui::SliderScalar(label.c_str(), ImGuiDataType_Double, &value, &r.lo, &r.hi, "%.3g")
+          : ImGui::InputDouble(label.c_str(), &value, 0, 0, p->integer ? "%.0f" : "%.4g");
   if (changed) edit = {id, value};
   if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s: %s", key.c_str(), p->describe().c_str());
   if (!ImGui::IsItemDeactivatedAfterEdit() || edit.id != id) return;
@@ -192,7 +194,8 @@ void panes_section(ViewerState& st, const Published& pub, SimWorker& worker) {
       // Live, so not through a restart; the slider stays inside the registry's closed range.
       const NumericParameter& alpha = *find_parameter("solver.flip_alpha");
       float a = float(c.flip_alpha);
-      if (ImGui::SliderFloat("##alpha", &a, float(alpha.range.lo), float(alpha.range.hi), "alpha %.2f") &&
+      if (ImGui::SliderFloat("##alpha", &a, float(alpha.range.lo), float(alpha.range.hi),
+                             "alpha %.2f") &&
           alpha.range.contains(a))
         c.flip_alpha = a, worker.set_scheme(k, c.scheme, a);
       if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", alpha.describe().c_str());
@@ -245,8 +248,9 @@ void solver_section(ViewerState& st, SimWorker& worker) {
     parameter_field(st, worker, "time.dt.v_tau");
   }
   if (s.solver.integrator != Integrator::symplectic || s.solver.integrator_lambda() != 0) {
-    for (const char* key : {"solver.lambda", "solver.newton_tolerance", "solver.newton_max_iterations",
-                            "solver.cg_tolerance", "solver.cg_max_iterations"})
+    for (const char* key :
+         {"solver.lambda", "solver.newton_tolerance", "solver.newton_max_iterations",
+          "solver.cg_tolerance", "solver.cg_max_iterations"})
       parameter_field(st, worker, key);
   }
   for (std::size_t m = 0; m < s.materials.size(); ++m) {
