@@ -9,26 +9,64 @@
 #include <fstream>
 #include <sstream>
 
+#include "sim/parameters.hpp"
+
 namespace apiclab::cli {
+
+namespace {
+
+// "--flip-alpha": the registry's label and help, unit, range and default (the scene's value
+// when the scene gives one).
+template <class T>
+CLI::Option* add_parameter_option(CLI::App* cmd, const std::string& flag, T& target,
+                                  std::string_view key, const std::string& note = "") {
+  const NumericParameter* p = find_parameter(key);
+  if (!p) throw std::logic_error("no numeric parameter " + std::string(key));
+  return cmd->add_option(
+      flag, target,
+      std::string(p->label) + note + " (--set " + std::string(key) + "): " + p->describe());
+}
+
+template <class E>
+std::string choice_help(const char* what, const std::vector<Choice<E>>& choices) {
+  return std::string(what) + ": " + choice_keys(choices) + " [default: the scene's]";
+}
+
+std::string parameter_table() {
+  std::string out = "Numeric scene keys (--set KEY=VALUE; * is a material index or an axis):\n";
+  for (const auto& p : numeric_parameters())
+    out += "  " + std::string(p.key) + "  " + std::string(p.label) + ": " + p.describe() + "\n";
+  return out;
+}
+
+}  // namespace
 
 void add_run_options(CLI::App* cmd, RunOptions& o, bool scene_required) {
   auto* scene = cmd->add_option("scene", o.scene, "scene file, or the name of a shipped scene (e.g. rotating-disk)");
   if (scene_required) scene->required();
-  cmd->add_option("--scheme", o.scheme, "transfer scheme: " + choice_keys(scheme_choices()));
-  cmd->add_option("--flip-alpha", o.flip_alpha, "FLIP/PIC blend of eq 3 (1 = FLIP, 0 = PIC)");
-  cmd->add_option("--kernel", o.kernel, "interpolation kernel: " + choice_keys(kernel_choices()));
-  cmd->add_option("--integrator", o.integrator, "grid update: " + choice_keys(integrator_choices()));
-  cmd->add_option("--lambda", o.lambda, "lambda of eqs 27-30 (overrides the integrator's)");
-  cmd->add_option("--t-end", o.t_end, "end time (s)");
-  cmd->add_option("--frames", o.frames, "number of frames (end time = frames / fps)");
-  cmd->add_option("--fps", o.fps, "frames per second");
-  cmd->add_option("--dt", o.dt, "fixed time step (s)");
-  cmd->add_option("--csv", o.csv, "diagnostics CSV, one row per step");
-  cmd->add_option("--dump", o.dump, "directory for particle state per frame (frame_0000.csv, ...)");
-  cmd->add_option("--set", o.sets, "override a scene value by JSON path, e.g. --set materials.0.E=2000")->take_all();
-  cmd->add_option("--threads", o.threads, "OpenMP threads (default: all cores)");
-  cmd->add_option("--precision", o.precision, "scalar type: double|float");
+  cmd->add_option("--scheme", o.scheme, choice_help("transfer scheme", scheme_choices()));
+  add_parameter_option(cmd, "--flip-alpha", o.flip_alpha, "solver.flip_alpha");
+  cmd->add_option("--kernel", o.kernel, choice_help("interpolation kernel", kernel_choices()));
+  cmd->add_option("--integrator", o.integrator, choice_help("grid update", integrator_choices()));
+  add_parameter_option(cmd, "--lambda", o.lambda, "solver.lambda", ", overrides the integrator's");
+  add_parameter_option(cmd, "--t-end", o.t_end, "time.end");
+  cmd->add_option("--frames", o.frames,
+                  "number of frames (end time = frames / fps) [allowed: integer >= 1]");
+  add_parameter_option(cmd, "--fps", o.fps, "time.fps");
+  add_parameter_option(cmd, "--dt", o.dt, "time.dt.value", ", with the fixed rule");
+  cmd->add_option("--csv", o.csv, "diagnostics CSV, one row per step [default: none]");
+  cmd->add_option("--dump", o.dump,
+                  "directory for particle state per frame (frame_0000.csv, ...) [default: none]");
+  cmd->add_option(
+         "--set", o.sets,
+         "override a scene value by JSON path, e.g. --set materials.0.E=2000; numeric keys are "
+         "checked against their allowed range (apiclab run --help lists them)")
+      ->take_all();
+  cmd->add_option("--threads", o.threads, "OpenMP threads [default: all cores]");
+  cmd->add_option("--precision", o.precision,
+                  "scalar type: " + choice_keys(precision_choices()) + " [default: double]");
   cmd->add_flag("--quiet", o.quiet, "no progress line");
+  cmd->footer(parameter_table());
 }
 
 Precision precision_of(const RunOptions& o) {
@@ -71,7 +109,8 @@ SceneDesc load_scene_with_options(const RunOptions& o) {
   precision_of(o);
   for (auto& s : o.sets) sets.push_back(s);
   SceneDesc scene = load_scene(resolve_scene_path(o.scene), sets);
-  if (o.frames) scene.time.end = *o.frames / scene.time.fps;
+  scene.asset_dirs.push_back(assets_directory());
+  if (o.frames) apply_parameter(scene, "time.end", *o.frames / scene.time.fps);
   return scene;
 }
 

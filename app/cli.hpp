@@ -1,4 +1,4 @@
-// Shared command-line plumbing for the subcommands (DESIGN.md, Command line).
+// Shared command-line plumbing for the subcommands (docs/architecture.md, Command line).
 #pragma once
 #include <CLI/CLI.hpp>
 #include <memory>
@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "app/assets.hpp"
 #include "sim/scene.hpp"
 #include "sim/simulation.hpp"
 
@@ -29,7 +30,8 @@ struct RunOptions {
   bool quiet = false;
 };
 
-// Registers the common options on a subcommand.
+// Registers the common options on a subcommand; the numeric ones take their help, unit,
+// allowed range and default from the parameter registry (sim/parameters.hpp).
 void add_run_options(CLI::App* cmd, RunOptions& o, bool scene_required = true);
 
 // Loads the scene and applies the options as `--set` overrides, so that every option is

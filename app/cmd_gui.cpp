@@ -33,7 +33,7 @@ void register_gui(CLI::App& root, CommandTable& table) {
   cmd->add_option("--schemes", *schemes, "One pane per scheme, side by side, e.g. pic,flip,apic (1-4)");
   cmd->add_option("--set", o->overrides, "Override a scene value by JSON path, KEY=VALUE");
   cmd->add_option("--precision", o->precision, "double|float");
-  cmd->add_option("--color", o->color, "speed|material|object|noise");
+  cmd->add_option("--color", o->color, choice_keys(color_mode_choices()) + " [default: speed]");
   cmd->add_flag("--vectors", o->vectors, "Show velocity vectors");
   cmd->add_flag("--fast", *fast, "Run as fast as possible instead of real time");
   cmd->add_flag("--paused", o->paused, "Start paused");

@@ -40,7 +40,8 @@ void add_render_options(CLI::App* cmd, RenderOptions& o) {
       ->required();
   cmd->add_option("--size", o.size, "image size WxH in pixels (default 1280x720)");
   cmd->add_option("--color", o.color,
-                  "particle colour: speed|material|object|noise (noise: |v_p - PIC velocity|)");
+                  std::string("particle colour: ") + choice_keys(color_mode_choices()) +
+                      " (noise: |v_p - PIC velocity|) [default: speed]");
   cmd->add_flag("--vectors", o.vectors, "draw velocity arrows");
   cmd->add_option("--vector-scale", o.vector_scale,
                   "arrow length per unit speed (default: automatic)");

@@ -9,26 +9,7 @@
 namespace apiclab::render {
 
 ColorMode parse_color_mode(std::string_view key) {
-  if (key == "speed") return ColorMode::speed;
-  if (key == "material") return ColorMode::material;
-  if (key == "object") return ColorMode::object;
-  if (key == "noise") return ColorMode::noise;
-  throw std::invalid_argument("unknown color mode '" + std::string(key) +
-                              "' (expected speed|material|object|noise)");
-}
-
-std::string_view key_of(ColorMode mode) {
-  switch (mode) {
-    case ColorMode::speed:
-      return "speed";
-    case ColorMode::material:
-      return "material";
-    case ColorMode::object:
-      return "object";
-    case ColorMode::noise:
-      return "noise";
-  }
-  return "?";
+  return parse_choice(color_mode_choices(), key, "color mode");
 }
 
 Vec3 viridis(float t) {

@@ -5,6 +5,7 @@
 #include <string_view>
 
 #include "render/math.hpp"
+#include "sim/registry.hpp"
 
 namespace apiclab::render {
 
@@ -12,10 +13,10 @@ struct Rgba8 {
   std::uint8_t r = 0, g = 0, b = 0, a = 255;
 };
 
-enum class ColorMode { speed, material, object, noise };
-// "speed" | "material" | "object" | "noise"; throws std::invalid_argument naming the keys.
+// The modes and their keys are in the choice registry (sim/registry.hpp, color_mode_choices).
+using ColorMode = apiclab::ColorMode;
+// Throws std::invalid_argument naming the keys.
 ColorMode parse_color_mode(std::string_view key);
-std::string_view key_of(ColorMode mode);
 inline bool is_scalar(ColorMode m) { return m == ColorMode::speed || m == ColorMode::noise; }
 
 // Viridis (van der Walt & Smith, matplotlib), perceptually uniform, legible in grey;

@@ -1,5 +1,5 @@
 // One registry of string keys for every choice a user makes: the same key is used in scene
-// JSON, CLI flags and GUI combo boxes.
+// JSON, CLI flags and GUI combo boxes. Numbers have their own registry (parameters.hpp).
 #pragma once
 #include <stdexcept>
 #include <string>
@@ -19,6 +19,8 @@ enum class SamplingType { lattice, ppc, poisson, triangulated };
 enum class BoundaryCondition { slip, sticky, separate, periodic };
 enum class DtRule { fixed, cfl, elastic, two_step };
 enum class Precision { single, dbl };
+// How particles are coloured (render/, the GUI and `render --color`).
+enum class ColorMode { speed, material, object, noise };
 
 // A keyed choice: key, value, one-line description for help texts and GUI tooltips.
 template <class E>
@@ -98,6 +100,15 @@ inline const std::vector<Choice<Precision>>& precision_choices() {
   return c;
 }
 
+inline const std::vector<Choice<ColorMode>>& color_mode_choices() {
+  static const std::vector<Choice<ColorMode>> c = {
+      {"speed", ColorMode::speed, "particle speed |v_p|"},
+      {"material", ColorMode::material, "one colour per material"},
+      {"object", ColorMode::object, "one colour per object"},
+      {"noise", ColorMode::noise, "|v_p - PIC-interpolated grid velocity|, FLIP's null modes"}};
+  return c;
+}
+
 template <class E>
 std::string choice_keys(const std::vector<Choice<E>>& choices) {
   std::string s;
@@ -128,5 +139,6 @@ inline std::string_view key_of(MaterialModel m) { return choice_key(material_cho
 inline std::string_view key_of(BoundaryCondition b) { return choice_key(boundary_choices(), b); }
 inline std::string_view key_of(DtRule r) { return choice_key(dt_rule_choices(), r); }
 inline std::string_view key_of(Precision p) { return choice_key(precision_choices(), p); }
+inline std::string_view key_of(ColorMode m) { return choice_key(color_mode_choices(), m); }
 
 }  // namespace apiclab

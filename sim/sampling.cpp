@@ -249,9 +249,16 @@ SampledParticles sample_object(const SceneDesc& scene, int object_index) {
     namespace fs = std::filesystem;
     fs::path file = shape.file;
     if (file.is_relative()) {
-      fs::path beside = fs::path(scene.source).parent_path() / file;
-      fs::path assets = fs::path(scenes_directory()).parent_path() / file;
-      file = fs::exists(beside) ? beside : assets;
+      // Beside the scene, in the folder above it (assets/scenes/x.json -> assets/meshes/),
+      // then in the folders the app names.
+      const fs::path folder = fs::path(scene.source).parent_path();
+      std::vector<fs::path> candidates{folder / file, folder.parent_path() / file};
+      for (const auto& dir : scene.asset_dirs) candidates.push_back(fs::path(dir) / file);
+      for (const auto& c : candidates)
+        if (fs::exists(c)) {
+          file = c;
+          break;
+        }
     }
     if (!fs::exists(file)) throw SceneError(scene.source + ": key '" + key + ".shape.file': mesh file '" + shape.file + "' not found");
     mesh = std::make_unique<MeshSolid>(file.string(), shape);

@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -43,7 +44,7 @@ struct SolverDesc {
   double flip_alpha = 1.0;  // eq 3 blend: 1 = pure FLIP, 0 = PIC
   KernelType kernel = KernelType::quadratic;
   Integrator integrator = Integrator::symplectic;
-  double lambda = -1.0;  // λ of eqs 27-30; < 0 means "from the integrator"
+  std::optional<double> lambda;  // λ of eqs 27-30; empty: the integrator's
   double newton_tolerance = 1e-6;
   int newton_max_iterations = 20;
   double cg_tolerance = 1e-6;
@@ -54,7 +55,7 @@ struct SolverDesc {
   // than it saves there). Not a scene key: tests set it to 0 to exercise the parallel paths.
   std::size_t parallel_min_particles = 20000;
   double integrator_lambda() const {
-    if (lambda >= 0) return lambda;
+    if (lambda) return *lambda;
     return integrator == Integrator::midpoint ? 0.5 : 0.0;
   }
 };
@@ -114,6 +115,9 @@ struct ColliderDesc {
 struct SceneDesc {
   std::string name, description;
   std::string source;  // file it came from, for messages and relative paths
+  // Where relative mesh files are looked for after the scene's own folder and its parent
+  // (the app adds its asset folder; sim does no discovery of its own).
+  std::vector<std::string> asset_dirs;
   int dim = 2;
   DomainDesc domain;
   Vec3d gravity{0, 0, 0};
@@ -154,15 +158,11 @@ class SceneSection {
 };
 
 // Reads a scene file, applies `--set KEY=VALUE` overrides (JSON paths like
-// `materials.0.E`), and validates it. Throws SceneError naming file and key.
+// `materials.0.E`), and validates it (numbers through sim/parameters.hpp's registry).
+// Throws SceneError naming file and key.
 SceneDesc load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
 // Same, from JSON text (tests, GUI).
 SceneDesc parse_scene_text(const std::string& json_text, const std::string& source_name,
                            const std::vector<std::string>& overrides = {});
-
-// The directory holding the shipped scenes (build-time path, then ./assets/scenes).
-std::string scenes_directory();
-// Resolves a scene argument: a path, or a bare name like `rotating-disk`.
-std::string resolve_scene_path(const std::string& arg);
 
 }  // namespace apiclab

@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# End-to-end tests of the apiclab command line (DESIGN.md, Command line and Diagnostics CSV).
+# End-to-end tests of the apiclab command line (docs/architecture.md, Command line and Diagnostics
+# CSV).
 # Usage: APICLAB=/path/to/apiclab cli_tests.sh SOURCE_DIR
 # Bad input must give exit code 2 and exactly one line on stderr naming the cause (for scene
 # errors: the file and the JSON key); a signal or abort is always a failure.
@@ -114,12 +115,27 @@ expect_error "--set on a missing path (solver.nope.x)" "$DISK" "solver.nope" -- 
 expect_error "--set on a missing index (materials.5.E)" "$DISK" "materials.5" -- run "$DISK" --set materials.5.E=1
 expect_error "--set of an unknown key (materials.0.Ee)" "$DISK" "'materials.0.Ee'" -- run "$DISK" --set materials.0.Ee=5
 expect_error "--set of an invalid value (materials.0.nu=0.7)" "$DISK" "'materials.0.nu'" -- run "$DISK" --set materials.0.nu=0.7
+# Flags go through --set, so the registry's range and message apply (sim/parameters.hpp).
+expect_error "--dt 0 (fixed step)" "$DISK" "'time.dt.value'" "(0, inf)" -- run "$DISK" --dt 0
+expect_error "--flip-alpha 1.5" "$DISK" "'solver.flip_alpha'" "1.5" "[0, 1]" -- run "$DISK" --flip-alpha 1.5
+expect_error "--set of a fractional CG cap" "'solver.cg_max_iterations'" -- run "$DISK" --set solver.cg_max_iterations=2.5
 expect_error "--scheme unknown" "apicc" -- run "$DISK" --scheme apicc
 expect_error "--kernel unknown" "quintic" -- run "$DISK" --kernel quintic
 expect_error "unwritable --csv" "/proc/nope" -- run "$DISK" --t-end 0.01 --csv /proc/nope/x.csv
 expect_error "unwritable --dump" "/proc/nope" -- run "$DISK" --t-end 0.01 --csv "$TMP/d.csv" --dump /proc/nope/dir
 expect_error "roundtrip --scheme flip" "FLIP" -- roundtrip --scheme flip --res 16
 expect_error "roundtrip --kernel unknown" "quintic" -- roundtrip --kernel quintic --res 16
+
+# ---- --help: every numeric option shows its unit, allowed range and default ------------------
+run_cli run --help
+help_problems=()
+[ "$RC" -eq 0 ] || help_problems+=("exit code $RC")
+for needle in "allowed [0, 1]; default 1]" "materials.*.nu" "allowed (-1, 0.5)" "time.dt.value" "default: double"; do
+  grep -qF -- "$needle" "$OUT" || help_problems+=("help lacks '$needle'")
+done
+flip_line=$(grep -F -- "--flip-alpha" "$OUT" | head -n 1)
+case "$flip_line" in *allowed*default*) ;; *) help_problems+=("--flip-alpha line lacks range/default: $flip_line") ;; esac
+if [ ${#help_problems[@]} -eq 0 ]; then ok "run --help shows ranges and defaults"; else nok "run --help" "${help_problems[@]}"; fi
 
 # ---- run: diagnostics CSV and particle dumps -----------------------------------------------
 CSV="$TMP/disk.csv"

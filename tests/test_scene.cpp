@@ -1,16 +1,20 @@
 // Scene parsing: every shipped scene loads; bad input gives one SceneError line that names the
-// file and the offending key (DESIGN.md, Scenes and Command line).
+// file and the offending key (docs/architecture.md, Scenes and Command line); the numeric-parameter
+// registry and the GUI's edit path, which must refuse what the reader refuses.
 #include <gtest/gtest.h>
-
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <string>
 #include <vector>
 
 #include "sim/mpm.hpp"
+#include "sim/parameters.hpp"
 #include "sim/scene.hpp"
 #include "sim/simulation.hpp"
 
@@ -187,6 +191,157 @@ TEST(Scene, LoadSceneFromFileNamesFile) {
   }
   expect_scene_error([&] { load_scene(f.string()); }, {f.string(), "'materials.0.Ee'"}, "file with typo");
   fs::remove_all(dir);
+}
+
+// ---- The numeric-parameter registry (sim/parameters.hpp) -----------------------------------
+
+// The message the reader gives for a value outside its range: the one format every path uses.
+std::string range_message(const std::string& key, double value, const std::string& file) {
+  int index = 0;
+  const NumericParameter* p = find_parameter(key, &index);
+  if (!p) return "no parameter " + key;
+  return parameter_error(*p, index, value, file).value_or("accepted");
+}
+
+// The reader's message for kGood with `overrides`, or "accepted".
+std::string reader_message(const std::vector<std::string>& overrides) {
+  try {
+    parse_scene_text(kGood, "good.json", overrides);
+    return "accepted";
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+}
+
+// A value inside p's range that differs from `current` (for the --set round trip).
+double another_valid_value(const NumericParameter& p, double current) {
+  if (p.integer) return current + 1;
+  const Range& r = p.range;
+  if (std::isfinite(r.lo) && std::isfinite(r.hi)) return r.lo + 0.37 * (r.hi - r.lo);
+  if (std::isfinite(r.lo)) return current > r.lo ? 2 * current : r.lo + 1;
+  return current + 0.25;
+}
+
+TEST(Parameters, DeclaredOnceWithLabelUnitHelpAndDefaultInRange) {
+  std::set<std::string> keys;
+  for (const auto& p : numeric_parameters()) {
+    SCOPED_TRACE(std::string(p.key));
+    EXPECT_TRUE(keys.insert(std::string(p.key)).second) << "declared twice";
+    EXPECT_FALSE(p.label.empty());
+    EXPECT_FALSE(p.unit.empty());
+    EXPECT_FALSE(p.help.empty());
+    if (!p.required)
+      EXPECT_TRUE(p.range.contains(p.default_value))
+          << p.default_value << " not in " << p.range.text();
+    int index = -1;
+    EXPECT_EQ(find_parameter(p.key_at(3), &index), &p);
+    EXPECT_EQ(index, p.key.find('*') == std::string_view::npos ? 0 : 3);
+  }
+  EXPECT_EQ(find_parameter("materials.x.E"), nullptr);
+  EXPECT_EQ(find_parameter("solver.scheme"), nullptr);
+  EXPECT_EQ(find_parameter("materials.0.E.x"), nullptr);
+}
+
+TEST(Parameters, EveryKeyIsReachableBySetAndReadBack) {
+  const SceneDesc base = parse_scene_text(kGood, "good.json");
+  for (const auto& p : numeric_parameters()) {
+    const std::string key = p.key_at(0);
+    SCOPED_TRACE(key);
+    const double value = another_valid_value(p, p.get(base, 0));
+    ASSERT_NE(value, p.get(base, 0));
+    SceneDesc s;
+    ASSERT_NO_THROW(s = parse_scene_text(kGood, "good.json", {key + "=" + format_value(value)}));
+    EXPECT_EQ(p.get(s, 0), value);
+    // The sweep's setter gives the same scene value.
+    SceneDesc applied = base;
+    ASSERT_NO_THROW(apply_parameter(applied, key, value));
+    EXPECT_EQ(p.get(applied, 0), value);
+  }
+}
+
+TEST(Parameters, EveryRangeBoundIsRejectedOrAcceptedWithTheOneMessage) {
+  int bounds = 0;
+  for (const auto& p : numeric_parameters()) {
+    const std::string key = p.key_at(0);
+    for (const bool lower : {true, false}) {
+      const double bound = lower ? p.range.lo : p.range.hi;
+      if (!std::isfinite(bound)) continue;
+      ++bounds;
+      const bool open = lower ? p.range.lo_open : p.range.hi_open;
+      const double step = p.integer ? 1 : 1e-3 * std::max(1.0, std::abs(bound));
+      const double outside = bound + (lower ? -step : step);
+      const double inside =
+          p.integer ? bound + (lower ? 1 : -1) : std::nextafter(bound, lower ? 1e300 : -1e300);
+      SCOPED_TRACE(key + (lower ? " lower bound " : " upper bound ") + format_value(bound));
+      // Outside: rejected by the reader with the registry's message, naming file, key, value,
+      // range.
+      const std::string msg = reader_message({key + "=" + format_value(outside)});
+      EXPECT_EQ(msg, range_message(key, outside, "good.json"));
+      for (const std::string& needle :
+           {std::string("good.json"), "'" + key + "'", format_value(outside), p.range.text()})
+        EXPECT_NE(msg.find(needle), std::string::npos) << "'" << needle << "' not in: " << msg;
+      // On the bound: rejected when open, accepted when closed.
+      EXPECT_EQ(reader_message({key + "=" + format_value(bound)}),
+                open ? range_message(key, bound, "good.json") : "accepted");
+      EXPECT_EQ(parameter_error(p, 0, inside, "good.json"), std::nullopt) << format_value(inside);
+    }
+  }
+  EXPECT_GE(bounds, 15);
+  // Integer caps reject a fraction through the same check.
+  SceneDesc s = parse_scene_text(kGood, "good.json");
+  expect_scene_error([&] { apply_parameter(s, "solver.cg_max_iterations", 2.5); },
+                     {"good.json", "'solver.cg_max_iterations'", "2.5", "[1, inf)"},
+                     "fractional CG cap");
+}
+
+// The GUI's edit path (controls.cpp calls apply_parameter, then validate before restarting)
+// refuses what the reader refuses, with the reader's message, and keeps the old value.
+TEST(Parameters, GuiEditPathRejectsWhatTheReaderRejects) {
+  struct Case {
+    std::string key;
+    double value;
+    std::string reader_override;
+  };
+  const std::string fixed = R"(time.dt={"rule":"fixed","value":0.001})";
+  const std::vector<Case> cases = {
+      {"materials.0.nu", 0.5, "materials.0.nu=0.5"},
+      {"materials.0.E", 0, "materials.0.E=0"},
+      {"time.dt.value", 0, R"(time.dt={"rule":"fixed","value":0})"},
+  };
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.key);
+    SceneDesc gui = parse_scene_text(kGood, "good.json", {fixed});
+    const std::string reader = reader_message({c.reader_override});
+    ASSERT_NE(reader, "accepted");
+    int index = 0;
+    const NumericParameter& p = *find_parameter(c.key, &index);
+    const double before = p.get(gui, index);
+    try {
+      apply_parameter(gui, c.key, c.value);
+      ADD_FAILURE() << "the GUI path accepted " << c.key << " = " << c.value;
+    } catch (const SceneError& e) {
+      EXPECT_EQ(std::string(e.what()), reader);
+    }
+    EXPECT_EQ(p.get(gui, index), before) << "the old value was not kept";
+    // A SceneDesc edited in place (as the GUI did before) is refused by validate alike.
+    p.set(gui, index, c.value);
+    expect_scene_error([&] { validate(gui); }, {reader}, "validate " + c.key);
+  }
+  SceneDesc gui = parse_scene_text(kGood, "good.json");
+  expect_scene_error([&] { apply_parameter(gui, "materials.3.E", 10); },
+                     {"good.json", "materials.3.E"}, "no material 3");
+  expect_scene_error([&] { apply_parameter(gui, "solver.scheme", 1); },
+                     {"good.json", "solver.scheme"}, "not numeric");
+}
+
+TEST(Parameters, LambdaIsOptional) {
+  EXPECT_FALSE(parse_scene_text(kGood, "good.json").solver.lambda.has_value());
+  EXPECT_EQ(parse_scene_text(kGood, "good.json", {"solver.integrator=midpoint"})
+                .solver.integrator_lambda(),
+            0.5);
+  EXPECT_EQ(parse_scene_text(kGood, "good.json", {"solver.lambda=0.25"}).solver.integrator_lambda(),
+            0.25);
+  bad("/solver/lambda", -0.5, "solver.lambda");  // once a negative value meant "unset"
 }
 
 }  // namespace

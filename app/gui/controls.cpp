@@ -1,11 +1,15 @@
 // The control column: scene, playback, panes and schemes (live), solver and material values
-// (restart), view options, and throughput. Every combo is built from the registry's keys.
+// (restart), view options, and throughput. Every combo is built from the registry's keys and
+// every number field from the numeric-parameter registry (sim/parameters.hpp), whose
+// validation an edit passes before it reaches the solver.
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 
 #include "app/gui/viewer_state.hpp"
 #include "render/color.hpp"
+#include "sim/parameters.hpp"
 
 namespace apiclab::gui {
 namespace {
@@ -53,8 +57,57 @@ void section(const char* title) {
 }
 
 void restart_because(ViewerState& st, SimWorker& worker, const std::string& what) {
+  try {
+    validate(st.scene);  // the reader's check: no invalid scene reaches a solver
+  } catch (const SceneError& e) {
+    st.load_error = e.what();
+    return;
+  }
   st.notice = what + " changed: restarted from t = 0";
   restart(st, worker);
+}
+
+// The number field being typed in. ImGui activates one item at a time; the typed value is
+// applied when the field is left, not on every keystroke.
+struct PendingEdit {
+  ImGuiID id = 0;
+  double value = 0;
+};
+PendingEdit& pending_edit() {
+  static PendingEdit edit;
+  return edit;
+}
+
+// A scene number from the registry: label and unit, the help and allowed range as tooltip, a
+// slider over a bounded range. The new value goes through apply_parameter, the scene reader's
+// validation: a value outside the range shows the reader's message and the old value stays.
+void parameter_field(ViewerState& st, SimWorker& worker, const std::string& key) {
+  int index = 0;
+  const NumericParameter* p = find_parameter(key, &index);
+  if (!p) return;
+  const std::string label = std::string(p->label) + " [" + p->unit_for(st.scene.dim) + "]##" + key;
+  const ImGuiID id = ImGui::GetID(label.c_str());
+  PendingEdit& edit = pending_edit();
+  double value = edit.id == id ? edit.value : p->get(st.scene, index);
+  const Range& r = p->range;
+  const bool bounded = std::isfinite(r.lo) && std::isfinite(r.hi);
+  const bool changed =
+      bounded
+          ? ImGui::SliderScalar(label.c_str(), ImGuiDataType_Double, &value, &r.lo, &r.hi, "%.3g")
+          : ImGui::InputDouble(label.c_str(), &value, 0, 0, p->integer ? "%.0f" : "%.4g");
+  if (changed) edit = {id, value};
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s: %s", key.c_str(), p->describe().c_str());
+  if (!ImGui::IsItemDeactivatedAfterEdit() || edit.id != id) return;
+  edit.id = 0;
+  if (edit.value == p->get(st.scene, index)) return;
+  try {
+    apply_parameter(st.scene, key, edit.value);
+  } catch (const SceneError& e) {
+    st.load_error = e.what();
+    return;
+  }
+  st.load_error.clear();
+  restart_because(st, worker, std::string(p->label));
 }
 
 std::string human(double v, const char* unit) {
@@ -138,9 +191,14 @@ void panes_section(ViewerState& st, const Published& pub, SimWorker& worker) {
     if (c.scheme == Scheme::flip) {
       ImGui::SameLine();
       ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x - (st.panes.size() > 1 ? 30 : 0));
+      // Live, so not through a restart; the slider stays inside the registry's closed range.
+      const NumericParameter& alpha = *find_parameter("solver.flip_alpha");
       float a = float(c.flip_alpha);
-      if (ImGui::SliderFloat("##alpha", &a, 0, 1, "alpha %.2f")) c.flip_alpha = a, worker.set_scheme(k, c.scheme, a);
-      if (ImGui::IsItemHovered()) ImGui::SetTooltip("FLIP/PIC blend (eq 3): 1 = pure FLIP, 0 = PIC");
+      if (ImGui::SliderFloat("##alpha", &a, float(alpha.range.lo), float(alpha.range.hi),
+                             "alpha %.2f") &&
+          alpha.range.contains(a))
+        c.flip_alpha = a, worker.set_scheme(k, c.scheme, a);
+      if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", alpha.describe().c_str());
     }
     if (st.panes.size() > 1) {
       ImGui::SameLine(ImGui::GetWindowContentRegionMax().x - 22);
@@ -174,28 +232,34 @@ void panes_section(ViewerState& st, const Published& pub, SimWorker& worker) {
 void solver_section(ViewerState& st, SimWorker& worker) {
   section("Solver (changes restart)");
   SceneDesc& s = st.scene;
-  ImGui::PushItemWidth(-110);
+  ImGui::PushItemWidth(-170);
   if (choice_combo("kernel", s.solver.kernel, kernel_choices())) restart_because(st, worker, "Kernel");
   if (choice_combo("integrator", s.solver.integrator, integrator_choices())) restart_because(st, worker, "Integrator");
+  parameter_field(st, worker, "time.end");
   if (choice_combo("time step", s.time.rule, dt_rule_choices())) restart_because(st, worker, "Time-step rule");
   if (s.time.rule == DtRule::fixed) {
-    ImGui::InputDouble("dt [s]", &s.time.dt, 0, 0, "%.3g");
-    if (ImGui::IsItemDeactivatedAfterEdit()) restart_because(st, worker, "dt");
+    parameter_field(st, worker, "time.dt.value");
   } else {
-    ImGui::InputDouble("Courant nu", &s.time.nu, 0, 0, "%.3g");
-    if (ImGui::IsItemDeactivatedAfterEdit()) restart_because(st, worker, "Courant number");
+    parameter_field(st, worker, "time.dt.nu");
+  }
+  if (s.time.rule == DtRule::two_step) {
+    parameter_field(st, worker, "time.dt.min");
+    parameter_field(st, worker, "time.dt.value");
+    parameter_field(st, worker, "time.dt.v_tau");
+  }
+  if (s.solver.integrator != Integrator::symplectic || s.solver.integrator_lambda() != 0) {
+    for (const char* key :
+         {"solver.lambda", "solver.newton_tolerance", "solver.newton_max_iterations",
+          "solver.cg_tolerance", "solver.cg_max_iterations"})
+      parameter_field(st, worker, key);
   }
   for (std::size_t m = 0; m < s.materials.size(); ++m) {
     MaterialDesc& mat = s.materials[m];
     ImGui::PushID(int(m));
     ImGui::TextColored(kMuted, "material '%s'", mat.name.c_str());
     if (choice_combo("model", mat.model, material_choices())) restart_because(st, worker, "Material model");
-    ImGui::InputDouble("E [Pa]", &mat.E, 0, 0, "%.4g");
-    if (ImGui::IsItemDeactivatedAfterEdit()) restart_because(st, worker, "Young's modulus");
-    ImGui::InputDouble("nu", &mat.nu, 0, 0, "%.4g");
-    if (ImGui::IsItemDeactivatedAfterEdit()) restart_because(st, worker, "Poisson ratio");
-    ImGui::InputDouble("rho [kg/m^d]", &mat.rho, 0, 0, "%.4g");
-    if (ImGui::IsItemDeactivatedAfterEdit()) restart_because(st, worker, "Density");
+    for (const char* field : {"E", "nu", "rho"})
+      parameter_field(st, worker, "materials." + std::to_string(m) + "." + field);
     ImGui::PopID();
   }
   ImGui::PopItemWidth();
@@ -204,14 +268,10 @@ void solver_section(ViewerState& st, SimWorker& worker) {
 void view_section(ViewerState& st, const Published& pub, SimWorker& worker) {
   section("View");
   ImGui::PushItemWidth(-110);
-  const char* modes[] = {"speed", "material", "object", "noise"};
-  int mode = int(st.color);
-  if (ImGui::Combo("color", &mode, modes, 4)) {
-    st.color = render::ColorMode(mode);
+  if (choice_combo("color", st.color, color_mode_choices())) {
     st.color_max = 0, st.scaled_for = nullptr;
     worker.set_noise(st.color == render::ColorMode::noise);
   }
-  if (ImGui::IsItemHovered()) ImGui::SetTooltip("noise: |v_p - PIC-interpolated grid velocity|, FLIP's null modes");
   if (render::is_scalar(st.color)) {
     ImGui::Checkbox("auto scale", &st.auto_scale);
     ImGui::SameLine();

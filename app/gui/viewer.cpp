@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <thread>
 
+#include "app/assets.hpp"
 #include "app/gui/scene_view.hpp"
 #include "app/gui/viewer_state.hpp"
 #include "render/gl.hpp"
@@ -73,6 +74,7 @@ void load_scene_file(ViewerState& st, SimWorker& worker, const std::string& path
                      const std::vector<std::string>& overrides) {
   try {
     st.scene = load_scene(resolve_scene_path(path), overrides);
+    st.scene.asset_dirs.push_back(assets_directory());
     st.scene_path = resolve_scene_path(path);
     st.scene_loaded = true;
     st.load_error.clear();

@@ -1,0 +1,333 @@
+#include "parameters.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace apiclab {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr Range kPositive{0, kInf, true, true};
+constexpr Range kAnyReal{-kInf, kInf, true, true};
+constexpr Range kUnit{0, 1, false, false};
+constexpr Range kAtLeastOne{1, kInf, false, true};
+
+int material_count(const SceneDesc& s) { return int(s.materials.size()); }
+int dim_count(const SceneDesc& s) { return s.dim; }
+
+std::vector<NumericParameter> declare() {
+  using S = SceneDesc;
+  return {
+      // Domain and grid.
+      {.key = "domain.dx",
+       .label = "grid spacing dx",
+       .unit = "m",
+       .range = kPositive,
+       .required = true,
+       .help = "grid cell width (Sec 3); the kernels span 2-4 cells",
+       .get = [](const S& s, int) { return s.domain.dx; },
+       .set = [](S& s, int, double v) { s.domain.dx = v; }},
+      {.key = "domain.min.*",
+       .label = "domain min",
+       .unit = "m",
+       .range = kAnyReal,
+       .required = true,
+       .help = "lower corner of the grid domain, one component per axis",
+       .get = [](const S& s, int i) { return s.domain.min[size_t(i)]; },
+       .set = [](S& s, int i, double v) { s.domain.min[size_t(i)] = v; },
+       .count = dim_count},
+      {.key = "domain.max.*",
+       .label = "domain max",
+       .unit = "m",
+       .range = kAnyReal,
+       .default_value = 1,
+       .required = true,
+       .help = "upper corner of the grid domain; must exceed domain.min on every axis",
+       .get = [](const S& s, int i) { return s.domain.max[size_t(i)]; },
+       .set = [](S& s, int i, double v) { s.domain.max[size_t(i)] = v; },
+       .count = dim_count},
+      {.key = "gravity.*",
+       .label = "gravity",
+       .unit = "m/s^2",
+       .range = kAnyReal,
+       .help = "body acceleration, one component per axis (explicit force of eq 29)",
+       .get = [](const S& s, int i) { return s.gravity[size_t(i)]; },
+       .set = [](S& s, int i, double v) { s.gravity[size_t(i)] = v; },
+       .count = dim_count},
+      // Time.
+      {.key = "time.end",
+       .label = "end time",
+       .unit = "s",
+       .range = kPositive,
+       .default_value = 1.0,
+       .help = "simulated time to run",
+       .get = [](const S& s, int) { return s.time.end; },
+       .set = [](S& s, int, double v) { s.time.end = v; }},
+      {.key = "time.fps",
+       .label = "frames per second",
+       .unit = "1/s",
+       .range = kPositive,
+       .default_value = 24.0,
+       .help = "output frames per simulated second; every frame time is landed on exactly",
+       .get = [](const S& s, int) { return s.time.fps; },
+       .set = [](S& s, int, double v) { s.time.fps = v; }},
+      {.key = "time.dt.value",
+       .label = "time step dt",
+       .unit = "s",
+       .range = kPositive,
+       .default_value = 1e30,
+       .help = "fixed rule: the step (required); other rules: an upper bound dt_max (default none; "
+               "two-step: 0.005, Sec 6.7)",
+       .get = [](const S& s, int) { return s.time.dt; },
+       .set = [](S& s, int, double v) { s.time.dt = v; }},
+      {.key = "time.dt.nu",
+       .label = "Courant number nu",
+       .unit = "1",
+       .range = kPositive,
+       .default_value = 0.5,
+       .help = "CFL fraction of the cfl (Sec 4.3), elastic and two-step (Sec 6.7) rules",
+       .get = [](const S& s, int) { return s.time.nu; },
+       .set = [](S& s, int, double v) { s.time.nu = v; }},
+      {.key = "time.dt.min",
+       .label = "minimum time step dt_min",
+       .unit = "s",
+       .range = kPositive,
+       .default_value = 1e-6,
+       .help = "two-step rule: lower clamp of dt (Sec 6.7)",
+       .get = [](const S& s, int) { return s.time.dt_min; },
+       .set = [](S& s, int, double v) { s.time.dt_min = v; }},
+      {.key = "time.dt.v_tau",
+       .label = "speed floor v_tau",
+       .unit = "m/s",
+       .range = kPositive,
+       .default_value = 0.01,
+       .help = "two-step rule: dt = nu dx / max(v_max, v_tau) (Sec 6.7)",
+       .get = [](const S& s, int) { return s.time.v_tau; },
+       .set = [](S& s, int, double v) { s.time.v_tau = v; }},
+      // Solver.
+      {.key = "solver.flip_alpha",
+       .label = "FLIP blend alpha",
+       .unit = "1",
+       .range = kUnit,
+       .default_value = 1.0,
+       .help = "FLIP/PIC blend of eq 3: 1 = pure FLIP, 0 = PIC (used by the flip scheme)",
+       .get = [](const S& s, int) { return s.solver.flip_alpha; },
+       .set = [](S& s, int, double v) { s.solver.flip_alpha = v; }},
+      {.key = "solver.lambda",
+       .label = "integrator lambda",
+       .unit = "1",
+       .range = kUnit,
+       .default_value = 0.0,
+       .help = "lambda of eqs 27-30 (0 symplectic Euler, 1/2 midpoint); default: the integrator's",
+       .get = [](const S& s, int) { return s.solver.integrator_lambda(); },
+       .set = [](S& s, int, double v) { s.solver.lambda = v; },
+       .is_set = [](const S& s, int) { return s.solver.lambda.has_value(); }},
+      {.key = "solver.newton_tolerance",
+       .label = "Newton tolerance",
+       .unit = "1",
+       .range = kPositive,
+       .default_value = 1e-6,
+       .help = "implicit solve (Sec 4.1): stop when |grad E| < tol * reference speed",
+       .get = [](const S& s, int) { return s.solver.newton_tolerance; },
+       .set = [](S& s, int, double v) { s.solver.newton_tolerance = v; }},
+      {.key = "solver.newton_max_iterations",
+       .label = "Newton iteration cap",
+       .unit = "1",
+       .range = kAtLeastOne,
+       .default_value = 20,
+       .integer = true,
+       .help = "implicit solve (Sec 4.1): Newton steps before giving up",
+       .get = [](const S& s, int) { return double(s.solver.newton_max_iterations); },
+       .set = [](S& s, int, double v) { s.solver.newton_max_iterations = int(std::min(v, 1e9)); }},
+      {.key = "solver.cg_tolerance",
+       .label = "CG tolerance",
+       .unit = "1",
+       .range = kPositive,
+       .default_value = 1e-6,
+       .help = "CG in the mass inner product (Sec 4.2): relative residual to stop at",
+       .get = [](const S& s, int) { return s.solver.cg_tolerance; },
+       .set = [](S& s, int, double v) { s.solver.cg_tolerance = v; }},
+      {.key = "solver.cg_max_iterations",
+       .label = "CG iteration cap",
+       .unit = "1",
+       .range = kAtLeastOne,
+       .default_value = 200,
+       .integer = true,
+       .help = "CG in the mass inner product (Sec 4.2): iterations per Newton step",
+       .get = [](const S& s, int) { return double(s.solver.cg_max_iterations); },
+       .set = [](S& s, int, double v) { s.solver.cg_max_iterations = int(std::min(v, 1e9)); }},
+      {.key = "solver.blowup_energy_factor",
+       .label = "blow-up energy factor",
+       .unit = "1",
+       .range = kPositive,
+       .default_value = 10.0,
+       .help = "a run fails when kinetic + elastic energy exceeds this multiple of its reference",
+       .get = [](const S& s, int) { return s.solver.blowup_energy_factor; },
+       .set = [](S& s, int, double v) { s.solver.blowup_energy_factor = v; }},
+      // Materials.
+      {.key = "materials.*.E",
+       .label = "Young's modulus E",
+       .unit = "Pa",
+       .range = kPositive,
+       .default_value = 1000.0,
+       .required = true,
+       .help = "stiffness; with nu gives the Lame parameters mu = E/(2(1+nu)), lambda = E "
+               "nu/((1+nu)(1-2nu))",
+       .get = [](const S& s, int i) { return s.materials[size_t(i)].E; },
+       .set = [](S& s, int i, double v) { s.materials[size_t(i)].E = v; },
+       .count = material_count},
+      {.key = "materials.*.nu",
+       .label = "Poisson's ratio nu",
+       .unit = "1",
+       .range = Range{-1, 0.5, true, true},
+       .default_value = 0.3,
+       .required = true,
+       .help = "compressibility; the Lame lambda diverges at 0.5 (incompressible) and mu at -1",
+       .get = [](const S& s, int i) { return s.materials[size_t(i)].nu; },
+       .set = [](S& s, int i, double v) { s.materials[size_t(i)].nu = v; },
+       .count = material_count},
+      {.key = "materials.*.rho",
+       .label = "density rho",
+       .unit = "kg/m^2",
+       .unit_3d = "kg/m^3",
+       .range = kPositive,
+       .default_value = 1.0,
+       .required = true,
+       .help = "mass per area (2D) or volume (3D); particle mass m_p = rho V_p",
+       .get = [](const S& s, int i) { return s.materials[size_t(i)].rho; },
+       .set = [](S& s, int i, double v) { s.materials[size_t(i)].rho = v; },
+       .count = material_count},
+  };
+}
+
+[[noreturn]] void fail(const SceneDesc& s, const std::string& key, const std::string& what) {
+  throw SceneError(s.source + ": key '" + key + "': " + what);
+}
+
+// What relates several values: only meaningful once each is in range.
+void validate_domain(const SceneDesc& s) {
+  const DomainDesc& d = s.domain;
+  for (int a = 0; a < s.dim; ++a)
+    if (!(d.max[a] > d.min[a])) fail(s, "domain.max", "must exceed min on every axis");
+  for (int a = 0; a < s.dim; ++a) {
+    const double cells = (d.max[a] - d.min[a]) / d.dx;
+    if (cells > 1e5) fail(s, "domain.dx", "domain has more than 1e5 cells along an axis");
+    if (d.periodic(a) && std::abs(cells - std::round(cells)) > 1e-6 * cells)
+      fail(s, "domain.dx", "a periodic axis must be a whole number of cells long");
+  }
+}
+
+}  // namespace
+
+bool Range::contains(double v) const {
+  if (!std::isfinite(v)) return false;
+  const bool above = lo_open ? v > lo : v >= lo;
+  const bool below = hi_open ? v < hi : v <= hi;
+  return above && below;
+}
+
+std::string Range::text() const {
+  return std::string(lo_open ? "(" : "[") + format_value(lo) + ", " + format_value(hi) +
+         (hi_open ? ")" : "]");
+}
+
+std::string format_value(double v) {
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  char buf[32];
+  const auto end = std::to_chars(buf, buf + sizeof buf, v).ptr;  // shortest round-trip form
+  return std::string(buf, end);
+}
+
+std::string NumericParameter::key_at(int index) const {
+  std::string k(key);
+  const auto star = k.find('*');
+  if (star != std::string::npos) k.replace(star, 1, std::to_string(index));
+  return k;
+}
+
+std::string NumericParameter::unit_for(int dim) const {
+  return std::string(dim == 3 && !unit_3d.empty() ? unit_3d : unit);
+}
+
+std::string NumericParameter::default_text() const {
+  if (required) return "required";
+  if (is_set) return "from the integrator";
+  if (default_value >= 1e30) return "none";
+  return format_value(default_value);
+}
+
+std::string NumericParameter::describe() const {
+  std::string u(unit);
+  if (!unit_3d.empty()) u += " (2D), " + std::string(unit_3d) + " (3D)";
+  return std::string(help) + " [" + u + "; allowed " + range.text() + (integer ? ", integer" : "") +
+         "; default " + default_text() + "]";
+}
+
+const std::vector<NumericParameter>& numeric_parameters() {
+  static const std::vector<NumericParameter> all = declare();
+  return all;
+}
+
+const NumericParameter* find_parameter(std::string_view key, int* index) {
+  for (const auto& p : numeric_parameters()) {
+    const auto star = p.key.find('*');
+    if (star == std::string_view::npos) {
+      if (key != p.key) continue;
+      if (index) *index = 0;
+      return &p;
+    }
+    const std::string_view head = p.key.substr(0, star), tail = p.key.substr(star + 1);
+    if (key.size() <= head.size() + tail.size() || key.substr(0, head.size()) != head ||
+        key.substr(key.size() - tail.size()) != tail)
+      continue;
+    const std::string_view middle = key.substr(head.size(), key.size() - head.size() - tail.size());
+    if (middle == "*") {
+      if (index) *index = 0;
+      return &p;
+    }
+    if (middle.find_first_not_of("0123456789") != std::string_view::npos || middle.size() > 6)
+      continue;
+    if (index) *index = std::stoi(std::string(middle));
+    return &p;
+  }
+  return nullptr;
+}
+
+std::optional<std::string> parameter_error(const NumericParameter& p, int index, double value,
+                                           const std::string& file) {
+  const bool whole = !p.integer || value == std::floor(value);
+  if (p.range.contains(value) && whole) return std::nullopt;
+  return file + ": key '" + p.key_at(index) + "': " + std::string(p.label) + " " +
+         format_value(value) + " is outside the allowed range " + p.range.text() +
+         (p.integer ? " (integers)" : "");
+}
+
+void validate(const SceneDesc& s) {
+  for (const auto& p : numeric_parameters()) {
+    const int n = p.count ? p.count(s) : 1;
+    for (int i = 0; i < n; ++i) {
+      if (p.is_set && !p.is_set(s, i)) continue;
+      if (auto e = parameter_error(p, i, p.get(s, i), s.source)) throw SceneError(*e);
+    }
+  }
+  validate_domain(s);
+}
+
+void apply_parameter(SceneDesc& scene, std::string_view key, double value) {
+  int index = 0;
+  const NumericParameter* p = find_parameter(key, &index);
+  if (!p)
+    throw SceneError(scene.source + ": key '" + std::string(key) + "': not a numeric parameter");
+  if (p->count && (index < 0 || index >= p->count(scene)))
+    throw SceneError(scene.source + ": key '" + std::string(key) + "' does not exist");
+  if (auto e = parameter_error(*p, index, value, scene.source)) throw SceneError(*e);
+  SceneDesc edited = scene;
+  p->set(edited, index, value);
+  validate(edited);
+  scene = std::move(edited);
+}
+
+}  // namespace apiclab
