@@ -1,7 +1,7 @@
 # `apiclab figures --quick` through the real executable (label "render"): every PNG and CSV
 # is written, the PNGs are not blank and show each scheme's color, each CSV has its header
 # and one series per scheme. Figs 1 and 10 are checked once assets/scenes/ringing.json exists.
-if(NOT TARGET apiclab_render OR NOT TARGET apiclab_imgui_backends)
+if(NOT TARGET apiclab_charts)
   return()
 endif()
 

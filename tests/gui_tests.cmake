@@ -3,15 +3,14 @@
 # Label "slow": the worker's handoff test in a ThreadSanitizer build of its own; by hand:
 #   cmake -S . -B build-tsan -G Ninja -DAPICLAB_TSAN=ON && ninja -C build-tsan test_gui_worker &&
 #   build-tsan/tests/test_gui_worker
-if(NOT TARGET apiclab_gui_worker)
-  return()
-endif()
-
 add_executable(test_gui_worker test_gui_worker.cpp)
-target_link_libraries(test_gui_worker PRIVATE apiclab_gui_worker GTest::gtest_main)
+target_link_libraries(test_gui_worker PRIVATE apiclab_app_core GTest::gtest_main)
 target_compile_definitions(test_gui_worker PRIVATE APICLAB_SOURCE_DIR="${CMAKE_SOURCE_DIR}")
 gtest_discover_tests(test_gui_worker DISCOVERY_TIMEOUT 60 TEST_PREFIX "gui." PROPERTIES LABELS "gui")
 
+if(NOT TARGET apiclab_imgui_glfw)
+  return()
+endif()
 add_executable(gui_screenshot_check test_gui_screenshot_check.cpp)
 target_link_libraries(gui_screenshot_check PRIVATE apiclab_render)
 add_test(NAME gui.smoke

@@ -7,7 +7,7 @@
 #include <random>
 #include <thread>
 
-#include "app/gui/sim_worker.hpp"
+#include "app/sim_worker.hpp"
 #include "sim/scene.hpp"
 
 namespace apiclab::gui {

@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <thread>
 
+#include "app/clock.hpp"
 #include "app/gui/scene_view.hpp"
 #include "app/gui/viewer_state.hpp"
 #include "render/gl.hpp"
@@ -25,11 +26,6 @@ namespace {
 
 constexpr float kSidebar = 350;     // control column width, pixels
 constexpr float kSceneShare = 0.6f; // of the height right of the column; plots below
-
-double now_seconds() {
-  using namespace std::chrono;
-  return duration<double>(steady_clock::now().time_since_epoch()).count();
-}
 
 void setup_style() {
   ImGui::StyleColorsLight();

@@ -1,6 +1,7 @@
-// The simulation thread (DESIGN.md, Threads): owns one Simulation per pane, advances them in
-// lockstep to the same frame times, and publishes immutable state the GUI only reads.
-// Commands arrive through a queue; nothing here touches a window, so tests drive it headless.
+// The GUI's simulation thread (docs/architecture.md, Threads): owns one Simulation per pane,
+// advances them in lockstep (app/lockstep.hpp) to the frame times of app/frame_loop.hpp, the
+// last on time.end, and publishes immutable state the GUI only reads. Commands arrive through
+// a queue; nothing here touches a window, so tests drive it headless.
 #pragma once
 #include <condition_variable>
 #include <cstdint>
@@ -13,6 +14,8 @@
 #include <thread>
 #include <vector>
 
+#include "app/frame_loop.hpp"
+#include "app/lockstep.hpp"
 #include "sim/simulation.hpp"
 
 namespace apiclab::gui {
@@ -72,7 +75,7 @@ class SimWorker {
   // Commands: queued, run on the worker in order.
   void load(SceneDesc scene, std::vector<PaneConfig> panes, Precision precision = Precision::dbl);
   void play(bool on);
-  void step_frame();  // one frame (1/fps of simulated time) then pause
+  void step_frame();  // one frame (to the next frame time) then pause
   void reset();       // every pane back to its initial particles, schemes kept
   void set_realtime(bool on);
   void set_scheme(std::size_t pane, Scheme scheme, double flip_alpha);
@@ -96,7 +99,7 @@ class SimWorker {
   void publish();
   void restart_panes();
   void rewind_panes();
-  double frame_dt() const;
+  void link_lockstep();  // after the panes' simulations changed
 
   // Shared with the GUI thread, under mutex_.
   mutable std::mutex mutex_;
@@ -109,7 +112,9 @@ class SimWorker {
   // Owned by the worker thread alone.
   std::shared_ptr<const SceneDesc> scene_;
   Precision precision_ = Precision::dbl;
+  std::optional<FrameTimes> times_;  // of scene_
   std::vector<Pane> panes_;
+  Lockstep lockstep_;  // over panes_[k].sim
   bool playing_ = false, realtime_ = false, noise_ = false;
   int pending_frames_ = 0;
   double target_ = 0;  // time of the frame being computed
