@@ -25,6 +25,7 @@ void execute(Run& r) {
   std::vector<double> stops = r.snapshot_times;
   stops.push_back(r.t_end);
   std::sort(stops.begin(), stops.end());
+  stops.erase(std::unique(stops.begin(), stops.end()), stops.end());  // one snapshot per time
   for (double t : stops) {
     if (t > r.t_end + 1e-12) break;
     pane.advance_to(t, on_row);

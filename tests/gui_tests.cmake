@@ -8,6 +8,12 @@ target_link_libraries(test_gui_worker PRIVATE apiclab_app_core GTest::gtest_main
 target_compile_definitions(test_gui_worker PRIVATE APICLAB_SOURCE_DIR="${CMAKE_SOURCE_DIR}")
 gtest_discover_tests(test_gui_worker DISCOVERY_TIMEOUT 60 TEST_PREFIX "gui." PROPERTIES LABELS "gui")
 
+# The loops the commands share (app/frame_loop, lockstep, jobs; sim/run_summary.hpp).
+add_executable(test_app_core test_app_core.cpp)
+target_link_libraries(test_app_core PRIVATE apiclab_app_core GTest::gtest_main)
+target_compile_definitions(test_app_core PRIVATE APICLAB_SOURCE_DIR="${CMAKE_SOURCE_DIR}")
+gtest_discover_tests(test_app_core DISCOVERY_TIMEOUT 60 TEST_PREFIX "app." PROPERTIES LABELS "unit")
+
 if(NOT TARGET apiclab_imgui_glfw)
   return()
 endif()
