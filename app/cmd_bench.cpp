@@ -40,9 +40,11 @@ std::string bench_scene(const BenchOptions& o, double& dx) {
       {"gravity", d2 ? json{0, -9.8} : json{0, -9.8, 0}},
       {"time", {{"end", 1}, {"fps", 24}, {"dt", {{"rule", "fixed"}, {"value", 0.3 * dx / 3.7}}}}},
       {"solver", {{"scheme", o.scheme}, {"kernel", o.kernel}, {"integrator", o.integrator}}},
-      {"materials",
-       json::array({{{"name", "jelly"}, {"model", "fixed-corotated"}, {"E", 10000}, {"nu", 0.3},
-                     {"rho", 1000}}})},
+      {"materials", json::array({{{"name", "jelly"},
+                                  {"model", "fixed-corotated"},
+                                  {"E", 10000},
+                                  {"nu", 0.3},
+                                  {"rho", 1000}}})},
       {"objects", json::array({{{"shape", {{"type", "box"}, {"min", lo}, {"max", hi}}},
                                 {"material", 0},
                                 {"sampling", {{"type", "ppc"}, {"ppc", ppc}}},
@@ -56,7 +58,8 @@ int bench(BenchOptions o) {
   if (o.dim != 2 && o.dim != 3) throw UsageError("--dim must be 2 or 3");
   if (o.particles == 0) o.particles = o.dim == 2 ? 262144 : 110592;
   if (o.steps == 0) o.steps = o.dim == 2 ? 200 : 50;
-  if (o.particles < 16 || o.steps < 1) throw UsageError("--particles must be at least 16 and --steps at least 1");
+  if (o.particles < 16 || o.steps < 1)
+    throw UsageError("--particles must be at least 16 and --steps at least 1");
   Precision precision;
   try {
     precision = parse_choice(precision_choices(), o.precision, "precision");
@@ -74,14 +77,18 @@ int bench(BenchOptions o) {
   double wall = now_seconds() - start;
   const DiagnosticsRow end = sim->measure();
   if (!std::isfinite(end.total + end.kinetic)) {
-    std::fprintf(stderr, "bench: the simulation blew up (non-finite state) within %d steps; try another kernel or fewer steps\n",
+    std::fprintf(stderr,
+                 "bench: the simulation blew up (non-finite state) within %d steps; try another "
+                 "kernel or fewer steps\n",
                  o.steps);
     return 2;
   }
   double rate = double(sim->particle_count()) * o.steps / wall;
-  std::printf("bench: %dD %s, scheme %s, kernel %s, integrator %s, %zu particles, dx %.4g, %d steps, %d threads\n", o.dim,
-              o.precision.c_str(), o.scheme.c_str(), o.kernel.c_str(), o.integrator.c_str(), sim->particle_count(), dx,
-              o.steps, omp_get_max_threads());
+  std::printf(
+      "bench: %dD %s, scheme %s, kernel %s, integrator %s, %zu particles, dx %.4g, %d steps, %d "
+      "threads\n",
+      o.dim, o.precision.c_str(), o.scheme.c_str(), o.kernel.c_str(), o.integrator.c_str(),
+      sim->particle_count(), dx, o.steps, omp_get_max_threads());
   std::printf("wall: %.3f s, %.3f ms/step\n", wall, 1e3 * wall / o.steps);
   std::printf("particle-steps/s: %.0f\n", rate);
   return 0;
@@ -91,7 +98,8 @@ int bench(BenchOptions o) {
 
 void register_bench(CLI::App& root, CommandTable& table) {
   auto o = std::make_shared<BenchOptions>();
-  CLI::App* cmd = root.add_subcommand("bench", "explicit-step throughput; last line 'particle-steps/s: N'");
+  CLI::App* cmd =
+      root.add_subcommand("bench", "explicit-step throughput; last line 'particle-steps/s: N'");
   cmd->add_option("--dim", o->dim, "2 or 3");
   cmd->add_option("--particles", o->particles, "particle count (approximate)");
   cmd->add_option("--steps", o->steps, "timed steps");

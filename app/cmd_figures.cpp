@@ -1,8 +1,8 @@
 // `apiclab figures --out DIR [--quick]`: the figures of Jiang et al. 2017, Sec 6, as PNG
 // charts (drawn by the GUI's plot widget offscreen, app/figures/chart_canvas.hpp) and frames,
 // each with the CSV behind it (the list: app/figures/catalogue.cpp):
-//   fig1_ringing.png               Fig 1: ringing frames at t = 2/24, 5/24, 40/24 s (PIC, FLIP, APIC)
-//   fig3_rotating_disk.png/.csv    Fig 3: angular momentum and total energy, Sec 6.1
+//   fig1_ringing.png               Fig 1: ringing frames at t = 2/24, 5/24, 40/24 s (PIC, FLIP,
+//   APIC) fig3_rotating_disk.png/.csv    Fig 3: angular momentum and total energy, Sec 6.1
 //   fig4_cylinder_rebound.png/.csv Fig 4: Sec 6.2     fig5_skew_impact.png/.csv  Fig 5: Sec 6.3
 //   fig6_ring_collision.png/.csv   Fig 6: Sec 6.4
 //   fig10_ringing_energy.png/.csv  Fig 10: total and kinetic energy of the ringing test, Sec 6.7
@@ -36,7 +36,8 @@ struct FiguresOptions {
 int run_figures(const FiguresOptions& o) {
   const double t_start = now_seconds();
   ensure_writable_dir(o.out);
-  const int threads = o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency()));
+  const int threads =
+      o.threads > 0 ? o.threads : int(std::max(1u, std::thread::hardware_concurrency()));
   std::unique_ptr<figures::ChartCanvas> canvas;
   try {
     canvas = std::make_unique<figures::ChartCanvas>(14.0f);
@@ -79,7 +80,8 @@ int run_figures(const FiguresOptions& o) {
   } catch (const jobs::JobError& e) {
     throw UsageError(e.what());
   }
-  std::fprintf(stderr, "apiclab figures: %zu simulations in %.1f s\n", runs.size(), now_seconds() - t_sims);
+  std::fprintf(stderr, "apiclab figures: %zu simulations in %.1f s\n", runs.size(),
+               now_seconds() - t_sims);
   for (const figures::TimeFigure& f : chosen)
     for (const jobs::Run& r : f.runs)
       if (!r.failure.empty())
@@ -89,7 +91,8 @@ int run_figures(const FiguresOptions& o) {
   for (const figures::TimeFigure& f : chosen) {
     if (!wanted(o.only, f.id)) continue;
     write_time_figure(*canvas, f, o.out);
-    std::fprintf(stderr, "apiclab figures: wrote %s/%s.png and .csv\n", o.out.c_str(), f.file.c_str());
+    std::fprintf(stderr, "apiclab figures: wrote %s/%s.png and .csv\n", o.out.c_str(),
+                 f.file.c_str());
   }
   for (const figures::TimeFigure& f : chosen)
     if (f.id == figures::kRingingFigureId && frames) {
@@ -98,10 +101,11 @@ int run_figures(const FiguresOptions& o) {
     }
   if (wanted(o.only, "11")) {
     const double t0 = now_seconds();
-    const std::vector<int> res = o.quick ? std::vector<int>{16, 32, 64} : std::vector<int>{16, 32, 64, 128, 256};
+    const std::vector<int> res =
+        o.quick ? std::vector<int>{16, 32, 64} : std::vector<int>{16, 32, 64, 128, 256};
     write_roundtrip_figure(*canvas, res, threads, o.out);
-    std::fprintf(stderr, "apiclab figures: wrote %s/fig11_roundtrip.png and .csv (%.1f s)\n", o.out.c_str(),
-                 now_seconds() - t0);
+    std::fprintf(stderr, "apiclab figures: wrote %s/fig11_roundtrip.png and .csv (%.1f s)\n",
+                 o.out.c_str(), now_seconds() - t0);
   }
   std::fprintf(stderr, "apiclab figures: done in %.1f s\n", now_seconds() - t_start);
   return 0;
@@ -112,10 +116,13 @@ int run_figures(const FiguresOptions& o) {
 void register_figures(CLI::App& root, CommandTable& table) {
   auto o = std::make_shared<FiguresOptions>();
   CLI::App* cmd = root.add_subcommand(
-      "figures", "the paper's figures (Jiang et al. 2017, Sec 6) as PNG charts and frames, with their CSV");
+      "figures",
+      "the paper's figures (Jiang et al. 2017, Sec 6) as PNG charts and frames, with their CSV");
   cmd->add_option("--out", o->out, "output directory")->required();
-  cmd->add_flag("--quick", o->quick, "coarser and shorter runs (CI): end times cut, round trip to 64");
-  cmd->add_option("--only", o->only, "figure numbers to make, e.g. 3,11 (default: all)")->delimiter(',');
+  cmd->add_flag("--quick", o->quick,
+                "coarser and shorter runs (CI): end times cut, round trip to 64");
+  cmd->add_option("--only", o->only, "figure numbers to make, e.g. 3,11 (default: all)")
+      ->delimiter(',');
   cmd->add_option("--threads", o->threads, "simulations run at once (default: all cores)");
   table.push_back({cmd, [o] {
                      figures::check_figure_ids(o->only);

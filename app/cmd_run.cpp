@@ -26,7 +26,9 @@ void write_dump(const Simulation& sim, const std::string& dir, int frame) {
 int run(const RunOptions& o) {
   SceneDesc scene = load_scene_with_options(o);
   apply_threads(o.threads);
-  std::string csv = o.csv.empty() ? "apiclab-out/" + scene.name + "-" + std::string(key_of(scene.solver.scheme)) + ".csv" : o.csv;
+  std::string csv = o.csv.empty() ? "apiclab-out/" + scene.name + "-" +
+                                        std::string(key_of(scene.solver.scheme)) + ".csv"
+                                  : o.csv;
   ensure_writable_file(csv);
   if (!o.dump.empty()) ensure_writable_dir(o.dump);
   std::ofstream out(csv);
@@ -38,7 +40,8 @@ int run(const RunOptions& o) {
   write_diagnostics_row(out, first);
   RunSummary summary(first, sim->total_mass(), DriftRule::domain_extent(scene));
   std::string label = scene.name + " [" + std::string(key_of(scene.solver.scheme)) + ", " +
-                      std::string(key_of(scene.solver.integrator)) + ", " + std::to_string(sim->particle_count()) + " particles]";
+                      std::string(key_of(scene.solver.integrator)) + ", " +
+                      std::to_string(sim->particle_count()) + " particles]";
   Progress progress(label, scene.time.end, o.quiet);
   double start = now_seconds();
   long unconverged = 0;
@@ -47,8 +50,11 @@ int run(const RunOptions& o) {
     write_diagnostics_row(out, r);
     summary.add(r);
     if (!r.converged && unconverged++ == 0)
-      std::fprintf(stderr, "\napiclab: warning: implicit solve did not converge at step %ld, t = %g (residual %g); "
-                   "continuing (solver.stop_on_nonconvergence stops instead)\n", r.step, r.t, r.residual);
+      std::fprintf(
+          stderr,
+          "\napiclab: warning: implicit solve did not converge at step %ld, t = %g (residual %g); "
+          "continuing (solver.stop_on_nonconvergence stops instead)\n",
+          r.step, r.t, r.residual);
     std::ostringstream extra;
     extra << "t=" << r.t << " step " << r.step;
     progress.update(r.t, extra.str());
@@ -66,11 +72,15 @@ int run(const RunOptions& o) {
   double wall = now_seconds() - start;
   std::ostringstream s;
   s.precision(4);
-  s << scene.name << ": t = " << sim->time() << " s in " << sim->steps() << " steps, " << wall << " s wall, "
-    << double(sim->particle_count()) * double(sim->steps()) / std::max(wall, 1e-9) << " particle-steps/s; dE/E = "
-    << summary.energy_drift() << ", dL/L = " << summary.angular_momentum_drift()
-    << (summary.angular_momentum_relative() ? "" : " (absolute; L0 = 0)") << "\ndiagnostics CSV: " << csv;
-  if (unconverged) s << "\nwarning: " << unconverged << " steps ended with a non-converged implicit solve (see residual)";
+  s << scene.name << ": t = " << sim->time() << " s in " << sim->steps() << " steps, " << wall
+    << " s wall, " << double(sim->particle_count()) * double(sim->steps()) / std::max(wall, 1e-9)
+    << " particle-steps/s; dE/E = " << summary.energy_drift()
+    << ", dL/L = " << summary.angular_momentum_drift()
+    << (summary.angular_momentum_relative() ? "" : " (absolute; L0 = 0)")
+    << "\ndiagnostics CSV: " << csv;
+  if (unconverged)
+    s << "\nwarning: " << unconverged
+      << " steps ended with a non-converged implicit solve (see residual)";
   if (!o.dump.empty()) s << "\nparticle dumps: " << o.dump << "/frame_0000.csv ...";
   progress.finish(s.str());
   return 0;
@@ -80,7 +90,8 @@ int run(const RunOptions& o) {
 
 void register_run(CLI::App& root, CommandTable& table) {
   auto opts = std::make_shared<RunOptions>();
-  CLI::App* cmd = root.add_subcommand("run", "headless simulation; diagnostics CSV, progress on stderr");
+  CLI::App* cmd =
+      root.add_subcommand("run", "headless simulation; diagnostics CSV, progress on stderr");
   add_run_options(cmd, *opts);
   table.push_back({cmd, [opts] { return run(*opts); }});
 }

@@ -49,7 +49,7 @@ void SimWorker::load(SceneDesc scene, std::vector<PaneConfig> panes, Precision p
     times_.emplace(*scene_);
     precision_ = precision;
     panes_.clear();
-    for (auto& c : panes) panes_.push_back(Pane{c, nullptr, nullptr, {}});
+    for (auto& c : panes) panes_.push_back(Pane{c, nullptr, nullptr, {}, nullptr});
     try {
       restart_panes();
       error_.clear();
@@ -83,6 +83,8 @@ void SimWorker::rewind_panes() {
     p.sim->set_scheme(p.config.scheme, p.config.flip_alpha);
     p.history = {};
     p.history.push(p.sim->measure());
+    p.drift = std::make_shared<const DriftRule>(p.history[0], p.sim->total_mass(),
+                                                DriftRule::domain_extent(*scene_));
   }
   link_lockstep();
   playing_ = false;
@@ -149,8 +151,8 @@ void SimWorker::sync(std::optional<long> frames_done) {
   const std::uint64_t wanted = queued_;
   // A worker with nothing left to do (paused, end of scene, every pane failed) ends the wait.
   done_.wait(lock, [&] {
-    return stop_ || (ran_ >= wanted && (!frames_done || published_->frame >= *frames_done ||
-                                        !published_->busy));
+    return stop_ || (ran_ >= wanted &&
+                     (!frames_done || published_->frame >= *frames_done || !published_->busy));
   });
 }
 
@@ -211,7 +213,9 @@ void SimWorker::advance() {
   // Lockstep rounds, one step per pane, so every pane reaches the frame time together.
   const double t0 = now_seconds();
   double particle_steps = 0;
-  const auto record = [&](std::size_t k, const DiagnosticsRow& row) { panes_[k].history.push(row); };
+  const auto record = [&](std::size_t k, const DiagnosticsRow& row) {
+    panes_[k].history.push(row);
+  };
   for (double done = 1; done > 0;) {
     done = lockstep_.step_round(target_, record);
     particle_steps += done;
@@ -247,6 +251,7 @@ void SimWorker::publish() {
     s.config = p.config;
     s.snapshot = p.sim->snapshot(noise_);
     s.history = p.history;
+    s.drift = p.drift;
     s.failure = p.sim->failure();
     out->panes.push_back(std::move(s));
   }

@@ -16,6 +16,7 @@
 
 #include "app/frame_loop.hpp"
 #include "app/lockstep.hpp"
+#include "sim/run_summary.hpp"
 #include "sim/simulation.hpp"
 
 namespace apiclab::gui {
@@ -37,7 +38,8 @@ class History {
   std::size_t size() const { return full_.size() * kChunk + tail_.size(); }
   bool empty() const { return size() == 0; }
   const DiagnosticsRow& operator[](std::size_t i) const {
-    return i / kChunk < full_.size() ? (*full_[i / kChunk])[i % kChunk] : tail_[i - full_.size() * kChunk];
+    return i / kChunk < full_.size() ? (*full_[i / kChunk])[i % kChunk]
+                                     : tail_[i - full_.size() * kChunk];
   }
   const DiagnosticsRow& back() const { return (*this)[size() - 1]; }
 
@@ -49,7 +51,8 @@ class History {
 struct PaneState {
   PaneConfig config;
   std::shared_ptr<const Snapshot> snapshot;
-  History history;         // rows[0] is the initial state (step 0)
+  History history;                         // rows[0] is the initial state (step 0)
+  std::shared_ptr<const DriftRule> drift;  // drift from rows[0], by run's rule
   std::optional<Failure> failure;
 };
 
@@ -58,11 +61,11 @@ struct Published {
   std::shared_ptr<const SceneDesc> scene;  // null until a scene loaded
   std::vector<PaneState> panes;
   bool playing = false, realtime = false, noise = false;
-  bool busy = false;              // playing, or single frames still to compute
+  bool busy = false;  // playing, or single frames still to compute
   double sim_seconds_per_wall_second = 0, particle_steps_per_second = 0;
-  long frame = 0;                 // frames completed since the last reset
-  std::uint64_t generation = 0;   // bumps on every load or reset (GUI re-frames cameras)
-  std::string error;              // the last command that failed, one line
+  long frame = 0;                // frames completed since the last reset
+  std::uint64_t generation = 0;  // bumps on every load or reset (GUI re-frames cameras)
+  std::string error;             // the last command that failed, one line
 };
 
 class SimWorker {
@@ -91,6 +94,7 @@ class SimWorker {
     PaneConfig config;
     std::unique_ptr<Simulation> initial, sim;
     History history;
+    std::shared_ptr<const DriftRule> drift;
   };
   void enqueue(std::function<void()> command);
   void run();
@@ -121,7 +125,7 @@ class SimWorker {
   long frame_ = 0;
   std::uint64_t generation_ = 0;
   std::string error_;
-  double rt_wall0_ = 0, rt_sim0_ = 0;                    // real-time schedule origin
+  double rt_wall0_ = 0, rt_sim0_ = 0;                      // real-time schedule origin
   double rate_wall0_ = 0, rate_sim0_ = 0, rate_work_ = 0;  // throughput window
   double sim_rate_ = 0, pstep_rate_ = 0, last_publish_ = -1;
 

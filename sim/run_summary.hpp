@@ -32,7 +32,8 @@ class DriftRule {
 
   double energy(const DiagnosticsRow& r) const { return (r.total - first_.total) / E0_; }
   double angular_momentum(const DiagnosticsRow& r) const {
-    const std::array<double, 3> dL{r.L[0] - first_.L[0], r.L[1] - first_.L[1], r.L[2] - first_.L[2]};
+    const std::array<double, 3> dL{r.L[0] - first_.L[0], r.L[1] - first_.L[1],
+                                   r.L[2] - first_.L[2]};
     return L0_ > 0 ? norm(dL) / L0_ : norm(dL);
   }
   bool angular_momentum_relative() const { return L0_ > 0; }

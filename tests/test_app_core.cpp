@@ -17,7 +17,8 @@ namespace apiclab {
 namespace {
 
 SceneDesc disk(const std::vector<std::string>& overrides = {}) {
-  return load_scene(std::string(APICLAB_SOURCE_DIR) + "/assets/scenes/rotating-disk.json", overrides);
+  return load_scene(std::string(APICLAB_SOURCE_DIR) + "/assets/scenes/rotating-disk.json",
+                    overrides);
 }
 
 TEST(FrameTimes, LastFrameIsTimeEnd) {
@@ -42,15 +43,18 @@ TEST(FrameLoop, VisitsEveryFrameWithEveryPaneAtItsTime) {
   const FrameTimes times(scene);
   std::vector<int> frames;
   std::vector<long> rows(2, 0);
-  run_frame_loop(times, panes, [&](std::size_t k, const DiagnosticsRow& r) {
-    ++rows[k];
-    EXPECT_LE(r.t, 0.135);
-  }, [&](int f) {
-    frames.push_back(f);
-    EXPECT_EQ(a->time(), times.time_of(f));
-    EXPECT_EQ(b->time(), times.time_of(f));
-    return true;
-  });
+  run_frame_loop(
+      times, panes,
+      [&](std::size_t k, const DiagnosticsRow& r) {
+        ++rows[k];
+        EXPECT_LE(r.t, 0.135);
+      },
+      [&](int f) {
+        frames.push_back(f);
+        EXPECT_EQ(a->time(), times.time_of(f));
+        EXPECT_EQ(b->time(), times.time_of(f));
+        return true;
+      });
   EXPECT_EQ(frames, (std::vector<int>{0, 1, 2, 3}));
   EXPECT_EQ(rows[0], a->steps());
   EXPECT_EQ(rows[1], b->steps());
@@ -128,10 +132,11 @@ TEST(Jobs, PoolRunsEveryIndexOnceAndRethrows) {
   jobs::run_pool(seen.size(), 3, [&](std::size_t i) { ++seen[i]; });
   for (auto& n : seen) EXPECT_EQ(n.load(), 1);
   std::atomic<int> ran{0};
-  EXPECT_THROW(jobs::run_pool(10, 2, [&](std::size_t i) {
-                 ++ran;
-                 if (i == 3) throw std::runtime_error("three");
-               }),
+  EXPECT_THROW(jobs::run_pool(10, 2,
+                              [&](std::size_t i) {
+                                ++ran;
+                                if (i == 3) throw std::runtime_error("three");
+                              }),
                std::runtime_error);
   EXPECT_EQ(ran.load(), 10);  // the others still ran
 }
@@ -155,7 +160,8 @@ TEST(Jobs, RunKeepsRowsAndSnapshotsAndNamesBadRuns) {
     jobs::execute_all({&bad}, 1);
     FAIL() << "a bad scheme ran";
   } catch (const jobs::JobError& e) {
-    EXPECT_NE(std::string(e.what()).find("rotating-disk (no-such-scheme)"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("rotating-disk (no-such-scheme)"), std::string::npos)
+        << e.what();
   }
 }
 

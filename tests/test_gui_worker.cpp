@@ -18,7 +18,8 @@ namespace apiclab::gui {
 namespace {
 
 SceneDesc disk(const std::vector<std::string>& overrides = {}) {
-  return load_scene(std::string(APICLAB_SOURCE_DIR) + "/assets/scenes/rotating-disk.json", overrides);
+  return load_scene(std::string(APICLAB_SOURCE_DIR) + "/assets/scenes/rotating-disk.json",
+                    overrides);
 }
 
 std::shared_ptr<const Published> loaded(SimWorker& w, std::vector<PaneConfig> panes,
@@ -93,7 +94,8 @@ TEST(GuiWorker, ResetRestoresTheInitialStateExactly) {
 TEST(GuiWorker, PanesAdvanceInLockstepToFrameTimes) {
   SimWorker w;
   const std::vector<Scheme> schemes{Scheme::pic, Scheme::flip, Scheme::apic};
-  const auto start = loaded(w, {{schemes[0], 1.0, {}, {}}, {schemes[1], 1.0, {}, {}}, {schemes[2], 1.0, {}, {}}});
+  const auto start =
+      loaded(w, {{schemes[0], 1.0, {}, {}}, {schemes[1], 1.0, {}, {}}, {schemes[2], 1.0, {}, {}}});
   const FrameTimes times(*start->scene);
   for (int f = 1; f <= 4; ++f) {
     const auto p = run_frames(w, 1);
@@ -113,7 +115,8 @@ TEST(GuiWorker, PanesAdvanceInLockstepToFrameTimes) {
 // (3.24 frames at 24 fps: frames at 1/24, 2/24 and then 0.135, not 3/24), then stops.
 TEST(GuiWorker, LastFrameLandsOnTimeEnd) {
   SimWorker w;
-  const auto start = loaded(w, {{Scheme::apic, 1.0, {}, {}}, {Scheme::pic, 1.0, {}, {}}}, {"time.end=0.135"});
+  const auto start =
+      loaded(w, {{Scheme::apic, 1.0, {}, {}}, {Scheme::pic, 1.0, {}, {}}}, {"time.end=0.135"});
   const FrameTimes times(*start->scene);
   ASSERT_EQ(times.frames, 3);
   const auto p = run_frames(w, 5);  // more frames than the scene has
@@ -133,7 +136,9 @@ TEST(GuiWorker, LastFrameLandsOnTimeEnd) {
 // backward Euler does not; the failed pane freezes while the other reaches every frame time.
 TEST(GuiWorker, BlowUpFreezesOnlyItsPane) {
   SimWorker w;
-  loaded(w, {{Scheme::apic, 1.0, {}, Integrator::symplectic}, {Scheme::apic, 1.0, {}, Integrator::backward}},
+  loaded(w,
+         {{Scheme::apic, 1.0, {}, Integrator::symplectic},
+          {Scheme::apic, 1.0, {}, Integrator::backward}},
          {R"(time.dt={"rule":"fixed","value":0.05})"});
   const auto p = run_frames(w, 6);
   ASSERT_EQ(p->panes.size(), 2u);
@@ -189,7 +194,8 @@ TEST(GuiWorker, HandoffUnderLoad) {
       if (count == 0) count = s.count();
       ASSERT_EQ(s.count(), count);
       for (float x : s.positions) ASSERT_TRUE(std::isfinite(x));
-      for (std::size_t i = 0; i < pane.history.size(); i += 7) ASSERT_TRUE(std::isfinite(pane.history[i].total));
+      for (std::size_t i = 0; i < pane.history.size(); i += 7)
+        ASSERT_TRUE(std::isfinite(pane.history[i].total));
     }
     // Frames only count up, except through a reset, which bumps the generation.
     ASSERT_TRUE(p->frame >= last_frame || p->generation > last_generation)
@@ -198,15 +204,26 @@ TEST(GuiWorker, HandoffUnderLoad) {
     max_frame = std::max(max_frame, p->frame);
     std::this_thread::sleep_for(std::chrono::microseconds(500));  // a GUI frame, fast
     switch (rng() % 60) {
-      case 0: w.set_scheme(rng() % 3, Scheme(rng() % 4), 0.9); break;
-      case 1: w.play(false); break;
-      case 2: w.play(true); break;
-      case 3: w.step_frame(); break;
+      case 0:
+        w.set_scheme(rng() % 3, Scheme(rng() % 4), 0.9);
+        break;
+      case 1:
+        w.play(false);
+        break;
+      case 2:
+        w.play(true);
+        break;
+      case 3:
+        w.step_frame();
+        break;
       case 4:
         if (rng() % 10 == 0) w.reset(), w.play(true);
         break;
-      case 5: w.set_realtime(rng() % 2 == 0); break;
-      default: break;
+      case 5:
+        w.set_realtime(rng() % 2 == 0);
+        break;
+      default:
+        break;
     }
   }
   w.sync();

@@ -37,9 +37,9 @@ void write_roundtrip_figure(ChartCanvas& canvas, const std::vector<int>& resolut
   // Largest resolutions first, so that the pool ends together.
   jobs::run_pool(schemes.size() * resolutions.size(), threads, [&](std::size_t i) {
     const std::size_t s = i % schemes.size(), k = resolutions.size() - 1 - i / schemes.size();
-    results[s][k] = roundtrip_error(KernelType::quadratic,
-                                    parse_choice(scheme_choices(), schemes[s], "scheme"),
-                                    resolutions[k]);
+    results[s][k] =
+        roundtrip_error(KernelType::quadratic, parse_choice(scheme_choices(), schemes[s], "scheme"),
+                        resolutions[k]);
   });
   const auto base = std::filesystem::path(dir) / "fig11_roundtrip";
   std::vector<double> slopes;

@@ -18,13 +18,13 @@ struct Quantity {
 };
 
 struct TimeFigure {
-  std::string id;                 // the paper's figure number, as --only takes it
+  std::string id;  // the paper's figure number, as --only takes it
   std::string file, heading, scene;
-  double quick_t_end = 0;         // 0: the scene's end time in --quick as well
-  double cost = 1;                // relative cost of one run (jobs::Run::cost)
+  double quick_t_end = 0;  // 0: the scene's end time in --quick as well
+  double cost = 1;         // relative cost of one run (jobs::Run::cost)
   std::vector<std::string> schemes;
   Quantity left, right;
-  std::vector<jobs::Run> runs;    // one per scheme, filled by the caller
+  std::vector<jobs::Run> runs;  // one per scheme, filled by the caller
 };
 
 // DIR/<file>.png and DIR/<file>.csv; throws UsageError when the CSV cannot be written.
