@@ -114,7 +114,6 @@ SceneDesc load_scene_with_options(const RunOptions& o) {
   return scene;
 }
 
-int frame_count(const SceneDesc& s) { return std::max(1, int(std::lround(s.time.end * s.time.fps))); }
 
 void apply_threads(int threads) {
   if (threads > 0) omp_set_num_threads(threads);
@@ -140,10 +139,6 @@ void ensure_writable_file(const std::string& file) {
   if (fs::is_directory(p)) throw UsageError("output file '" + file + "' is a directory");
   std::ofstream f(file, std::ios::app);
   if (!f) throw UsageError("cannot write output file '" + file + "'");
-}
-
-double now_seconds() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
 Progress::Progress(std::string label, double total, bool quiet)

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "app/assets.hpp"
+#include "app/clock.hpp"  // now_seconds
 #include "sim/scene.hpp"
 #include "sim/simulation.hpp"
 
@@ -38,8 +39,6 @@ void add_run_options(CLI::App* cmd, RunOptions& o, bool scene_required = true);
 // validated by the same strict scene parser. Throws SceneError / UsageError.
 SceneDesc load_scene_with_options(const RunOptions& o);
 Precision precision_of(const RunOptions& o);
-// Number of frames and end time after --frames / --t-end / --fps.
-int frame_count(const SceneDesc& s);
 void apply_threads(int threads);
 
 // Creates `dir` (and parents) and checks that a file can be written there; throws UsageError.
@@ -60,6 +59,5 @@ class Progress {
   bool quiet_;
   double start_, last_ = -1;
 };
-double now_seconds();
 
 }  // namespace apiclab::cli

@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <nlohmann/json.hpp>
 
 #include "cli.hpp"
 #include "commands.hpp"
@@ -21,37 +22,44 @@ struct BenchOptions {
 // A block of fixed-corotated material, spinning and falling, filling a quarter of the domain
 // along each axis at 4 (2D) or 8 (3D) particles per cell.
 std::string bench_scene(const BenchOptions& o, double& dx) {
+  using json = nlohmann::json;
   const int ppc = o.dim == 2 ? 4 : 8;
   double cells_in_block = double(o.particles) / ppc;
   double side_cells = std::pow(cells_in_block, 1.0 / o.dim);
   dx = 0.5 / side_cells;
-  std::string lo = o.dim == 2 ? "[0.25,0.25]" : "[0.25,0.25,0.25]";
-  std::string hi = o.dim == 2 ? "[0.75,0.75]" : "[0.75,0.75,0.75]";
-  std::string zero = o.dim == 2 ? "[0,0]" : "[0,0,0]";
-  std::string g = o.dim == 2 ? "[0,-9.8]" : "[0,-9.8,0]";
-  std::string dmax = o.dim == 2 ? "[1,1]" : "[1,1,1]";
-  std::string omega = o.dim == 2 ? "1.0" : "[0,0,1.0]";
-  auto num = [](double d) {
-    char b[32];
-    std::snprintf(b, sizeof b, "%.17g", d);
-    return std::string(b);
+  const bool d2 = o.dim == 2;
+  const json lo = d2 ? json{0.25, 0.25} : json{0.25, 0.25, 0.25};
+  const json hi = d2 ? json{0.75, 0.75} : json{0.75, 0.75, 0.75};
+  const json zero = d2 ? json{0, 0} : json{0, 0, 0};
+  const json ones = d2 ? json{1, 1} : json{1, 1, 1};
+  const json omega = d2 ? json(1.0) : json{0, 0, 1.0};
+  const json scene = {
+      {"name", "bench-block"},
+      {"dim", o.dim},
+      {"domain", {{"min", zero}, {"max", ones}, {"dx", dx}, {"boundary", "sticky"}}},
+      {"gravity", d2 ? json{0, -9.8} : json{0, -9.8, 0}},
+      {"time", {{"end", 1}, {"fps", 24}, {"dt", {{"rule", "fixed"}, {"value", 0.3 * dx / 3.7}}}}},
+      {"solver", {{"scheme", o.scheme}, {"kernel", o.kernel}, {"integrator", o.integrator}}},
+      {"materials", json::array({{{"name", "jelly"},
+                                  {"model", "fixed-corotated"},
+                                  {"E", 10000},
+                                  {"nu", 0.3},
+                                  {"rho", 1000}}})},
+      {"objects", json::array({{{"shape", {{"type", "box"}, {"min", lo}, {"max", hi}}},
+                                {"material", 0},
+                                {"sampling", {{"type", "ppc"}, {"ppc", ppc}}},
+                                {"velocity", zero},
+                                {"angular_velocity", omega}}})},
   };
-  return std::string("{\"name\":\"bench-block\",\"dim\":") + std::to_string(o.dim) +
-         ",\"domain\":{\"min\":" + zero + ",\"max\":" + dmax + ",\"dx\":" + num(dx) +
-         ",\"boundary\":\"sticky\"},\"gravity\":" + g +
-         ",\"time\":{\"end\":1,\"fps\":24,\"dt\":{\"rule\":\"fixed\",\"value\":" + num(0.3 * dx / 3.7) +
-         "}},\"solver\":{\"scheme\":\"" + o.scheme + "\",\"kernel\":\"" + o.kernel + "\",\"integrator\":\"" +
-         o.integrator + "\"},\"materials\":[{\"name\":\"jelly\",\"model\":\"fixed-corotated\",\"E\":10000,"
-         "\"nu\":0.3,\"rho\":1000}],\"objects\":[{\"shape\":{\"type\":\"box\",\"min\":" + lo + ",\"max\":" + hi +
-         "},\"material\":0,\"sampling\":{\"type\":\"ppc\",\"ppc\":" + std::to_string(ppc) + "},\"velocity\":" + zero +
-         ",\"angular_velocity\":" + omega + "}]}";
+  return scene.dump();
 }
 
 int bench(BenchOptions o) {
   if (o.dim != 2 && o.dim != 3) throw UsageError("--dim must be 2 or 3");
   if (o.particles == 0) o.particles = o.dim == 2 ? 262144 : 110592;
   if (o.steps == 0) o.steps = o.dim == 2 ? 200 : 50;
-  if (o.particles < 16 || o.steps < 1) throw UsageError("--particles must be at least 16 and --steps at least 1");
+  if (o.particles < 16 || o.steps < 1)
+    throw UsageError("--particles must be at least 16 and --steps at least 1");
   Precision precision;
   try {
     precision = parse_choice(precision_choices(), o.precision, "precision");
@@ -69,14 +77,18 @@ int bench(BenchOptions o) {
   double wall = now_seconds() - start;
   const DiagnosticsRow end = sim->measure();
   if (!std::isfinite(end.total + end.kinetic)) {
-    std::fprintf(stderr, "bench: the simulation blew up (non-finite state) within %d steps; try another kernel or fewer steps\n",
+    std::fprintf(stderr,
+                 "bench: the simulation blew up (non-finite state) within %d steps; try another "
+                 "kernel or fewer steps\n",
                  o.steps);
     return 2;
   }
   double rate = double(particle_count(*sim)) * o.steps / wall;
-  std::printf("bench: %dD %s, scheme %s, kernel %s, integrator %s, %zu particles, dx %.4g, %d steps, %d threads\n", o.dim,
-              o.precision.c_str(), o.scheme.c_str(), o.kernel.c_str(), o.integrator.c_str(), particle_count(*sim), dx,
-              o.steps, omp_get_max_threads());
+  std::printf(
+      "bench: %dD %s, scheme %s, kernel %s, integrator %s, %zu particles, dx %.4g, %d steps, %d "
+      "threads\n",
+      o.dim, o.precision.c_str(), o.scheme.c_str(), o.kernel.c_str(), o.integrator.c_str(),
+      particle_count(*sim), dx, o.steps, omp_get_max_threads());
   std::printf("wall: %.3f s, %.3f ms/step\n", wall, 1e3 * wall / o.steps);
   std::printf("particle-steps/s: %.0f\n", rate);
   return 0;
@@ -86,7 +98,8 @@ int bench(BenchOptions o) {
 
 void register_bench(CLI::App& root, CommandTable& table) {
   auto o = std::make_shared<BenchOptions>();
-  CLI::App* cmd = root.add_subcommand("bench", "explicit-step throughput; last line 'particle-steps/s: N'");
+  CLI::App* cmd =
+      root.add_subcommand("bench", "explicit-step throughput; last line 'particle-steps/s: N'");
   cmd->add_option("--dim", o->dim, "2 or 3");
   cmd->add_option("--particles", o->particles, "particle count (approximate)");
   cmd->add_option("--steps", o->steps, "timed steps");

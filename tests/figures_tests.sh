@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
-# `apiclab figures --out DIR --quick`: files, headers, series, non-blank PNGs.
-# Usage: APICLAB=... CHECK=figures_png_check figures_tests.sh OUT_DIR SCENES_DIR
+# `apiclab figures --out DIR --quick`: files, headers, series, non-blank PNGs; then the full
+# Figs 3, 5, 6 and 11, whose numbers README.md states: each is recomputed from the CSVs and
+# must appear in README.md as written there, so the README cannot drift from the code.
+# Usage: APICLAB=... CHECK=figures_png_check figures_tests.sh OUT_DIR README
 set -u
 app="${APICLAB:?set APICLAB to the apiclab executable}"
 check_png="${CHECK:?set CHECK to figures_png_check}"
-out="$1" scenes="$2"
+out="$1" readme="$2"
 export EGL_PLATFORM=surfaceless
-rm -rf "$out"
+rm -rf "$out" "$out-full"
 passed=0 failed=0
 ok() { passed=$((passed + 1)); echo "ok: $1"; }
 fail() { failed=$((failed + 1)); echo "FAILED: $1"; }
@@ -50,13 +52,69 @@ check "fig11_roundtrip.png shows PIC and APIC" "'$check_png' $out/fig11_roundtri
 check "Fig 11: APIC's error below PIC's at every resolution" \
   "awk -F, 'NR>1 {e[\$1\",\"\$2]=\$4; r[\$2]=1} END {for (k in r) if (!(e[\"apic,\"k] < e[\"pic,\"k])) exit 1}' $out/fig11_roundtrip.csv"
 
-if [ -f "$scenes/ringing.json" ]; then
-  time_figure fig10_ringing_energy "pic flip apic"
-  check "fig1_ringing.png: three schemes' frames" "[ -s $out/fig1_ringing.png ] && '$check_png' $out/fig1_ringing.png 1000 1000"
-else
-  check "without the ringing scene, Figs 1 and 10 are skipped with one line" \
-    "grep -q 'skipping Fig 1 and Fig 10' $out.log && [ ! -e $out/fig1_ringing.png ]"
-fi
+time_figure fig10_ringing_energy "pic flip apic"
+check "fig1_ringing.png: three schemes' frames" "[ -s $out/fig1_ringing.png ] && '$check_png' $out/fig1_ringing.png 1000 1000"
+
+# README.md's numbers against the full runs.
+full="$out-full"
+start=$SECONDS
+"$app" figures --out "$full" --only 3,5,6,11 2>"$full.log"
+status=$?
+check "figures --only 3,5,6,11 exits 0" "[ $status = 0 ]"
+echo "figures --only 3,5,6,11 took $((SECONDS - start)) s"
+text=$(tr '\n' ' ' <"$readme" | tr -s ' ')
+says() {  # PHRASE: README.md says it, word for word (line breaks as spaces)
+  if [[ "$text" == *"$1"* ]]; then ok "README says: $1"; else fail "README does not say: $1"; fi
+}
+sup() {  # 10-based exponent in superscript digits, − for minus
+  local s=$1 out="" c
+  declare -A map=([-]=⁻ [0]=⁰ [1]=¹ [2]=² [3]=³ [4]=⁴ [5]=⁵ [6]=⁶ [7]=⁷ [8]=⁸ [9]=⁹)
+  for ((k = 0; k < ${#s}; k++)); do c=${s:k:1}; out+=${map[$c]}; done
+  echo "$out"
+}
+minus() { echo "${1/#-/−}"; }  # README writes a real minus sign
+# Per scheme of a time-figure CSV: first and last L and E, and the largest |L - L0|.
+stats() {  # CSV SCHEME FIELD: FIELD of L0 L E0 E maxdL
+  awk -F, -v s="$2" -v f="$3" '$1 == s {if (!n++) {L0 = $9; E0 = $8} L = $9; E = $8
+    d = $9 - L0; if (d < 0) d = -d; if (d > m) m = d}
+    END {v["L0"] = L0; v["L"] = L; v["E0"] = E0; v["E"] = E; v["maxdL"] = m; printf "%.17g", v[f]}' "$1"
+}
+calc() { awk "BEGIN {printf \"$1\", $2}"; }
+pow10() { calc "%d" "(log($1) / log(10) < 0 ? int(log($1) / log(10) - 0.5) : int(log($1) / log(10) + 0.5))"; }
+
+f3=$full/fig3_rotating_disk.csv
+says "APIC starts $(calc %.1f "100 * ($(stats $f3 apic L0) / $(stats $f3 pic L0) - 1)")% higher"
+apic_rel=$(calc %.17g "$(stats $f3 apic maxdL) / $(stats $f3 apic L0)")
+e=$(pow10 "$apic_rel")
+[ "$(calc %.0f "$apic_rel / 10^$e")" = 10 ] && e=$((e + 1))
+mant=$(calc %.0f "$apic_rel / 10^$e")
+says "keeps L to ${mant}·10$(sup "$e") relative over 2 s (RPIC too)"
+check "Fig 3: RPIC keeps L as well as APIC's bound" \
+  "awk 'BEGIN {exit !($(stats $f3 rpic maxdL) / $(stats $f3 rpic L0) <= ($mant + 0.5) * 10^$e)}'"
+says "PIC loses $(calc %.0f "100 * (1 - $(stats $f3 pic L) / $(stats $f3 pic L0))")% of L and $(calc %.0f "100 * (1 - $(stats $f3 pic E) / $(stats $f3 pic E0))")% of E"
+says "FLIP drifts down $(calc %.1f "100 * (1 - $(stats $f3 flip L) / $(stats $f3 flip L0))")%"
+
+f5=$full/fig5_skew_impact.csv
+L0=$(calc %.1f "$(stats $f5 apic L0)")
+check "Fig 5: APIC and RPIC end at L0 = $L0" \
+  "[ $(calc %.1f "$(stats $f5 apic L)") = $L0 ] && [ $(calc %.1f "$(stats $f5 rpic L)") = $L0 ]"
+says "APIC and RPIC keep L = $L0 exactly"
+says "FLIP ends at $(minus "$(calc %.1f "$(stats $f5 flip L)")"), PIC at $(minus "$(calc %.1f "$(stats $f5 pic L)")")"
+says "PIC dissipates most ($(calc %.0f "100 * (1 - $(stats $f5 pic E) / $(stats $f5 pic E0))")%), APIC keeps $(calc %.0f "100 * $(stats $f5 apic E) / $(stats $f5 apic E0)")%, FLIP $(calc %.0f "100 * $(stats $f5 flip E) / $(stats $f5 flip E0)")%"
+
+f6=$full/fig6_ring_collision.csv
+says "APIC keeps it to 10$(sup "$(pow10 "$(stats $f6 apic maxdL)")"), FLIP strays to 10$(sup "$(pow10 "$(stats $f6 flip maxdL)")")"
+
+f11=$full/fig11_roundtrip.csv
+err() { awk -F, -v s="$2" -v r="$3" '$1 == s && $2 == r {printf "%.17g", $4}' "$1"; }
+ratio() { calc %.0f "$(err $f11 pic "$1") / $(err $f11 apic "$1")"; }
+slope() {  # least-squares slope of log error against log dx
+  awk -F, -v s="$1" '$1 == s {x = log($3); y = log($4); n++; sx += x; sy += y; sxx += x * x; sxy += x * y}
+    END {printf "%.1f", (n * sxy - sx * sy) / (n * sxx - sx * sx)}' $f11
+}
+says "APIC is $(ratio 16)× below PIC at 16² and $(ratio 256)× at 256²; APIC's slope is $(slope apic)"
+says "PIC's $(slope pic) over the range"
+says "APIC's error is $(ratio 16)–$(ratio 128)× below PIC's over 16²…128²"
 
 echo "$passed passed, $failed failed"
 [ "$failed" = 0 ]

@@ -9,6 +9,7 @@ passed=0 failed=0
 ok() { passed=$((passed + 1)); echo "ok: $1"; }
 fail() { failed=$((failed + 1)); echo "FAILED: $1"; }
 check() { if eval "$2"; then ok "$1"; else fail "$1"; fi; }
+last_t_is() { awk -F, -v t="$2" 'END {exit !($2 == t)}' "$1"; }  # CSV's last row at time t
 # PNG width and height from the IHDR chunk.
 png_size() { od -An -tu1 -j16 -N8 "$1" | awk '{print $1*16777216+$2*65536+$3*256+$4 "x" $5*16777216+$6*65536+$7*256+$8}'; }
 small=(--size 160x120 --quiet)
@@ -21,6 +22,10 @@ check "frames have the asked size" "[ \"\$(png_size $tmp/plain/frame_0001.png)\"
 check "render writes the diagnostics CSV" "head -1 $tmp/plain/apic.csv | grep -q '^step,t,dt,kinetic,kinetic_grid,potential,total,px,py,pz,Lx,Ly,Lz'"
 check "render logs the backend" "grep -q 'rendering with EGL' $tmp/plain.log"
 check "render reports progress and cost" "grep -q 'ms/frame' $tmp/plain.log"
+
+# A scene end that is not a whole frame (3.24 frames): the last frame lands on time.end.
+"$app" render rotating-disk --out "$tmp/end" --t-end 0.135 "${small[@]}"
+check "render: last frame (frame_0003) at time.end" "[ -s $tmp/end/frame_0003.png ] && [ ! -e $tmp/end/frame_0004.png ] && last_t_is $tmp/end/apic.csv 0.135"
 
 # Options change the picture.
 "$app" render rotating-disk --out "$tmp/vectors" --frames 1 --vectors "${small[@]}"
@@ -46,6 +51,8 @@ check "compare exits 0" "[ $? = 0 ]"
 check "compare writes frames" "[ -s $tmp/cmp/frame_0000.png ] && [ -s $tmp/cmp/frame_0001.png ]"
 check "compare writes one CSV per scheme" "[ -s $tmp/cmp/pic.csv ] && [ -s $tmp/cmp/flip.csv ] && [ -s $tmp/cmp/apic.csv ]"
 check "compare schemes reach the same time" "[ \"\$(tail -1 $tmp/cmp/pic.csv | cut -d, -f2)\" = \"\$(tail -1 $tmp/cmp/apic.csv | cut -d, -f2)\" ]"
+"$app" compare rotating-disk --schemes pic,apic --out "$tmp/cmp-end" --t-end 0.135 --size 320x120 --quiet
+check "compare: every scheme's last frame at time.end" "[ -s $tmp/cmp-end/frame_0003.png ] && [ ! -e $tmp/cmp-end/frame_0004.png ] && last_t_is $tmp/cmp-end/pic.csv 0.135 && last_t_is $tmp/cmp-end/apic.csv 0.135"
 check "compare schemes start from the same state" "[ \"\$(sed -n 2p $tmp/cmp/pic.csv | cut -d, -f8,9)\" = \"\$(sed -n 2p $tmp/cmp/flip.csv | cut -d, -f8,9)\" ]"
 
 # Clear one-line errors, before any simulation.

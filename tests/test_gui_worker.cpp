@@ -1,20 +1,25 @@
-// The GUI's simulation thread, headless: scheme switching keeps the state, reset restores it
-// exactly, a blow-up freezes only its pane, bad scenes leave the running one alone, and the
+// The GUI's simulation thread, headless: frames land on the commands' frame times and the last
+// on time.end, panes share every frame time, scheme switching keeps the state, reset restores
+// it exactly, a blow-up freezes only its pane, bad scenes leave the running one alone, and the
 // snapshot handoff survives a reader and a command storm (run under TSAN: gui_tests.cmake).
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cmath>
 #include <random>
 #include <thread>
 
-#include "app/gui/sim_worker.hpp"
+#include "app/frame_loop.hpp"
+#include "app/sim_worker.hpp"
+#include "sim/registry.hpp"
 #include "sim/scene.hpp"
 
 namespace apiclab::gui {
 namespace {
 
 SceneDesc disk(const std::vector<std::string>& overrides = {}) {
-  return load_scene(std::string(APICLAB_SOURCE_DIR) + "/assets/scenes/rotating-disk.json", overrides);
+  return load_scene(std::string(APICLAB_SOURCE_DIR) + "/assets/scenes/rotating-disk.json",
+                    overrides);
 }
 
 std::shared_ptr<const Published> loaded(SimWorker& w, std::vector<PaneConfig> panes,
@@ -76,24 +81,64 @@ TEST(GuiWorker, ResetRestoresTheInitialStateExactly) {
     EXPECT_EQ(b.step, 0);
     EXPECT_EQ(b.positions, a.positions);
     EXPECT_EQ(b.velocities, a.velocities);
-    EXPECT_EQ(again->panes[k].history.size(), 1u);
+    ASSERT_EQ(again->panes[k].history.size(), 1u);
+    EXPECT_EQ(again->panes[k].history[0].total, initial->panes[k].history[0].total);
+    EXPECT_EQ(again->panes[k].history[0].L, initial->panes[k].history[0].L);
   }
+  EXPECT_EQ(again->panes[0].snapshot->scheme, "pic");
   EXPECT_EQ(again->panes[1].snapshot->scheme, "rpic");  // the chosen scheme survives reset
 }
 
+// Every pane at every frame time, the commands' frame times, each pane's snapshot from its
+// own simulation (its scheme, the time of its last diagnostics row).
 TEST(GuiWorker, PanesAdvanceInLockstepToFrameTimes) {
   SimWorker w;
-  loaded(w, {{Scheme::pic, 1.0, {}, {}}, {Scheme::flip, 1.0, {}, {}}, {Scheme::apic, 1.0, {}, {}}});
-  const auto p = run_frames(w, 5);
-  const double t = 5.0 / p.get()->scene->time.fps;
-  for (auto& pane : p->panes) EXPECT_NEAR(pane.snapshot->time, t, 1e-12);
+  const std::vector<Scheme> schemes{Scheme::pic, Scheme::flip, Scheme::apic};
+  const auto start =
+      loaded(w, {{schemes[0], 1.0, {}, {}}, {schemes[1], 1.0, {}, {}}, {schemes[2], 1.0, {}, {}}});
+  const FrameTimes times(*start->scene);
+  for (int f = 1; f <= 4; ++f) {
+    const auto p = run_frames(w, 1);
+    ASSERT_EQ(p->frame, f);
+    ASSERT_EQ(p->panes.size(), schemes.size());
+    for (std::size_t k = 0; k < schemes.size(); ++k) {
+      const PaneState& pane = p->panes[k];
+      EXPECT_EQ(pane.snapshot->time, times.time_of(f)) << "pane " << k << ", frame " << f;
+      EXPECT_EQ(pane.snapshot->scheme, key_of(schemes[k]));
+      EXPECT_EQ(pane.history.back().t, pane.snapshot->time);
+      EXPECT_EQ(pane.history.back().step, pane.snapshot->step);
+    }
+  }
+}
+
+// A scene whose end is not a whole frame: the GUI reaches time.end like run and render do
+// (3.24 frames at 24 fps: frames at 1/24, 2/24 and then 0.135, not 3/24), then stops.
+TEST(GuiWorker, LastFrameLandsOnTimeEnd) {
+  SimWorker w;
+  const auto start =
+      loaded(w, {{Scheme::apic, 1.0, {}, {}}, {Scheme::pic, 1.0, {}, {}}}, {"time.end=0.135"});
+  const FrameTimes times(*start->scene);
+  ASSERT_EQ(times.frames, 3);
+  const auto p = run_frames(w, 5);  // more frames than the scene has
+  EXPECT_EQ(p->frame, 3);
+  EXPECT_FALSE(p->busy);
+  for (const PaneState& pane : p->panes) {
+    EXPECT_EQ(pane.snapshot->time, 0.135);
+    EXPECT_EQ(pane.history.back().t, 0.135);
+  }
+  w.play(true);  // at the end, play does not run past it
+  w.sync(4);
+  EXPECT_EQ(w.latest()->panes[0].snapshot->time, 0.135);
+  EXPECT_FALSE(w.latest()->playing);
 }
 
 // dt = 0.05 is far past the explicit limit: symplectic Euler blows up within a few steps,
 // backward Euler does not; the failed pane freezes while the other reaches every frame time.
 TEST(GuiWorker, BlowUpFreezesOnlyItsPane) {
   SimWorker w;
-  loaded(w, {{Scheme::apic, 1.0, {}, Integrator::symplectic}, {Scheme::apic, 1.0, {}, Integrator::backward}},
+  loaded(w,
+         {{Scheme::apic, 1.0, {}, Integrator::symplectic},
+          {Scheme::apic, 1.0, {}, Integrator::backward}},
          {R"(time.dt={"rule":"fixed","value":0.05})"});
   const auto p = run_frames(w, 6);
   ASSERT_EQ(p->panes.size(), 2u);
@@ -134,36 +179,55 @@ TEST(GuiWorker, HandoffUnderLoad) {
   w.play(true);
   std::mt19937 rng(7);
   const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(3);
-  long reads = 0, max_frame = 0;
-  double checksum = 0;
+  long max_frame = 0, last_frame = 0;
+  std::uint64_t last_generation = 0;
+  std::size_t count = 0;
   while (std::chrono::steady_clock::now() < end) {
     const auto p = w.latest();
+    ASSERT_EQ(p->panes.size(), 3u);
     for (auto& pane : p->panes) {
       const Snapshot& s = *pane.snapshot;
-      ASSERT_EQ(s.positions.size(), s.count() * std::size_t(s.dim));
-      ASSERT_EQ(s.velocities.size(), s.positions.size());
-      for (float x : s.positions) checksum += x;
-      for (std::size_t i = 0; i < pane.history.size(); i += 7) checksum += pane.history[i].total;
+      // Each value is one pane's, whole: its scheme, its history up to its snapshot.
+      ASSERT_EQ(s.scheme, key_of(pane.config.scheme));
+      ASSERT_EQ(pane.history.back().step, s.step);
+      ASSERT_EQ(pane.history.back().t, s.time);
+      if (count == 0) count = s.count();
+      ASSERT_EQ(s.count(), count);
+      for (float x : s.positions) ASSERT_TRUE(std::isfinite(x));
+      for (std::size_t i = 0; i < pane.history.size(); i += 7)
+        ASSERT_TRUE(std::isfinite(pane.history[i].total));
     }
+    // Frames only count up, except through a reset, which bumps the generation.
+    ASSERT_TRUE(p->frame >= last_frame || p->generation > last_generation)
+        << "frame " << p->frame << " after " << last_frame;
+    last_frame = p->frame, last_generation = p->generation;
     max_frame = std::max(max_frame, p->frame);
-    ++reads;
     std::this_thread::sleep_for(std::chrono::microseconds(500));  // a GUI frame, fast
     switch (rng() % 60) {
-      case 0: w.set_scheme(rng() % 3, Scheme(rng() % 4), 0.9); break;
-      case 1: w.play(false); break;
-      case 2: w.play(true); break;
-      case 3: w.step_frame(); break;
+      case 0:
+        w.set_scheme(rng() % 3, Scheme(rng() % 4), 0.9);
+        break;
+      case 1:
+        w.play(false);
+        break;
+      case 2:
+        w.play(true);
+        break;
+      case 3:
+        w.step_frame();
+        break;
       case 4:
         if (rng() % 10 == 0) w.reset(), w.play(true);
         break;
-      case 5: w.set_realtime(rng() % 2 == 0); break;
-      default: break;
+      case 5:
+        w.set_realtime(rng() % 2 == 0);
+        break;
+      default:
+        break;
     }
   }
   w.sync();
-  EXPECT_GT(reads, 100);
   EXPECT_GT(max_frame, 0);
-  EXPECT_TRUE(std::isfinite(checksum));
 }
 
 }  // namespace

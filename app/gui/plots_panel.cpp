@@ -26,8 +26,6 @@ PlotSeries series_of(const History& h, std::string label, ImU32 color,
   return s;
 }
 
-double norm(const std::array<double, 3>& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
-
 }  // namespace
 
 void draw_plots(ViewerState& st, const Published& pub, ImVec2 pos, ImVec2 size) {
@@ -62,8 +60,10 @@ void draw_plots(ViewerState& st, const Published& pub, ImVec2 pos, ImVec2 size) 
     const History& h = pub.panes[k].history;
     if (h.empty()) continue;
     const std::string name = pane_label(pub.panes[k]);
-    const double e0 = std::max(std::abs(h[0].total), 1e-300), l0 = std::max(norm(h[0].L), 1e-300);
-    const DiagnosticsRow first = h[0];
+    const DriftRule drift_rule = *pub.panes[k].drift;  // run's rule (sim/run_summary.hpp)
+    const auto dE = [=](const DiagnosticsRow& r) { return std::abs(drift_rule.energy(r)); };
+    const auto dL = [=](const DiagnosticsRow& r) { return drift_rule.angular_momentum(r); };
+    const char* dL_label = drift_rule.angular_momentum_relative() ? "|dL|/|L0|" : "|dL| (L0 = 0)";
     auto energy_of = [](const DiagnosticsRow& r, int c) { return c == 0 ? r.kinetic : c == 1 ? r.potential : r.total; };
     if (!multi) {
       for (int c = 0; c < 3; ++c)
@@ -72,10 +72,8 @@ void draw_plots(ViewerState& st, const Published& pub, ImVec2 pos, ImVec2 size) 
         momentum.push_back(series_of(h, std::string("p_") + kAxes[c], kComponent[c], [=](const DiagnosticsRow& r) { return r.p[c]; }));
       for (int c = dim == 2 ? 2 : 0; c < 3; ++c)
         angular.push_back(series_of(h, std::string("L_") + kAxes[c], kComponent[c], [=](const DiagnosticsRow& r) { return r.L[c]; }));
-      drift.push_back(series_of(h, "|dE|/|E0|", kComponent[0], [=](const DiagnosticsRow& r) { return std::abs(r.total - first.total) / e0; }));
-      drift.push_back(series_of(h, "|dL|/|L0|", kComponent[1], [=](const DiagnosticsRow& r) {
-        return std::sqrt(std::pow(r.L[0] - first.L[0], 2) + std::pow(r.L[1] - first.L[1], 2) + std::pow(r.L[2] - first.L[2], 2)) / l0;
-      }));
+      drift.push_back(series_of(h, "|dE|/|E0|", kComponent[0], dE));
+      drift.push_back(series_of(h, dL_label, kComponent[1], dL));
       continue;
     }
     const ImU32 col = pane_color(k);
@@ -83,10 +81,8 @@ void draw_plots(ViewerState& st, const Published& pub, ImVec2 pos, ImVec2 size) 
     energy.push_back(series_of(h, name, col, [=](const DiagnosticsRow& r) { return energy_of(r, ec); }));
     momentum.push_back(series_of(h, name, col, [=](const DiagnosticsRow& r) { return r.p[pc]; }));
     angular.push_back(series_of(h, name, col, [=](const DiagnosticsRow& r) { return r.L[ac]; }));
-    drift.push_back(series_of(h, name + " E", col, [=](const DiagnosticsRow& r) { return std::abs(r.total - first.total) / e0; }));
-    PlotSeries l = series_of(h, name + " L", (col & 0x00FFFFFF) | (IM_COL32(0, 0, 0, 120)), [=](const DiagnosticsRow& r) {
-      return std::sqrt(std::pow(r.L[0] - first.L[0], 2) + std::pow(r.L[1] - first.L[1], 2) + std::pow(r.L[2] - first.L[2], 2)) / l0;
-    });
+    drift.push_back(series_of(h, name + " E", col, dE));
+    PlotSeries l = series_of(h, name + " L", (col & 0x00FFFFFF) | (IM_COL32(0, 0, 0, 120)), dL);
     l.thickness = 1.2f;
     drift.push_back(std::move(l));
   }

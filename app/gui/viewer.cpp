@@ -15,6 +15,7 @@
 #include <thread>
 
 #include "app/assets.hpp"
+#include "app/clock.hpp"
 #include "app/gui/scene_view.hpp"
 #include "app/gui/viewer_state.hpp"
 #include "render/gl.hpp"
@@ -28,11 +29,6 @@ namespace {
 
 constexpr float kSidebar = 350;     // control column width, pixels
 constexpr float kSceneShare = 0.6f; // of the height right of the column; plots below
-
-double now_seconds() {
-  using namespace std::chrono;
-  return duration<double>(steady_clock::now().time_since_epoch()).count();
-}
 
 void setup_style() {
   ImGui::StyleColorsLight();

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "app/gui/sim_worker.hpp"
+#include "app/sim_worker.hpp"
 #include "render/auto_scale.hpp"
 #include "render/camera.hpp"
 #include "render/color.hpp"

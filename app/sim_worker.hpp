@@ -1,6 +1,7 @@
-// The simulation thread (DESIGN.md, Threads): owns one Simulation per pane, advances them in
-// lockstep to the same frame times, and publishes immutable state the GUI only reads.
-// Commands arrive through a queue; nothing here touches a window, so tests drive it headless.
+// The GUI's simulation thread (docs/architecture.md, Threads): owns one Simulation per pane,
+// advances them in lockstep (app/lockstep.hpp) to the frame times of app/frame_loop.hpp, the
+// last on time.end, and publishes immutable state the GUI only reads. Commands arrive through
+// a queue; nothing here touches a window, so tests drive it headless.
 #pragma once
 #include <condition_variable>
 #include <cstdint>
@@ -13,6 +14,9 @@
 #include <thread>
 #include <vector>
 
+#include "app/frame_loop.hpp"
+#include "app/lockstep.hpp"
+#include "sim/run_summary.hpp"
 #include "sim/simulation.hpp"
 
 namespace apiclab::gui {
@@ -34,7 +38,8 @@ class History {
   std::size_t size() const { return full_.size() * kChunk + tail_.size(); }
   bool empty() const { return size() == 0; }
   const DiagnosticsRow& operator[](std::size_t i) const {
-    return i / kChunk < full_.size() ? (*full_[i / kChunk])[i % kChunk] : tail_[i - full_.size() * kChunk];
+    return i / kChunk < full_.size() ? (*full_[i / kChunk])[i % kChunk]
+                                     : tail_[i - full_.size() * kChunk];
   }
   const DiagnosticsRow& back() const { return (*this)[size() - 1]; }
 
@@ -46,7 +51,8 @@ class History {
 struct PaneState {
   PaneConfig config;
   std::shared_ptr<const Snapshot> snapshot;
-  History history;         // rows[0] is the initial state (step 0)
+  History history;                         // rows[0] is the initial state (step 0)
+  std::shared_ptr<const DriftRule> drift;  // drift from rows[0], by run's rule
   std::optional<Failure> failure;
 };
 
@@ -55,11 +61,11 @@ struct Published {
   std::shared_ptr<const SceneDesc> scene;  // null until a scene loaded
   std::vector<PaneState> panes;
   bool playing = false, realtime = false, noise = false;
-  bool busy = false;              // playing, or single frames still to compute
+  bool busy = false;  // playing, or single frames still to compute
   double sim_seconds_per_wall_second = 0, particle_steps_per_second = 0;
-  long frame = 0;                 // frames completed since the last reset
-  std::uint64_t generation = 0;   // bumps on every load or reset (GUI re-frames cameras)
-  std::string error;              // the last command that failed, one line
+  long frame = 0;                // frames completed since the last reset
+  std::uint64_t generation = 0;  // bumps on every load or reset (GUI re-frames cameras)
+  std::string error;             // the last command that failed, one line
 };
 
 class SimWorker {
@@ -72,7 +78,7 @@ class SimWorker {
   // Commands: queued, run on the worker in order.
   void load(SceneDesc scene, std::vector<PaneConfig> panes, Precision precision = Precision::dbl);
   void play(bool on);
-  void step_frame();  // one frame (1/fps of simulated time) then pause
+  void step_frame();  // one frame (to the next frame time) then pause
   void reset();       // every pane back to its initial particles, schemes kept
   void set_realtime(bool on);
   void set_scheme(std::size_t pane, Scheme scheme, double flip_alpha);
@@ -88,6 +94,7 @@ class SimWorker {
     PaneConfig config;
     std::unique_ptr<Simulation> initial, sim;
     History history;
+    std::shared_ptr<const DriftRule> drift;
   };
   void enqueue(std::function<void()> command);
   void run();
@@ -96,7 +103,7 @@ class SimWorker {
   void publish();
   void restart_panes();
   void rewind_panes();
-  double frame_dt() const;
+  void link_lockstep();  // after the panes' simulations changed
 
   // Shared with the GUI thread, under mutex_.
   mutable std::mutex mutex_;
@@ -109,14 +116,16 @@ class SimWorker {
   // Owned by the worker thread alone.
   std::shared_ptr<const SceneDesc> scene_;
   Precision precision_ = Precision::dbl;
+  std::optional<FrameTimes> times_;  // of scene_
   std::vector<Pane> panes_;
+  Lockstep lockstep_;  // over panes_[k].sim
   bool playing_ = false, realtime_ = false, noise_ = false;
   int pending_frames_ = 0;
   double target_ = 0;  // time of the frame being computed
   long frame_ = 0;
   std::uint64_t generation_ = 0;
   std::string error_;
-  double rt_wall0_ = 0, rt_sim0_ = 0;                    // real-time schedule origin
+  double rt_wall0_ = 0, rt_sim0_ = 0;                      // real-time schedule origin
   double rate_wall0_ = 0, rate_sim0_ = 0, rate_work_ = 0;  // throughput window
   double sim_rate_ = 0, pstep_rate_ = 0, last_publish_ = -1;
 

@@ -1,14 +1,12 @@
-#include "app/gui/sim_worker.hpp"
+#include "app/sim_worker.hpp"
 
 #include <chrono>
+
+#include "app/clock.hpp"
 
 namespace apiclab::gui {
 namespace {
 
-double now_seconds() {
-  using namespace std::chrono;
-  return duration<double>(steady_clock::now().time_since_epoch()).count();
-}
 constexpr double kPublishInterval = 1.0 / 120;  // while playing: no faster than a fast display
 constexpr double kRateWindow = 0.5;             // seconds of wall time per throughput reading
 
@@ -48,9 +46,10 @@ void SimWorker::load(SceneDesc scene, std::vector<PaneConfig> panes, Precision p
     auto previous = std::move(panes_);
     auto previous_scene = scene_;
     scene_ = std::make_shared<const SceneDesc>(std::move(scene));
+    times_.emplace(*scene_);
     precision_ = precision;
     panes_.clear();
-    for (auto& c : panes) panes_.push_back(Pane{c, nullptr, nullptr, {}});
+    for (auto& c : panes) panes_.push_back(Pane{c, nullptr, nullptr, {}, nullptr});
     try {
       restart_panes();
       error_.clear();
@@ -58,6 +57,8 @@ void SimWorker::load(SceneDesc scene, std::vector<PaneConfig> panes, Precision p
       error_ = e.what();
       panes_ = std::move(previous);
       scene_ = previous_scene;
+      if (scene_) times_.emplace(*scene_);
+      link_lockstep();
     }
   });
 }
@@ -82,12 +83,21 @@ void SimWorker::rewind_panes() {
     if (auto* t = p.sim->transfers()) t->set_scheme(p.config.scheme, p.config.flip_alpha);
     p.history = {};
     p.history.push(p.sim->measure());
+    p.drift = std::make_shared<const DriftRule>(p.history[0], p.sim->total_mass(),
+                                                DriftRule::domain_extent(*scene_));
   }
+  link_lockstep();
   playing_ = false;
   pending_frames_ = 0;
   target_ = 0;
   frame_ = 0;
   ++generation_;
+}
+
+void SimWorker::link_lockstep() {
+  std::vector<Simulation*> sims;
+  for (auto& p : panes_) sims.push_back(p.sim.get());
+  lockstep_ = Lockstep(std::move(sims));
 }
 
 void SimWorker::play(bool on) {
@@ -141,12 +151,10 @@ void SimWorker::sync(std::optional<long> frames_done) {
   const std::uint64_t wanted = queued_;
   // A worker with nothing left to do (paused, end of scene, every pane failed) ends the wait.
   done_.wait(lock, [&] {
-    return stop_ || (ran_ >= wanted && (!frames_done || published_->frame >= *frames_done ||
-                                        !published_->busy));
+    return stop_ || (ran_ >= wanted &&
+                     (!frames_done || published_->frame >= *frames_done || !published_->busy));
   });
 }
-
-double SimWorker::frame_dt() const { return 1.0 / scene_->time.fps; }
 
 bool SimWorker::run_commands() {
   std::deque<std::function<void()>> batch;
@@ -177,17 +185,15 @@ void SimWorker::run() {
 }
 
 void SimWorker::advance() {
-  auto reached = [&](const Pane& p) { return p.sim->failure() || p.sim->time() >= target_; };
-  bool at_target = true;
-  for (auto& p : panes_) at_target = at_target && reached(p);
+  bool at_target = lockstep_.all_reached(target_);
   if (at_target) {  // start the next frame, or stop at the scene's end
-    const double next = double(frame_ + 1) * frame_dt();
-    if (next > scene_->time.end + 1e-9 * frame_dt()) {
+    if (frame_ >= times_->frames) {
       playing_ = false;
       pending_frames_ = 0;
       publish();
       return;
     }
+    const double next = times_->time_of(int(frame_) + 1);
     if (realtime_ && pending_frames_ == 0) {  // wait for the wall clock, waking on commands
       const double due = rt_wall0_ + (next - rt_sim0_);
       const double now = now_seconds();
@@ -204,31 +210,25 @@ void SimWorker::advance() {
     }
     target_ = next;
   }
-  // Round-robin one step per pane so every pane reaches the frame time together.
+  // Lockstep rounds, one step per pane, so every pane reaches the frame time together.
   const double t0 = now_seconds();
   double particle_steps = 0;
-  for (bool stepped = true; stepped;) {
-    stepped = false;
-    for (auto& p : panes_) {
-      if (reached(p)) continue;
-      DiagnosticsRow row;
-      if (!p.sim->step(target_, &row)) p.history.push(row);
-      particle_steps += double(particle_count(*p.sim));
-      stepped = true;
-    }
+  const auto record = [&](std::size_t k, const DiagnosticsRow& row) {
+    panes_[k].history.push(row);
+  };
+  for (double done = 1; done > 0;) {
+    done = lockstep_.step_round(target_, record);
+    particle_steps += done;
     std::lock_guard lock(mutex_);
     if (!queue_.empty() || stop_) break;  // commands first; the frame resumes afterwards
   }
   const double t1 = now_seconds();
   rate_work_ += particle_steps;
-  at_target = true;
-  for (auto& p : panes_) at_target = at_target && reached(p);
+  at_target = lockstep_.all_reached(target_);
   if (at_target) {
     ++frame_;
     if (pending_frames_ > 0) --pending_frames_;
-    bool all_failed = true;
-    for (auto& p : panes_) all_failed = all_failed && p.sim->failure().has_value();
-    if (all_failed) playing_ = false, pending_frames_ = 0;
+    if (lockstep_.all_failed()) playing_ = false, pending_frames_ = 0;
   }
   // Throughput over windows of wall time, so the readout is steady.
   if (rate_wall0_ == 0) rate_wall0_ = t0, rate_sim0_ = target_;
@@ -253,6 +253,7 @@ void SimWorker::publish() {
     if (noise_ && p.sim->transfers()) p.sim->transfers()->fill_velocity_noise(*snapshot);
     s.snapshot = snapshot;
     s.history = p.history;
+    s.drift = p.drift;
     s.failure = p.sim->failure();
     out->panes.push_back(std::move(s));
   }

@@ -1,0 +1,98 @@
+#include "app/figures/catalogue.hpp"
+
+#include <algorithm>
+
+#include "app/cli.hpp"
+
+namespace apiclab::figures {
+namespace {
+
+double angular_momentum(const DiagnosticsRow& r) { return r.L[2]; }
+double total_energy(const DiagnosticsRow& r) { return r.total; }
+double kinetic_energy(const DiagnosticsRow& r) { return r.kinetic; }
+
+}  // namespace
+
+const std::vector<std::string>& figure_ids() {
+  static const std::vector<std::string> ids{"1", "3", "4", "5", "6", "10", "11"};
+  return ids;
+}
+
+void check_figure_ids(const std::vector<std::string>& only) {
+  std::string all;
+  for (const std::string& id : figure_ids()) all += (all.empty() ? "" : ",") + id;
+  for (const std::string& f : only)
+    if (std::find(figure_ids().begin(), figure_ids().end(), f) == figure_ids().end())
+      throw cli::UsageError("--only: unknown figure '" + f + "' (expected " + all + ")");
+}
+
+bool wanted(const std::vector<std::string>& only, const std::string& id) {
+  return only.empty() || std::find(only.begin(), only.end(), id) != only.end();
+}
+
+std::vector<TimeFigure> time_figures() {
+  const std::vector<std::string> four{"pic", "flip", "apic", "rpic"};
+  const Quantity L{"Angular momentum", "angular momentum L", angular_momentum};
+  const Quantity E{"Total energy", "total energy E", total_energy};
+  const Quantity K{"Kinetic energy", "kinetic energy", kinetic_energy};
+  // cost: relative run time, so that the job pool starts the longest runs first.
+  return {
+      {"3",
+       "fig3_rotating_disk",
+       "Fig. 3 — Rotating elastic disk (Sec. 6.1)",
+       "rotating-disk",
+       0.5,
+       2,
+       four,
+       L,
+       E,
+       {}},
+      {"4",
+       "fig4_cylinder_rebound",
+       "Fig. 4 — Rebound of an elastic cylinder (Sec. 6.2)",
+       "cylinder-rebound",
+       0,
+       0,
+       four,
+       L,
+       E,
+       {}},
+      {"5",
+       "fig5_skew_impact",
+       "Fig. 5 — Skew impact of two elastic cylinders (Sec. 6.3)",
+       "skew-impact",
+       0,
+       0,
+       four,
+       L,
+       E,
+       {}},
+      {"6",
+       "fig6_ring_collision",
+       "Fig. 6 — Collision of two elastic rings (Sec. 6.4)",
+       "ring-collision",
+       0.004,
+       1,
+       four,
+       L,
+       E,
+       {}},
+      {kRingingFigureId,
+       "fig10_ringing_energy",
+       "Fig. 10 — Ringing test: energy (Sec. 6.7)",
+       "ringing",
+       10.0 / 24,
+       3,
+       {"pic", "flip", "apic"},
+       E,
+       K,
+       {}},
+  };
+}
+
+const std::vector<double>& ringing_frame_times() {
+  static const std::vector<double> times{2.0 / 24, 5.0 / 24, 40.0 / 24};
+  return times;
+}
+
+}  // namespace apiclab::figures

@@ -1,0 +1,68 @@
+#include "app/figures/time_figure.hpp"
+
+#include <filesystem>
+#include <fstream>
+
+#include "app/cli.hpp"
+#include "app/figures/chart_style.hpp"
+#include "render/image.hpp"
+
+namespace apiclab::figures {
+namespace {
+
+std::string series_label(const jobs::Run& r) {
+  std::string label = style_of(r.scheme).label;
+  if (!r.failure.empty()) label += " (failed)";
+  return label;
+}
+
+std::vector<gui::PlotSeries> time_series(const std::vector<jobs::Run>& runs, const Quantity& q) {
+  std::vector<gui::PlotSeries> out;
+  for (const jobs::Run& r : runs) {
+    gui::PlotSeries s;
+    s.label = series_label(r);
+    s.color = style_of(r.scheme).color;
+    s.count = r.rows.size();
+    s.x = [&r](std::size_t i) { return r.rows[i].t; };
+    s.y = [&r, of = q.of](std::size_t i) { return of(r.rows[i]); };
+    s.thickness = 2.0f;
+    s.dashed = q.dashed || r.scheme == "rpic";  // RPIC often lies on APIC: dashes show both
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
+}  // namespace
+
+void write_time_figure(ChartCanvas& canvas, const TimeFigure& f, const std::string& dir) {
+  const auto base = std::filesystem::path(dir) / f.file;
+  {
+    std::ofstream csv(base.string() + ".csv");
+    csv << "scheme,step,t,dt,kinetic,kinetic_grid,potential,total_energy,angular_momentum\n";
+    csv.precision(17);
+    for (const jobs::Run& r : f.runs)
+      for (const DiagnosticsRow& d : r.rows)
+        csv << r.scheme << ',' << d.step << ',' << d.t << ',' << d.dt << ',' << d.kinetic << ','
+            << d.kinetic_grid << ',' << d.potential << ',' << d.total << ',' << d.L[2] << '\n';
+    if (!csv) throw cli::UsageError("cannot write " + base.string() + ".csv");
+  }
+  render::Image image = canvas.draw(kChartW, kChartH, [&] {
+    const float top = heading(canvas, f.heading, kChartW);
+    const float w = (kChartW - 30) / 2.0f, h = kChartH - top - 6;
+    int k = 0;
+    for (const Quantity* q : {&f.left, &f.right}) {
+      gui::PlotOptions o;
+      o.title = q->title;
+      o.y_label = q->y_label;
+      o.x_label = "time t [s]";
+      o.interactive = false;
+      o.legend_corner = gui::PlotOptions::Corner::best;
+      ImGui::SetCursorScreenPos(ImVec2(10 + k * (w + 10), top));
+      gui::plot(q->title.c_str(), ImVec2(w, h), o, time_series(f.runs, *q));
+      ++k;
+    }
+  });
+  render::write_png(image, base.string() + ".png");
+}
+
+}  // namespace apiclab::figures

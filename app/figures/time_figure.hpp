@@ -1,0 +1,33 @@
+// Figures of two charts side by side against time, one line per scheme in each (Figs 3-6, 10),
+// written as PNG with the CSV of every run behind them.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "app/figures/chart_canvas.hpp"
+#include "app/gui/plot.hpp"
+#include "app/jobs.hpp"
+
+namespace apiclab::figures {
+
+// A quantity of a diagnostics row, charted against time.
+struct Quantity {
+  std::string title, y_label;
+  double (*of)(const DiagnosticsRow&);
+  bool dashed = false;
+};
+
+struct TimeFigure {
+  std::string id;  // the paper's figure number, as --only takes it
+  std::string file, heading, scene;
+  double quick_t_end = 0;  // 0: the scene's end time in --quick as well
+  double cost = 1;         // relative cost of one run (jobs::Run::cost)
+  std::vector<std::string> schemes;
+  Quantity left, right;
+  std::vector<jobs::Run> runs;  // one per scheme, filled by the caller
+};
+
+// DIR/<file>.png and DIR/<file>.csv; throws UsageError when the CSV cannot be written.
+void write_time_figure(ChartCanvas& canvas, const TimeFigure& figure, const std::string& dir);
+
+}  // namespace apiclab::figures

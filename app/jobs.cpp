@@ -1,0 +1,83 @@
+#include "app/jobs.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <cstdio>
+#include <exception>
+#include <mutex>
+#include <thread>
+
+#include "app/assets.hpp"
+#include "app/clock.hpp"
+#include "app/lockstep.hpp"
+
+namespace apiclab::jobs {
+
+void execute(Run& r) {
+  const double t0 = now_seconds();
+  std::vector<std::string> overrides = r.overrides;
+  overrides.push_back("solver.scheme=" + r.scheme);
+  SceneDesc scene = load_scene(resolve_scene_path(r.scene), overrides);
+  scene.asset_dirs.push_back(assets_directory());
+  if (r.t_end <= 0) r.t_end = scene.time.end;
+  auto sim = make_simulation(scene);
+  r.rows.push_back(sim->measure());
+  Lockstep pane({sim.get()});
+  const auto on_row = [&](std::size_t, const DiagnosticsRow& row) { r.rows.push_back(row); };
+  std::vector<double> stops = r.snapshot_times;
+  stops.push_back(r.t_end);
+  std::sort(stops.begin(), stops.end());
+  stops.erase(std::unique(stops.begin(), stops.end()), stops.end());  // one snapshot per time
+  for (double t : stops) {
+    if (t > r.t_end + 1e-12) break;
+    pane.advance_to(t, on_row);
+    if (const auto& failure = sim->failure()) {
+      char at[64];
+      std::snprintf(at, sizeof at, " (at t = %.4g)", sim->time());
+      r.failure = failure->message + at;
+      break;
+    }
+    if (std::find(r.snapshot_times.begin(), r.snapshot_times.end(), t) != r.snapshot_times.end())
+      r.snapshots.push_back(sim->snapshot());
+  }
+  r.seconds = now_seconds() - t0;
+}
+
+void run_pool(std::size_t count, int threads, const std::function<void(std::size_t)>& job) {
+  std::atomic<std::size_t> next{0};
+  std::mutex error_mutex;
+  std::exception_ptr error;
+  auto worker = [&] {
+    for (std::size_t i; (i = next++) < count;) {
+      try {
+        job(i);
+      } catch (...) {
+        std::lock_guard lock(error_mutex);
+        if (!error) error = std::current_exception();
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  const int n = std::max(1, std::min(threads, int(count)));
+  for (int k = 1; k < n; ++k) pool.emplace_back(worker);
+  worker();  // this thread is one of the pool
+  for (auto& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
+}
+
+void execute_all(const std::vector<Run*>& runs, int threads) {
+  std::vector<Run*> shared, alone;
+  for (Run* r : runs) (r->timed ? alone : shared).push_back(r);
+  std::stable_sort(shared.begin(), shared.end(), [](Run* a, Run* b) { return a->cost > b->cost; });
+  auto job = [](Run& r) {
+    try {
+      execute(r);
+    } catch (const std::exception& e) {
+      throw JobError(r.scene + " (" + r.scheme + "): " + e.what());
+    }
+  };
+  run_pool(shared.size(), threads, [&](std::size_t i) { job(*shared[i]); });
+  for (Run* r : alone) job(*r);
+}
+
+}  // namespace apiclab::jobs

@@ -1,0 +1,135 @@
+#include "app/render_session.hpp"
+
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+
+#include "app/clock.hpp"
+#include "app/particle_frame.hpp"
+#include "app/video.hpp"
+#include "render/snapshot_stats.hpp"
+
+namespace apiclab::cli {
+namespace {
+
+std::pair<int, int> parse_size(const std::string& s) {
+  int w = 0, h = 0;
+  char x = 0, extra = 0;
+  std::istringstream in(s);
+  if (!(in >> w >> x >> h) || x != 'x' || in >> extra || w < 16 || h < 16 || w > 16384 || h > 16384)
+    throw UsageError("invalid --size '" + s + "' (expected WxH, e.g. 1280x720, each 16..16384)");
+  return {w, h};
+}
+
+}  // namespace
+
+void add_render_options(CLI::App* cmd, RenderOptions& o) {
+  add_run_options(cmd, o.run);
+  cmd->add_option("--out", o.out, "output directory for frame_0000.png, ... and the CSVs")
+      ->required();
+  cmd->add_option("--size", o.size, "image size WxH in pixels (default 1280x720)");
+  cmd->add_option("--color", o.color,
+                  std::string("particle colour: ") + choice_keys(color_mode_choices()) +
+                      " (noise: |v_p - PIC velocity|) [default: speed]");
+  cmd->add_flag("--vectors", o.vectors, "draw velocity arrows");
+  cmd->add_option("--vector-scale", o.vector_scale,
+                  "arrow length per unit speed (default: automatic)");
+  cmd->add_option("--vector-every", o.vector_every,
+                  "draw one arrow per N particles (default: automatic)");
+  cmd->add_option("--color-max", o.color_max,
+                  "speed/noise at the top of the colour scale (default: automatic)");
+  cmd->add_option("--particle-scale", o.particle_scale, "multiply the drawn particle radius");
+  cmd->add_flag("--grid", o.grid, "draw the grid lines");
+  cmd->add_option("--fit", o.fit,
+                  "frame the whole domain, or the particles of the first frame (with room "
+                  "around them): domain|particles");
+  cmd->add_flag("--no-legend", o.no_legend, "leave out the colour and arrow legend");
+  cmd->add_option("--backend", o.backend, "offscreen OpenGL: auto|egl|osmesa");
+  cmd->add_option("--video", o.video, "also encode the frames into this MP4 file (needs ffmpeg)");
+}
+
+std::string frame_path(const std::string& dir, int frame, const char* extension) {
+  char name[32];
+  std::snprintf(name, sizeof name, "frame_%04d.%s", frame, extension);
+  return (std::filesystem::path(dir) / name).string();
+}
+
+RenderSession::RenderSession(const RenderOptions& o) {
+  std::tie(width, height) = parse_size(o.size);
+  render::Backend backend;
+  try {
+    style.color = render::parse_color_mode(o.color);
+    backend = render::parse_backend(o.backend);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+  if (o.vector_scale < 0 || o.color_max < 0 || o.vector_every < 0 || o.particle_scale <= 0)
+    throw UsageError(
+        "--vector-scale, --vector-every, --color-max and --particle-scale must be positive");
+  style.vectors = o.vectors;
+  style.vector_scale = float(o.vector_scale);
+  style.vector_every = o.vector_every;
+  style.color_max = float(o.color_max);
+  style.particle_scale = float(o.particle_scale);
+  style.grid = o.grid;
+  style.legend = !o.no_legend;
+  if (o.fit != "domain" && o.fit != "particles")
+    throw UsageError("unknown --fit '" + o.fit + "' (expected domain|particles)");
+  fit_particles = o.fit == "particles";
+  scene = load_scene_with_options(o.run);
+  style.time_step = 1 / scene.time.fps;
+  style.up_axis = render::up_axis_from_gravity(scene.gravity, scene.dim);
+  apply_threads(o.run.threads);
+  ensure_writable_dir(o.out);
+  if (!o.video.empty()) {
+    ffmpeg = find_on_path("ffmpeg");
+    if (ffmpeg.empty())
+      throw UsageError("--video needs ffmpeg, which is not installed (apt-get install ffmpeg)");
+    ensure_writable_file(o.video);
+  }
+  try {
+    context = render::create_offscreen_context(backend);
+  } catch (const render::ContextError& e) {
+    throw UsageError(e.what());
+  }
+  if (!o.run.quiet)
+    std::fprintf(
+        stderr, "apiclab: rendering with %s%s\n", context->description().c_str(),
+        context->egl_problem.empty() ? "" : (" (EGL: " + context->egl_problem + ")").c_str());
+  target = std::make_unique<render::RenderTarget>(width, height);
+  renderer = std::make_unique<render::Renderer>();
+}
+
+void RenderSession::draw(const std::vector<const Snapshot*>& panes, const std::string& path) {
+  // The first frame's particles frame the whole run, so that the video does not jitter.
+  if (fit_particles && !style.frame) style.frame = particle_frame(panes);
+  const double t0 = now_seconds();
+  target->bind();
+  render::draw_figure(*renderer, width, height, panes, style, state);
+  auto image = std::make_shared<render::Image>(target->read());
+  // The first frame also compiles the shaders (llvmpipe JITs them): timed apart.
+  (frames_drawn++ == 0 ? first_draw_seconds : draw_seconds) += now_seconds() - t0;
+  flush();
+  pending_png = std::async(std::launch::async, [this, image, path] {
+    const double t = now_seconds();
+    render::write_png(*image, path);
+    png_seconds += now_seconds() - t;
+  });
+}
+
+void RenderSession::flush() {
+  if (pending_png.valid()) pending_png.get();
+}
+
+std::string RenderSession::timing() const {
+  std::ostringstream s;
+  s.precision(3);
+  const double draw = frames_drawn > 1 ? draw_seconds / (frames_drawn - 1) : first_draw_seconds;
+  s << frames_drawn << " frames " << width << "x" << height << ": draw " << 1000 * draw
+    << " ms/frame (first " << 1000 * first_draw_seconds << " ms), PNG "
+    << 1000 * png_seconds / std::max(frames_drawn, 1) << " ms/frame, simulation " << sim_seconds
+    << " s";
+  return s.str();
+}
+
+}  // namespace apiclab::cli

@@ -1,0 +1,52 @@
+// What `render` and `compare` share: their options, everything checked before a simulation
+// starts (size, colours, backend, ffmpeg, the output folder), the offscreen GL objects, and
+// drawing one frame of panes with the PNG written while the next frame simulates.
+#pragma once
+#include <future>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cli.hpp"
+#include "render/context.hpp"
+#include "render/figure.hpp"
+#include "render/target.hpp"
+
+namespace apiclab::cli {
+
+struct RenderOptions {
+  RunOptions run;
+  std::string out, size = "1280x720", color = "speed", backend = "auto", video, schemes;
+  std::string fit = "domain";
+  bool vectors = false, grid = false, no_legend = false;
+  double vector_scale = 0, color_max = 0, particle_scale = 1;
+  int vector_every = 0;
+};
+
+void add_render_options(CLI::App* cmd, RenderOptions& o);
+
+// DIR/frame_0007.png (or .csv).
+std::string frame_path(const std::string& dir, int frame, const char* extension = "png");
+
+struct RenderSession {
+  SceneDesc scene;
+  int width = 0, height = 0;
+  render::FigureStyle style;
+  std::string ffmpeg;
+  std::unique_ptr<render::OffscreenContext> context;
+  std::unique_ptr<render::RenderTarget> target;
+  std::unique_ptr<render::Renderer> renderer;
+  render::FigureState state;
+  bool fit_particles = false;
+  std::future<void> pending_png;  // PNGs are written while the next frame simulates
+  double first_draw_seconds = 0, draw_seconds = 0, png_seconds = 0, sim_seconds = 0;
+  int frames_drawn = 0;
+
+  explicit RenderSession(const RenderOptions& o);
+  // Draws the panes and writes the PNG in the background.
+  void draw(const std::vector<const Snapshot*>& panes, const std::string& path);
+  void flush();  // waits for the last PNG
+  std::string timing() const;
+};
+
+}  // namespace apiclab::cli

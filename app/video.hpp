@@ -1,0 +1,16 @@
+// Encoding rendered frames into a video with ffmpeg, run as a program (no shell).
+#pragma once
+#include <string>
+#include <vector>
+
+namespace apiclab::cli {
+
+// The full path of an executable on PATH, or empty.
+std::string find_on_path(const std::string& name);
+// Runs a program without a shell; returns its exit status (-1 when it could not start).
+int run_program(const std::vector<std::string>& args);
+// DIR/frame_0000.png, ... at `fps` into an H.264 MP4 `file`; throws UsageError when ffmpeg fails.
+void encode_video(const std::string& ffmpeg, const std::string& dir, double fps,
+                  const std::string& file);
+
+}  // namespace apiclab::cli

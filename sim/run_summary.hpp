@@ -1,0 +1,89 @@
+// What a run comes to, by one rule for `run`, the GUI's drift plot and sweeps: relative energy
+// drift, angular-momentum drift, the time steps taken and the wall time.
+#pragma once
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include "diagnostics.hpp"
+#include "scene.hpp"
+
+namespace apiclab {
+
+// The drift of a diagnostics row from the initial one. dE/E is signed. dL is |ΔL|/|L₀|, except
+// when |L₀| is below round-off of the momentum scale √(2 K₀ M)·extent (a body at rest, a
+// symmetric impact): then L₀ counts as zero and dL is the absolute |ΔL|.
+class DriftRule {
+ public:
+  // extent: the largest |max| + |min| of the domain over its axes (lever arm of L).
+  DriftRule(const DiagnosticsRow& first, double total_mass, double extent)
+      : first_(first), E0_(std::max(std::abs(first.total), 1e-300)) {
+    const double L_scale = std::sqrt(2 * std::max(first.kinetic, 0.0) * total_mass) * extent;
+    const double L0 = norm(first.L);
+    L0_ = L0 > 1e-12 * L_scale ? L0 : 0.0;
+  }
+  static double domain_extent(const SceneDesc& scene) {
+    double extent = 0;
+    for (int a = 0; a < scene.dim; ++a)
+      extent = std::max(extent, std::abs(scene.domain.max[a]) + std::abs(scene.domain.min[a]));
+    return extent;
+  }
+
+  double energy(const DiagnosticsRow& r) const { return (r.total - first_.total) / E0_; }
+  double angular_momentum(const DiagnosticsRow& r) const {
+    const std::array<double, 3> dL{r.L[0] - first_.L[0], r.L[1] - first_.L[1],
+                                   r.L[2] - first_.L[2]};
+    return L0_ > 0 ? norm(dL) / L0_ : norm(dL);
+  }
+  bool angular_momentum_relative() const { return L0_ > 0; }
+
+ private:
+  static double norm(const std::array<double, 3>& a) {
+    return std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+  }
+  DiagnosticsRow first_;
+  double E0_, L0_ = 0;
+};
+
+// Fed the initial row and then every step's row.
+class RunSummary {
+ public:
+  RunSummary(const DiagnosticsRow& first, double total_mass, double extent)
+      : drift_(first, total_mass, extent), last_(first) {}
+
+  void add(const DiagnosticsRow& row) {
+    last_ = row;
+    dts_.push_back(row.dt);
+    step_wall_seconds_ += row.wall_seconds;
+  }
+
+  const DriftRule& drift() const { return drift_; }
+  double energy_drift() const { return drift_.energy(last_); }
+  double angular_momentum_drift() const { return drift_.angular_momentum(last_); }
+  bool angular_momentum_relative() const { return drift_.angular_momentum_relative(); }
+  const DiagnosticsRow& last() const { return last_; }
+  long steps() const { return long(dts_.size()); }
+  // Seconds inside the steps (DiagnosticsRow::wall_seconds), without I/O around them.
+  double step_wall_seconds() const { return step_wall_seconds_; }
+
+  struct DtStats {
+    double min = 0, median = 0, max = 0;
+  };
+  DtStats dt() const {
+    if (dts_.empty()) return {};
+    std::vector<double> sorted = dts_;
+    std::sort(sorted.begin(), sorted.end());
+    const std::size_t n = sorted.size();
+    const double median = n % 2 ? sorted[n / 2] : 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]);
+    return {sorted.front(), median, sorted.back()};
+  }
+
+ private:
+  DriftRule drift_;
+  DiagnosticsRow last_;
+  std::vector<double> dts_;
+  double step_wall_seconds_ = 0;
+};
+
+}  // namespace apiclab

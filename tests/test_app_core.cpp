@@ -1,0 +1,169 @@
+// The loops every command shares: frame times (the last on time.end), the frame loop and the
+// lockstep over panes, the run summary's drift rule with its L0 cut-off, and the job runner.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <set>
+#include <stdexcept>
+
+#include "app/frame_loop.hpp"
+#include "app/jobs.hpp"
+#include "app/lockstep.hpp"
+#include "sim/run_summary.hpp"
+#include "sim/scene.hpp"
+
+namespace apiclab {
+namespace {
+
+SceneDesc disk(const std::vector<std::string>& overrides = {}) {
+  return load_scene(std::string(APICLAB_SOURCE_DIR) + "/assets/scenes/rotating-disk.json",
+                    overrides);
+}
+
+TEST(FrameTimes, LastFrameIsTimeEnd) {
+  SceneDesc s = disk({"time.end=10.54", "time.fps=24"});  // sphere-impact-3d's end: 252.96 frames
+  const FrameTimes t(s);
+  EXPECT_EQ(t.frames, 253);
+  EXPECT_EQ(t.time_of(0), 0);
+  EXPECT_EQ(t.time_of(252), 252 / 24.0);
+  EXPECT_EQ(t.time_of(253), 10.54);
+  const FrameTimes short_end(disk({"time.end=0.01"}));  // less than a frame: one frame, at end
+  EXPECT_EQ(short_end.frames, 1);
+  EXPECT_EQ(short_end.time_of(1), 0.01);
+}
+
+TEST(FrameLoop, VisitsEveryFrameWithEveryPaneAtItsTime) {
+  const SceneDesc scene = disk({"time.end=0.135"});
+  auto a = make_simulation(scene);
+  SceneDesc pic = scene;
+  pic.solver.scheme = Scheme::pic;
+  auto b = make_simulation(pic);
+  Lockstep panes({a.get(), b.get()});
+  const FrameTimes times(scene);
+  std::vector<int> frames;
+  std::vector<long> rows(2, 0);
+  run_frame_loop(
+      times, panes,
+      [&](std::size_t k, const DiagnosticsRow& r) {
+        ++rows[k];
+        EXPECT_LE(r.t, 0.135);
+      },
+      [&](int f) {
+        frames.push_back(f);
+        EXPECT_EQ(a->time(), times.time_of(f));
+        EXPECT_EQ(b->time(), times.time_of(f));
+        return true;
+      });
+  EXPECT_EQ(frames, (std::vector<int>{0, 1, 2, 3}));
+  EXPECT_EQ(rows[0], a->steps());
+  EXPECT_EQ(rows[1], b->steps());
+  EXPECT_EQ(a->time(), 0.135);
+}
+
+TEST(FrameLoop, StopsWhenTheFrameSaysSo) {
+  const SceneDesc scene = disk({"time.end=0.2"});
+  auto a = make_simulation(scene);
+  Lockstep panes({a.get()});
+  int last = -1;
+  run_frame_loop(FrameTimes(scene), panes, {}, [&](int f) {
+    last = f;
+    return f < 2;
+  });
+  EXPECT_EQ(last, 2);
+  EXPECT_EQ(a->time(), 2 / 24.0);
+}
+
+// dt = 0.05 blows symplectic Euler up: that pane freezes, the other reaches the target.
+TEST(Lockstep, FailedPaneStaysFrozenWhileTheOtherAdvances) {
+  SceneDesc s = disk({R"(time.dt={"rule":"fixed","value":0.05})"});
+  SceneDesc bad = s, good = s;
+  bad.solver.integrator = Integrator::symplectic;
+  good.solver.integrator = Integrator::backward;
+  auto a = make_simulation(bad), b = make_simulation(good);
+  Lockstep panes({a.get(), b.get()});
+  panes.advance_to(0.5);
+  ASSERT_TRUE(a->failure());
+  const long frozen = a->steps();
+  EXPECT_FALSE(panes.all_failed());
+  EXPECT_TRUE(panes.all_reached(0.5));
+  EXPECT_EQ(b->time(), 0.5);
+  panes.advance_to(0.6);
+  EXPECT_EQ(a->steps(), frozen);
+  EXPECT_EQ(b->time(), 0.6);
+  EXPECT_EQ(panes.step_round(0.6), 0);  // nothing left to do
+}
+
+DiagnosticsRow row_with(double kinetic, double total, std::array<double, 3> L, double dt = 0) {
+  DiagnosticsRow r;
+  r.kinetic = kinetic, r.total = total, r.L = L, r.dt = dt;
+  return r;
+}
+
+TEST(RunSummary, RelativeDriftsAndTimeSteps) {
+  RunSummary s(row_with(2, 4, {0, 0, 10}), 1.0, 2.0);
+  s.add(row_with(1, 3.9, {0, 0, 10.5}, 0.02));
+  s.add(row_with(1, 3.0, {0, 0.3, 9.6}, 0.01));
+  s.add(row_with(1, 3.0, {0, 0.3, 9.6}, 0.04));
+  EXPECT_DOUBLE_EQ(s.energy_drift(), -0.25);
+  EXPECT_TRUE(s.angular_momentum_relative());
+  EXPECT_DOUBLE_EQ(s.angular_momentum_drift(), 0.5 / 10);  // |(0, 0.3, -0.4)| / 10
+  EXPECT_EQ(s.steps(), 3);
+  const auto dt = s.dt();
+  EXPECT_EQ(dt.min, 0.01);
+  EXPECT_EQ(dt.median, 0.02);
+  EXPECT_EQ(dt.max, 0.04);
+}
+
+// L0 at round-off of the momentum scale √(2 K M)·extent counts as zero: |ΔL| is absolute.
+TEST(RunSummary, RoundOffL0GivesAbsoluteDrift) {
+  const double scale = std::sqrt(2 * 50.0 * 2.0) * 3.0;  // K = 50, M = 2, extent 3
+  RunSummary zero(row_with(50, 100, {0, 0, 1e-13 * scale}), 2.0, 3.0);
+  zero.add(row_with(50, 100, {0, 0, 2e-6}));
+  EXPECT_FALSE(zero.angular_momentum_relative());
+  EXPECT_DOUBLE_EQ(zero.angular_momentum_drift(), 2e-6 - 1e-13 * scale);
+  RunSummary real(row_with(50, 100, {0, 0, 1e-11 * scale}), 2.0, 3.0);  // above round-off
+  EXPECT_TRUE(real.angular_momentum_relative());
+  EXPECT_EQ(DriftRule::domain_extent(disk()), 1.0);  // rotating disk: [0, 1]²
+}
+
+TEST(Jobs, PoolRunsEveryIndexOnceAndRethrows) {
+  std::vector<std::atomic<int>> seen(50);
+  jobs::run_pool(seen.size(), 3, [&](std::size_t i) { ++seen[i]; });
+  for (auto& n : seen) EXPECT_EQ(n.load(), 1);
+  std::atomic<int> ran{0};
+  EXPECT_THROW(jobs::run_pool(10, 2,
+                              [&](std::size_t i) {
+                                ++ran;
+                                if (i == 3) throw std::runtime_error("three");
+                              }),
+               std::runtime_error);
+  EXPECT_EQ(ran.load(), 10);  // the others still ran
+}
+
+TEST(Jobs, RunKeepsRowsAndSnapshotsAndNamesBadRuns) {
+  jobs::Run a, b, bad;
+  a.scene = b.scene = bad.scene = "rotating-disk";
+  a.scheme = "apic", b.scheme = "pic", bad.scheme = "no-such-scheme";
+  a.t_end = b.t_end = 0.1;
+  a.snapshot_times = {0.05, 0.1};
+  b.timed = true;
+  jobs::execute_all({&a, &b}, 2);
+  ASSERT_EQ(a.snapshots.size(), 2u);
+  EXPECT_EQ(a.snapshots[0]->time, 0.05);
+  EXPECT_EQ(a.snapshots[1]->time, 0.1);
+  EXPECT_EQ(a.rows.front().t, 0);
+  EXPECT_EQ(a.rows.back().t, 0.1);
+  EXPECT_EQ(b.rows.back().t, 0.1);
+  EXPECT_GT(b.seconds, 0);
+  try {
+    jobs::execute_all({&bad}, 1);
+    FAIL() << "a bad scheme ran";
+  } catch (const jobs::JobError& e) {
+    EXPECT_NE(std::string(e.what()).find("rotating-disk (no-such-scheme)"), std::string::npos)
+        << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace apiclab
