@@ -42,7 +42,8 @@ std::string parameter_table() {
 }  // namespace
 
 void add_run_options(CLI::App* cmd, RunOptions& o, bool scene_required) {
-  auto* scene = cmd->add_option("scene", o.scene, "scene file, or the name of a shipped scene (e.g. rotating-disk)");
+  auto* scene = cmd->add_option("scene", o.scene,
+                                "scene file, or the name of a shipped scene (e.g. rotating-disk)");
   if (scene_required) scene->required();
   cmd->add_option("--scheme", o.scheme, choice_help("transfer scheme", scheme_choices()));
   add_parameter_option(cmd, "--flip-alpha", o.flip_alpha, "solver.flip_alpha");
@@ -93,8 +94,14 @@ SceneDesc load_scene_with_options(const RunOptions& o) {
       throw UsageError(e.what());
     }
   };
-  if (!o.scheme.empty()) { check(scheme_choices(), o.scheme, "scheme"); sets.push_back("solver.scheme=" + o.scheme); }
-  if (!o.kernel.empty()) { check(kernel_choices(), o.kernel, "kernel"); sets.push_back("solver.kernel=" + o.kernel); }
+  if (!o.scheme.empty()) {
+    check(scheme_choices(), o.scheme, "scheme");
+    sets.push_back("solver.scheme=" + o.scheme);
+  }
+  if (!o.kernel.empty()) {
+    check(kernel_choices(), o.kernel, "kernel");
+    sets.push_back("solver.kernel=" + o.kernel);
+  }
   if (!o.integrator.empty()) {
     check(integrator_choices(), o.integrator, "integrator");
     sets.push_back("solver.integrator=" + o.integrator);
@@ -114,7 +121,6 @@ SceneDesc load_scene_with_options(const RunOptions& o) {
   return scene;
 }
 
-
 void apply_threads(int threads) {
   if (threads > 0) omp_set_num_threads(threads);
 }
@@ -123,7 +129,9 @@ void ensure_writable_dir(const std::string& dir) {
   namespace fs = std::filesystem;
   std::error_code ec;
   fs::create_directories(dir, ec);
-  if (ec || !fs::is_directory(dir)) throw UsageError("cannot create output directory '" + dir + "'" + (ec ? ": " + ec.message() : ""));
+  if (ec || !fs::is_directory(dir))
+    throw UsageError("cannot create output directory '" + dir + "'" +
+                     (ec ? ": " + ec.message() : ""));
   fs::path probe = fs::path(dir) / ".apiclab-write-test";
   {
     std::ofstream f(probe);
@@ -151,7 +159,8 @@ void Progress::update(double done, const std::string& extra) {
   last_ = t;
   double elapsed = t - start_, frac = total_ > 0 ? done / total_ : 1;
   double eta = frac > 0 ? elapsed * (1 - frac) / frac : 0;
-  std::fprintf(stderr, "\r%s %5.1f%% %s elapsed %.1fs ETA %.1fs   ", label_.c_str(), 100 * frac, extra.c_str(), elapsed, eta);
+  std::fprintf(stderr, "\r%s %5.1f%% %s elapsed %.1fs ETA %.1fs   ", label_.c_str(), 100 * frac,
+               extra.c_str(), elapsed, eta);
   std::fflush(stderr);
 }
 

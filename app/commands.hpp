@@ -16,11 +16,11 @@ void register_run(CLI::App& root, CommandTable& table);
 void register_roundtrip(CLI::App& root, CommandTable& table);
 void register_bench(CLI::App& root, CommandTable& table);
 #ifdef APICLAB_HAVE_RENDER
-void register_render(CLI::App& root, CommandTable& table);   // render and compare
+void register_render(CLI::App& root, CommandTable& table);  // render and compare
 #endif
 #ifdef APICLAB_HAVE_GUI
 void register_gui(CLI::App& root, CommandTable& table);
-bool gui_available();  // a display can be opened
+bool gui_available();   // a display can be opened
 int run_default_gui();  // `apiclab` with no arguments and a display
 #endif
 #ifdef APICLAB_HAVE_FIGURES

@@ -38,7 +38,8 @@ class BlockPartition {
   // cell since the last sort; recolours the blocks and moves the active box, zeroing the grid
   // nodes that leave it. Returns whether p was permuted.
   bool sort(Particles<T, D>& p, Particles<T, D>& scratch, Grid<T, D>& grid,
-            const std::vector<ConstrainedNode<T, D>>& constraints, KernelType kernel, bool parallel);
+            const std::vector<ConstrainedNode<T, D>>& constraints, KernelType kernel,
+            bool parallel);
   // Cells the fastest particle moved this step (G2P reports it).
   void add_drift(double cells) { drift_since_sort_ += cells; }
 
@@ -77,8 +78,9 @@ class BlockPartition {
   std::string conflict(const Particles<T, D>& p, const Grid<T, D>& grid, KernelType kernel) const;
 
  private:
-  void set_active_box(Grid<T, D>& grid, const std::vector<ConstrainedNode<T, D>>& constraints, int block_cells,
-                      const std::array<int, D>& first_block, const std::array<int, D>& last_block, bool parallel);
+  void set_active_box(Grid<T, D>& grid, const std::vector<ConstrainedNode<T, D>>& constraints,
+                      int block_cells, const std::array<int, D>& first_block,
+                      const std::array<int, D>& last_block, bool parallel);
 
   // Particles of block b are [block_start_[b], block_start_[b+1]).
   std::vector<std::uint32_t> keys_, order_, block_start_;
@@ -94,8 +96,8 @@ class BlockPartition {
 
 template <class T, int D>
 bool BlockPartition<T, D>::sort(Particles<T, D>& p, Particles<T, D>& scratch, Grid<T, D>& grid,
-                                const std::vector<ConstrainedNode<T, D>>& constraints, KernelType kernel,
-                                bool parallel) {
+                                const std::vector<ConstrainedNode<T, D>>& constraints,
+                                KernelType kernel, bool parallel) {
   // The colouring stays race-free while no particle has moved a cell away from the block it
   // was sorted into (same-coloured stencils are a block apart); re-sort at half a cell.
   if (drift_since_sort_ < 0.5) return false;
@@ -168,7 +170,8 @@ bool BlockPartition<T, D>::sort(Particles<T, D>& p, Particles<T, D>& scratch, Gr
 // particles can reach until the next sort: scenes whose objects fill a small part of the
 // domain stop paying for the empty rest. Nodes leaving the box are zeroed once, here.
 template <class T, int D>
-void BlockPartition<T, D>::set_active_box(Grid<T, D>& grid, const std::vector<ConstrainedNode<T, D>>& constraints,
+void BlockPartition<T, D>::set_active_box(Grid<T, D>& grid,
+                                          const std::vector<ConstrainedNode<T, D>>& constraints,
                                           int block_cells, const std::array<int, D>& first_block,
                                           const std::array<int, D>& last_block, bool parallel) {
   std::array<int, D> lo, hi;
@@ -196,12 +199,14 @@ void BlockPartition<T, D>::set_active_box(Grid<T, D>& grid, const std::vector<Co
   box_rows_.clear();
   if constexpr (D == 2) {
     for (int j = lo[1]; j < hi[1]; ++j)
-      box_rows_.push_back({std::size_t(lo[0]) + std::size_t(j) * grid.stride[1], std::size_t(hi[0] - lo[0])});
+      box_rows_.push_back(
+          {std::size_t(lo[0]) + std::size_t(j) * grid.stride[1], std::size_t(hi[0] - lo[0])});
   } else {
     for (int k = lo[2]; k < hi[2]; ++k)
       for (int j = lo[1]; j < hi[1]; ++j)
-        box_rows_.push_back({std::size_t(lo[0]) + std::size_t(j) * grid.stride[1] + std::size_t(k) * grid.stride[2],
-                             std::size_t(hi[0] - lo[0])});
+        box_rows_.push_back(
+            {std::size_t(lo[0]) + std::size_t(j) * grid.stride[1] + std::size_t(k) * grid.stride[2],
+             std::size_t(hi[0] - lo[0])});
   }
   box_constraints_.clear();
   for (const auto& c : constraints)
@@ -225,7 +230,8 @@ std::string BlockPartition<T, D>::conflict(const Particles<T, D>& p, const Grid<
             if (!in_active_box(grid, node) && why.tellp() == 0)
               why << "particle " << q << " reaches node " << node << " outside the active box";
             if (owner[node] >= 0 && owner[node] != std::int64_t(b) && why.tellp() == 0)
-              why << "blocks " << owner[node] << " and " << b << " of colour " << color << " share node " << node;
+              why << "blocks " << owner[node] << " and " << b << " of colour " << color
+                  << " share node " << node;
             owner[node] = b;
           });
         }

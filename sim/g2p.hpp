@@ -24,18 +24,27 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
   bool bad = false;
   double max_move = 0;
   Vec<T, D> lo, hi;
-  for (int a = 0; a < D; ++a) { lo[a] = T(scene_.domain.min[a]); hi[a] = T(scene_.domain.max[a]); }
+  for (int a = 0; a < D; ++a) {
+    lo[a] = T(scene_.domain.min[a]);
+    hi[a] = T(scene_.domain.max[a]);
+  }
   using Lanes = typename Grid<T, D>::Lanes;
   const Lanes* packed = grid_.accumulator.data();
   pack_velocities();
-  // Lanes of ṽ × vⁿ: c_a = ṽ_{a+1} vⁿ_{a+2} − ṽ_{a+2} vⁿ_{a+1} in 3D, c_0 = ṽ_0 vⁿ_1 − ṽ_1 vⁿ_0 in 2D.
+  // Lanes of ṽ × vⁿ: c_a = ṽ_{a+1} vⁿ_{a+2} − ṽ_{a+2} vⁿ_{a+1} in 3D, c_0 = ṽ_0 vⁿ_1 − ṽ_1 vⁿ_0 in
+  // 2D.
   auto cross = [](const Lanes& n) {
     if constexpr (D == 3)
-      return permute<T, 1, 2, 0>(n) * permute<T, 5, 3, 4>(n) - permute<T, 2, 0, 1>(n) * permute<T, 4, 5, 3>(n);
+      return permute<T, 1, 2, 0>(n) * permute<T, 5, 3, 4>(n) -
+             permute<T, 2, 0, 1>(n) * permute<T, 4, 5, 3>(n);
     else
-      return permute<T, 0, 0, 0>(n) * permute<T, 3, 3, 3>(n) - permute<T, 1, 1, 1>(n) * permute<T, 2, 2, 2>(n);
+      return permute<T, 0, 0, 0>(n) * permute<T, 3, 3, 3>(n) -
+             permute<T, 1, 1, 1>(n) * permute<T, 2, 2, 2>(n);
   };
-#pragma omp parallel for schedule(static) reduction(|| : bad) reduction(max : max_move) if (parallel_worthwhile())
+#pragma omp parallel for schedule(static) reduction(||     \
+                                                    : bad) \
+    reduction(max                                          \
+              : max_move) if (parallel_worthwhile())
   for (std::ptrdiff_t q = 0; q < n; ++q) {
     Stencil<T, D, K> st;
     st.compute(p_.x[std::size_t(q)], grid_);
@@ -66,8 +75,10 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
         }
       });
     };
-    if (lambda != T(0)) gather(std::true_type{});
-    else gather(std::false_type{});
+    if (lambda != T(0))
+      gather(std::true_type{});
+    else
+      gather(std::false_type{});
     // u_i = λ vⁿ_i + (1 − λ) ṽ_i (eq 30): ū = Σ w u, ∇u = Σ u ∇wᵀ.
     Vec<T, D> vpic, vold_p, ubar;
     Mat<T, D> Bsum, gradu, gradv;
@@ -91,14 +102,17 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
         if (lambda != T(0)) {
           // S − Sᵀ with S = Σ w ṽ uᵀ is λ Σ w (ṽ vⁿᵀ − vⁿ ṽᵀ), whose entries are Σ w (ṽ × vⁿ).
           Mat<T, D> skew;
-          if constexpr (D == 3) skew << T(0), twist[2], -twist[1], -twist[2], T(0), twist[0], twist[1], -twist[0], T(0);
-          else skew << T(0), twist[0], -twist[0], T(0);
+          if constexpr (D == 3)
+            skew << T(0), twist[2], -twist[1], -twist[2], T(0), twist[0], twist[1], -twist[0], T(0);
+          else
+            skew << T(0), twist[0], -twist[0], T(0);
           B += T(0.5) * dt * (lambda * skew - vpic * ubar.transpose() + ubar * vpic.transpose());
         }
         gathered.apic_C = B * inv_k;  // C = B D⁻¹ with D = k Δx² I
       }
     }
-    update_particle_velocity<S>(gathered, alpha, lagged, [&] { return Mat<T, D>(st.inertia()); }, p_.v[q], p_.C[q]);
+    update_particle_velocity<S>(
+        gathered, alpha, lagged, [&] { return Mat<T, D>(st.inertia()); }, p_.v[q], p_.C[q]);
     // Particle update: positions on the moved grid (eq 39), F by eq 40.
     Vec<T, D> x = p_.x[q] + dt * ubar;
     max_move = std::max(max_move, double((dt * ubar).cwiseAbs().maxCoeff()));
@@ -130,10 +144,18 @@ void MpmSimulation<T, D>::grid_to_particles(T dt) {
   with_kernel(scene_.solver.kernel, [&](auto kernel) {
     using K = decltype(kernel);
     switch (scene_.solver.scheme) {
-      case Scheme::pic: g2p_impl<K, Scheme::pic>(dt); break;
-      case Scheme::flip: g2p_impl<K, Scheme::flip>(dt); break;
-      case Scheme::apic: g2p_impl<K, Scheme::apic>(dt); break;
-      case Scheme::rpic: g2p_impl<K, Scheme::rpic>(dt); break;
+      case Scheme::pic:
+        g2p_impl<K, Scheme::pic>(dt);
+        break;
+      case Scheme::flip:
+        g2p_impl<K, Scheme::flip>(dt);
+        break;
+      case Scheme::apic:
+        g2p_impl<K, Scheme::apic>(dt);
+        break;
+      case Scheme::rpic:
+        g2p_impl<K, Scheme::rpic>(dt);
+        break;
     }
   });
 }

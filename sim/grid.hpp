@@ -13,12 +13,15 @@ namespace apiclab {
 
 // Eight values as one vector (GCC/Clang vector extension: SSE, AVX or AVX-512 without
 // intrinsics). Spelled per scalar because the attribute is lost on a dependent typedef.
-template <class T> struct Lanes8;
-template <> struct Lanes8<float> {
+template <class T>
+struct Lanes8;
+template <>
+struct Lanes8<float> {
   typedef float type __attribute__((vector_size(8 * sizeof(float))));
   typedef std::int32_t index __attribute__((vector_size(8 * sizeof(float))));
 };
-template <> struct Lanes8<double> {
+template <>
+struct Lanes8<double> {
   typedef double type __attribute__((vector_size(8 * sizeof(double))));
   typedef std::int64_t index __attribute__((vector_size(8 * sizeof(double))));
 };
@@ -91,7 +94,9 @@ struct Grid {
     return i < 0 ? 0 : (i >= n[a] ? n[a] - 1 : i);
   }
   // Index of a node along axis a.
-  int node_coordinate(std::size_t index, int a) const { return int((index / stride[a]) % std::size_t(n[a])); }
+  int node_coordinate(std::size_t index, int a) const {
+    return int((index / stride[a]) % std::size_t(n[a]));
+  }
   Vec<T, D> node_position(std::size_t index) const {
     Vec<T, D> x;
     for (int a = 0; a < D; ++a) x[a] = origin[a] + T(node_coordinate(index, a)) * dx;

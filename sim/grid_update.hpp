@@ -68,10 +68,17 @@ void MpmSimulation<T, D>::apply_boundary_conditions() {
     Vec<T, D>& v = grid_.velocity_new[c.node];
     T vn = v.dot(c.normal);
     switch (c.condition) {
-      case BoundaryCondition::sticky: v.setZero(); break;
-      case BoundaryCondition::slip: v -= vn * c.normal; break;
-      case BoundaryCondition::separate: if (vn < T(0)) v -= vn * c.normal; break;
-      case BoundaryCondition::periodic: break;
+      case BoundaryCondition::sticky:
+        v.setZero();
+        break;
+      case BoundaryCondition::slip:
+        v -= vn * c.normal;
+        break;
+      case BoundaryCondition::separate:
+        if (vn < T(0)) v -= vn * c.normal;
+        break;
+      case BoundaryCondition::periodic:
+        break;
     }
   }
 }

@@ -26,7 +26,8 @@ void project_on_constraint(Vec<T, D>& v, const ConstrainedNode<T, D>& c);
 // semi-definite (negative eigenvalues clamped to zero, as Stomakhin et al. 2012 and Teran et
 // al. 2005 do per particle), so CG always sees a positive definite M + bΔt²K.
 template <class T, int D>
-Eigen::Matrix<T, D * D, D * D> projected_stress_hessian(MaterialModel model, const Mat<T, D>& F, Lame<T> l) {
+Eigen::Matrix<T, D * D, D * D> projected_stress_hessian(MaterialModel model, const Mat<T, D>& F,
+                                                        Lame<T> l) {
   constexpr int N = D * D;
   Eigen::Matrix<T, N, N> H;
   for (int c = 0; c < N; ++c) {
@@ -70,8 +71,8 @@ void MpmSimulation<T, D>::implicit_begin(T dt) {
   }
   kinetic_grid_ = kinetic;
   imp_.velocity_ref = std::sqrt(vref2 / std::max(imp_.mass_sum, 1e-300));
-  for (auto* v : {&imp_.dv, &imp_.grad, &imp_.cg.direction, &imp_.cg.residual, &imp_.cg.search, &imp_.cg.product,
-                  &imp_.cg.trial}) {
+  for (auto* v : {&imp_.dv, &imp_.grad, &imp_.cg.direction, &imp_.cg.residual, &imp_.cg.search,
+                  &imp_.cg.product, &imp_.cg.trial}) {
     if (v->size() != nn) v->assign(nn, Vec<T, D>::Zero());
     for_each_box_node([&](std::size_t i) { (*v)[i].setZero(); });
   }
@@ -83,7 +84,8 @@ void MpmSimulation<T, D>::implicit_begin(T dt) {
   imp_.constraints.clear();
   for (const auto& c : constraints_) {
     if (grid_.mass[c.node] <= T(0)) continue;
-    if (c.condition == BoundaryCondition::separate && grid_.velocity[c.node].dot(c.normal) >= T(0)) continue;
+    if (c.condition == BoundaryCondition::separate && grid_.velocity[c.node].dot(c.normal) >= T(0))
+      continue;
     imp_.constraints.push_back(c);
   }
   for (const auto& c : imp_.constraints) {  // d: makes ṽ = v + d satisfy the constraints
@@ -97,8 +99,10 @@ void MpmSimulation<T, D>::implicit_begin(T dt) {
 // wall being pushed into) its normal component.
 template <class T, int D>
 void project_on_constraint(Vec<T, D>& v, const ConstrainedNode<T, D>& c) {
-  if (c.condition == BoundaryCondition::sticky) v.setZero();
-  else v -= v.dot(c.normal) * c.normal;
+  if (c.condition == BoundaryCondition::sticky)
+    v.setZero();
+  else
+    v -= v.dot(c.normal) * c.normal;
 }
 
 template <class T, int D>
@@ -146,20 +150,26 @@ double MpmSimulation<T, D>::implicit_energy(const std::vector<Vec<T, D>>& dv, bo
   if (inverted) return std::numeric_limits<double>::infinity();
   double e = b > T(0) ? phi / double(b) : 0.0;
   for (std::uint32_t i : imp_.active)
-    e += double(grid_.mass[i]) * (0.5 * double(dv[i].squaredNorm()) - double(dt) * double(imp_.gravity.dot(dv[i])));
+    e += double(grid_.mass[i]) *
+         (0.5 * double(dv[i].squaredNorm()) - double(dt) * double(imp_.gravity.dot(dv[i])));
   if (gradient) {
     // g = M Δv − Δt M g − Δt f(y), f_i = −Σ V P(F_y) F^nᵀ ∇w (eq 34).
     for (std::uint32_t i : imp_.active) imp_.grad[i] = grid_.mass[i] * (dv[i] - dt * imp_.gravity);
     for_each_particle_coloured([&](std::uint32_t q) {
       const MaterialParams<T>& mat = materials_[std::size_t(p_.material[q])];
-      Mat<T, D> stress = (dt * p_.volume0[q]) * first_piola<T, D>(mat.model, imp_.Fy[q], mat.lame) * p_.F[q].transpose();
-      st[q].for_each([&](std::size_t i, T, const Vec<T, D>& gw, const Vec<T, D>&) { imp_.grad[i] += stress * gw; });
+      Mat<T, D> stress = (dt * p_.volume0[q]) * first_piola<T, D>(mat.model, imp_.Fy[q], mat.lame) *
+                         p_.F[q].transpose();
+      st[q].for_each([&](std::size_t i, T, const Vec<T, D>& gw, const Vec<T, D>&) {
+        imp_.grad[i] += stress * gw;
+      });
     });
     if constexpr (D == 2)
       if (mesh)  // ∂(Φ_mesh / b)/∂Δv_i = Δt Σ_p w_ip ∂Φ/∂x_p
         for_each_particle_coloured([&](std::uint32_t q) {
           const Vec<T, 2> gq = dt * mesh_g_[q];
-          st[q].for_each([&](std::size_t i, T w, const Vec<T, D>&, const Vec<T, D>&) { imp_.grad[i] += w * gq; });
+          st[q].for_each([&](std::size_t i, T w, const Vec<T, D>&, const Vec<T, D>&) {
+            imp_.grad[i] += w * gq;
+          });
         });
   }
   return e;
@@ -191,30 +201,38 @@ void MpmSimulation<T, D>::implicit_update_hessian(bool project_definite) {
 // out = H in = M in + b Δt² K in with the per-particle ∂P/∂F in imp_.hessian (eqs 35-36).
 template <class T, int D>
 template <class K>
-void MpmSimulation<T, D>::implicit_hessian_apply(const std::vector<Vec<T, D>>& in, std::vector<Vec<T, D>>& out) {
+void MpmSimulation<T, D>::implicit_hessian_apply(const std::vector<Vec<T, D>>& in,
+                                                 std::vector<Vec<T, D>>& out) {
   constexpr int N = D * D;
   const auto& st = stencils<K>();
   const T b = imp_.b, dt = imp_.dt;
   for (std::uint32_t i : imp_.active) out[i] = grid_.mass[i] * in[i];
   for_each_particle_coloured([&](std::uint32_t q) {
     Mat<T, D> G = Mat<T, D>::Zero();
-    st[q].for_each([&](std::size_t i, T, const Vec<T, D>& gw, const Vec<T, D>&) { G += in[i] * gw.transpose(); });
+    st[q].for_each([&](std::size_t i, T, const Vec<T, D>& gw, const Vec<T, D>&) {
+      G += in[i] * gw.transpose();
+    });
     Mat<T, D> dF = (b * dt) * G * p_.F[q];
     Mat<T, D> dP;
-    Eigen::Map<Eigen::Matrix<T, N, 1>>(dP.data()) = imp_.hessian[q] * Eigen::Map<const Eigen::Matrix<T, N, 1>>(dF.data());
+    Eigen::Map<Eigen::Matrix<T, N, 1>>(dP.data()) =
+        imp_.hessian[q] * Eigen::Map<const Eigen::Matrix<T, N, 1>>(dF.data());
     Mat<T, D> s = (dt * p_.volume0[q]) * dP * p_.F[q].transpose();
-    st[q].for_each([&](std::size_t i, T, const Vec<T, D>& gw, const Vec<T, D>&) { out[i] += s * gw; });
+    st[q].for_each(
+        [&](std::size_t i, T, const Vec<T, D>& gw, const Vec<T, D>&) { out[i] += s * gw; });
   });
   if constexpr (D == 2)
     if (!mesh_.empty()) {  // b Δt² Σ_p w_ip (K δx)_p with δx_p = Σ_j w_jp δ_j
       mesh_dx_.assign(p_.size(), Vec<T, 2>::Zero());
       mesh_kx_.assign(p_.size(), Vec<T, 2>::Zero());
       for (std::size_t q = 0; q < p_.size(); ++q)
-        st[q].for_each([&](std::size_t i, T w, const Vec<T, D>&, const Vec<T, D>&) { mesh_dx_[q] += w * in[i]; });
+        st[q].for_each([&](std::size_t i, T w, const Vec<T, D>&, const Vec<T, D>&) {
+          mesh_dx_[q] += w * in[i];
+        });
       mesh_.apply_hessian(mesh_dx_, index_of_id_, mesh_kx_);
       for_each_particle_coloured([&](std::uint32_t q) {
         const Vec<T, 2> k = (b * dt * dt) * mesh_kx_[q];
-        st[q].for_each([&](std::size_t i, T w, const Vec<T, D>&, const Vec<T, D>&) { out[i] += w * k; });
+        st[q].for_each(
+            [&](std::size_t i, T w, const Vec<T, D>&, const Vec<T, D>&) { out[i] += w * k; });
       });
     }
 }
@@ -227,14 +245,17 @@ void MpmSimulation<T, D>::implicit_velocity_update(T dt) {
     implicit_energy<K>(imp_.dv, true);
     for (std::uint32_t i : imp_.active) imp_.dv[i] = -imp_.grad[i] / grid_.mass[i];
     implicit_project(imp_.dv);
-    for_each_box_node([&](std::size_t i) { grid_.velocity_new[i] = grid_.velocity[i] + imp_.dv[i]; });
+    for_each_box_node(
+        [&](std::size_t i) { grid_.velocity_new[i] = grid_.velocity[i] + imp_.dv[i]; });
     last_solve_ = NewtonCgReport{};
     return;
   }
   // E of this step as newton_cg_minimise's problem (sim/newton_cg.hpp).
   struct Problem {
     MpmSimulation& sim;
-    double energy(const std::vector<Vec<T, D>>& dv, bool gradient) { return sim.template implicit_energy<K>(dv, gradient); }
+    double energy(const std::vector<Vec<T, D>>& dv, bool gradient) {
+      return sim.template implicit_energy<K>(dv, gradient);
+    }
     void update_hessian() { sim.implicit_update_hessian(true); }
     void hessian_apply(const std::vector<Vec<T, D>>& in, std::vector<Vec<T, D>>& out) {
       sim.template implicit_hessian_apply<K>(in, out);
@@ -243,10 +264,10 @@ void MpmSimulation<T, D>::implicit_velocity_update(T dt) {
   } problem{*this};
   const double vref = std::max({imp_.velocity_ref, double(imp_.gravity.norm() * dt), 1e-12});
   const SolverDesc& sv = scene_.solver;
-  const NewtonCgOptions options{sv.newton_tolerance * vref, sv.newton_max_iterations, sv.cg_tolerance,
-                                sv.cg_max_iterations};
-  last_solve_ = newton_cg_minimise<T, D>(problem, imp_.dv, imp_.grad, imp_.active, grid_.mass, imp_.mass_sum,
-                                         options, imp_.cg, imp_.residuals);
+  const NewtonCgOptions options{sv.newton_tolerance * vref, sv.newton_max_iterations,
+                                sv.cg_tolerance, sv.cg_max_iterations};
+  last_solve_ = newton_cg_minimise<T, D>(problem, imp_.dv, imp_.grad, imp_.active, grid_.mass,
+                                         imp_.mass_sum, options, imp_.cg, imp_.residuals);
   for_each_box_node([&](std::size_t i) { grid_.velocity_new[i] = grid_.velocity[i] + imp_.dv[i]; });
 }
 

@@ -12,9 +12,12 @@ namespace apiclab {
 template <class Fn>
 decltype(auto) with_kernel(KernelType type, Fn&& f) {
   switch (type) {
-    case KernelType::linear: return std::forward<Fn>(f)(LinearKernel{});
-    case KernelType::quadratic: return std::forward<Fn>(f)(QuadraticKernel{});
-    case KernelType::cubic: break;
+    case KernelType::linear:
+      return std::forward<Fn>(f)(LinearKernel{});
+    case KernelType::quadratic:
+      return std::forward<Fn>(f)(QuadraticKernel{});
+    case KernelType::cubic:
+      break;
   }
   return std::forward<Fn>(f)(CubicKernel{});
 }

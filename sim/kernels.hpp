@@ -16,8 +16,10 @@ struct LinearKernel {
   static int weights(T x, T* w, T* dw) {
     int base = int(std::floor(x));
     T f = x - T(base);
-    w[0] = T(1) - f; w[1] = f;
-    dw[0] = T(-1); dw[1] = T(1);
+    w[0] = T(1) - f;
+    w[1] = f;
+    dw[0] = T(-1);
+    dw[1] = T(1);
     return base;
   }
 };
@@ -30,8 +32,12 @@ struct QuadraticKernel {
     int base = int(std::floor(x - T(0.5)));
     T f = x - T(base);  // in [0.5, 1.5)
     T a = T(1.5) - f, b = f - T(1), c = f - T(0.5);
-    w[0] = T(0.5) * a * a; w[1] = T(0.75) - b * b; w[2] = T(0.5) * c * c;
-    dw[0] = -a; dw[1] = T(-2) * b; dw[2] = c;
+    w[0] = T(0.5) * a * a;
+    w[1] = T(0.75) - b * b;
+    w[2] = T(0.5) * c * c;
+    dw[0] = -a;
+    dw[1] = T(-2) * b;
+    dw[2] = c;
     return base;
   }
 };

@@ -98,24 +98,31 @@ struct FixedCorotated {
 template <class T, int D>
 T energy_density(MaterialModel m, const Mat<T, D>& F, Lame<T> l) {
   switch (m) {
-    case MaterialModel::neo_hookean: return NeoHookean<T, D>::energy(F, l);
-    case MaterialModel::fixed_corotated: break;
+    case MaterialModel::neo_hookean:
+      return NeoHookean<T, D>::energy(F, l);
+    case MaterialModel::fixed_corotated:
+      break;
   }
   return FixedCorotated<T, D>::energy(F, l);
 }
 template <class T, int D>
 Mat<T, D> first_piola(MaterialModel m, const Mat<T, D>& F, Lame<T> l) {
   switch (m) {
-    case MaterialModel::neo_hookean: return NeoHookean<T, D>::stress(F, l);
-    case MaterialModel::fixed_corotated: break;
+    case MaterialModel::neo_hookean:
+      return NeoHookean<T, D>::stress(F, l);
+    case MaterialModel::fixed_corotated:
+      break;
   }
   return FixedCorotated<T, D>::stress(F, l);
 }
 template <class T, int D>
-Mat<T, D> first_piola_differential(MaterialModel m, const Mat<T, D>& F, const Mat<T, D>& dF, Lame<T> l) {
+Mat<T, D> first_piola_differential(MaterialModel m, const Mat<T, D>& F, const Mat<T, D>& dF,
+                                   Lame<T> l) {
   switch (m) {
-    case MaterialModel::neo_hookean: return NeoHookean<T, D>::stress_differential(F, dF, l);
-    case MaterialModel::fixed_corotated: break;
+    case MaterialModel::neo_hookean:
+      return NeoHookean<T, D>::stress_differential(F, dF, l);
+    case MaterialModel::fixed_corotated:
+      break;
   }
   return FixedCorotated<T, D>::stress_differential(F, dF, l);
 }

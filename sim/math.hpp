@@ -48,7 +48,8 @@ bool polar_newton_3d(const Mat<T, 3>& F, Mat<T, 3>& R) {
   T step = T(1);
   for (int it = 0; it < 30; ++it) {
     const T gamma = step > T(1e-2) ? std::cbrt(T(1) / det) : T(1);
-    Mat<T, 3> next = T(0.5) * (gamma * X + cofactor<T, 3>(X) / (gamma * det));  // X⁻ᵀ = cof(X) / det X
+    Mat<T, 3> next =
+        T(0.5) * (gamma * X + cofactor<T, 3>(X) / (gamma * det));  // X⁻ᵀ = cof(X) / det X
     const T previous = step;
     step = (next - X).norm();
     X = next;
@@ -71,7 +72,10 @@ void polar_decomposition(const Mat<T, D>& F, Mat<T, D>& R, Mat<T, D>& S) {
     T a = F(0, 0) + F(1, 1), b = F(1, 0) - F(0, 1);
     T n = std::sqrt(a * a + b * b);
     T c = T(1), s = T(0);
-    if (n > T(0)) { c = a / n; s = b / n; }
+    if (n > T(0)) {
+      c = a / n;
+      s = b / n;
+    }
     R << c, -s, s, c;
     S = R.transpose() * F;
     S(0, 1) = S(1, 0) = T(0.5) * (S(0, 1) + S(1, 0));
@@ -84,8 +88,14 @@ void polar_decomposition(const Mat<T, D>& F, Mat<T, D>& R, Mat<T, D>& S) {
     Eigen::JacobiSVD<Mat<T, D>> svd(F, Eigen::ComputeFullU | Eigen::ComputeFullV);
     Mat<T, D> U = svd.matrixU(), V = svd.matrixV();
     Vec<T, D> sigma = svd.singularValues();
-    if (U.determinant() < 0) { U.col(D - 1) *= -1; sigma[D - 1] *= -1; }
-    if (V.determinant() < 0) { V.col(D - 1) *= -1; sigma[D - 1] *= -1; }
+    if (U.determinant() < 0) {
+      U.col(D - 1) *= -1;
+      sigma[D - 1] *= -1;
+    }
+    if (V.determinant() < 0) {
+      V.col(D - 1) *= -1;
+      sigma[D - 1] *= -1;
+    }
     R = U * V.transpose();
     S = V * sigma.asDiagonal() * V.transpose();
   }

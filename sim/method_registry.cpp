@@ -20,7 +20,8 @@ std::map<std::string, SolverMethod>& methods() {
 
 void register_method(SolverMethod method) {
   auto& table = methods();
-  if (table.count(method.name)) throw std::logic_error("solver method '" + method.name + "' registered twice");
+  if (table.count(method.name))
+    throw std::logic_error("solver method '" + method.name + "' registered twice");
   std::string name = method.name;
   table.emplace(std::move(name), std::move(method));
 }

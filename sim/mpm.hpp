@@ -31,11 +31,15 @@ class MpmSimulation final : public Simulation, public TransferControls {
  public:
   explicit MpmSimulation(const SceneDesc& scene);
   MpmSimulation(const MpmSimulation&) = default;
-  std::unique_ptr<Simulation> clone() const override { return std::make_unique<MpmSimulation>(*this); }
+  std::unique_ptr<Simulation> clone() const override {
+    return std::make_unique<MpmSimulation>(*this);
+  }
 
   // Simulation.
   int dim() const override { return D; }
-  Precision precision() const override { return sizeof(T) == 4 ? Precision::single : Precision::dbl; }
+  Precision precision() const override {
+    return sizeof(T) == 4 ? Precision::single : Precision::dbl;
+  }
   const SceneDesc& scene() const override { return scene_; }
   double time() const override { return time_; }
   long steps() const override { return steps_; }
@@ -68,27 +72,34 @@ class MpmSimulation final : public Simulation, public TransferControls {
 
   // The phases, in step_fixed's order, public so tests can check each one's conservation.
   void sort_particles();
-  void clear_grid();                          // zeroes the P2G accumulator
-  void particles_to_grid(bool with_forces);  // eqs 24-25: m_i and (m v)_i (+ eq 34 at F^n when with_forces)
-  void grid_velocity_update(T dt);           // eq 26, then eq 29 explicit (λ = 0)
+  void clear_grid();  // zeroes the P2G accumulator
+  void particles_to_grid(
+      bool with_forces);            // eqs 24-25: m_i and (m v)_i (+ eq 34 at F^n when with_forces)
+  void grid_velocity_update(T dt);  // eq 26, then eq 29 explicit (λ = 0)
   void apply_boundary_conditions();
   void grid_to_particles(T dt);  // eqs 37-40, or the scheme's variant
   // Σ_i m_i v_i, Σ_i x_i × m_i v_i over the grid (after the update: updated = false gives v^n,
   // true gives ṽ).
   void grid_momentum(bool updated, Eigen::Vector3d& p, Eigen::Vector3d& L) const;
   // The parallel P2G's invariant (BlockPartition::conflict): "" or what breaks it.
-  std::string partition_conflict() const { return blocks_.conflict(p_, grid_, scene_.solver.kernel); }
+  std::string partition_conflict() const {
+    return blocks_.conflict(p_, grid_, scene_.solver.kernel);
+  }
   // Sum of internal forces Σ_i f_i (zero for forces derived from an energy, Sec 5.2).
   Eigen::Vector3d total_force() const;
   double elastic_energy() const;
 
   // Implicit solve (sim/implicit.hpp), public so tests can check E, ∇E and H against finite
   // differences: implicit_begin after particles_to_grid(false), then energy/Hessian at Δv.
-  template <class K> void implicit_velocity_update(T dt);
-  template <class K> void implicit_begin(T dt);
-  template <class K> double implicit_energy(const std::vector<Vec<T, D>>& dv, bool gradient);
+  template <class K>
+  void implicit_velocity_update(T dt);
+  template <class K>
+  void implicit_begin(T dt);
+  template <class K>
+  double implicit_energy(const std::vector<Vec<T, D>>& dv, bool gradient);
   void implicit_update_hessian(bool project_definite);
-  template <class K> void implicit_hessian_apply(const std::vector<Vec<T, D>>& in, std::vector<Vec<T, D>>& out);
+  template <class K>
+  void implicit_hessian_apply(const std::vector<Vec<T, D>>& in, std::vector<Vec<T, D>>& out);
   void implicit_project(std::vector<Vec<T, D>>& z) const;
   const std::vector<std::uint32_t>& active_nodes() const { return imp_.active; }
   const std::vector<Vec<T, D>>& implicit_gradient() const { return imp_.grad; }
@@ -97,32 +108,45 @@ class MpmSimulation final : public Simulation, public TransferControls {
   const std::vector<double>& newton_residuals() const { return imp_.residuals; }
 
  private:
-  template <class K, bool affine, bool with_forces> void p2g_impl();
+  template <class K, bool affine, bool with_forces>
+  void p2g_impl();
   void unpack_accumulator();
   void compute_stress();
   void pack_velocities();
   bool velocity_from_momentum(std::size_t node);
-  template <class K, Scheme S> void g2p_impl(T dt);
-  template <class K> void velocity_noise(std::vector<float>& out) const;
-  template <class Fn> void for_each_box_node(Fn&& fn) { blocks_.for_each_box_node(fn, parallel_worthwhile()); }
-  template <class Fn> void for_each_particle_coloured(Fn&& fn) {
+  template <class K, Scheme S>
+  void g2p_impl(T dt);
+  template <class K>
+  void velocity_noise(std::vector<float>& out) const;
+  template <class Fn>
+  void for_each_box_node(Fn&& fn) {
+    blocks_.for_each_box_node(fn, parallel_worthwhile());
+  }
+  template <class Fn>
+  void for_each_particle_coloured(Fn&& fn) {
     blocks_.for_each_particle_coloured(fn, parallel_worthwhile());
   }
-  template <class K> std::vector<Stencil<T, D, K>>& stencils() {
-    if constexpr (K::type == KernelType::linear) return stencils_linear_;
-    else if constexpr (K::type == KernelType::quadratic) return stencils_quadratic_;
-    else return stencils_cubic_;
+  template <class K>
+  std::vector<Stencil<T, D, K>>& stencils() {
+    if constexpr (K::type == KernelType::linear)
+      return stencils_linear_;
+    else if constexpr (K::type == KernelType::quadratic)
+      return stencils_quadratic_;
+    else
+      return stencils_cubic_;
   }
   double choose_dt(double t_limit) const;
   // The grid update is the Newton solve of sim/implicit.hpp (backward Euler or λ > 0).
   bool uses_implicit_solve() const {
-    return scene_.solver.integrator == Integrator::backward || scene_.solver.integrator_lambda() != 0;
+    return scene_.solver.integrator == Integrator::backward ||
+           scene_.solver.integrator_lambda() != 0;
   }
   // P2G keeps every particle's stencil for the steps that read it again.
   bool keeps_stencils() const { return uses_implicit_solve() || !mesh_.empty(); }
   void add_triangulated_object(int object_index);
   void rebuild_index_of_id();
-  template <class K> void add_mesh_forces();
+  template <class K>
+  void add_mesh_forces();
   // Below this many particles an OpenMP region costs more than it saves.
   bool parallel_worthwhile() const { return p_.size() >= scene_.solver.parallel_min_particles; }
   void build_constraints();

@@ -4,10 +4,10 @@
 
 namespace apiclab {
 
-#define APICLAB_INSTANTIATE(T, K)                                                                     \
-  template void MpmSimulation<T, 2>::implicit_begin<K>(T);                                        \
+#define APICLAB_INSTANTIATE(T, K)                                                               \
+  template void MpmSimulation<T, 2>::implicit_begin<K>(T);                                      \
   template double MpmSimulation<T, 2>::implicit_energy<K>(const std::vector<Vec<T, 2>>&, bool); \
-  template void MpmSimulation<T, 2>::implicit_hessian_apply<K>(const std::vector<Vec<T, 2>>&,    \
+  template void MpmSimulation<T, 2>::implicit_hessian_apply<K>(const std::vector<Vec<T, 2>>&,   \
                                                                std::vector<Vec<T, 2>>&);
 
 template class MpmSimulation<float, 2>;

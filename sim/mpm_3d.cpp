@@ -4,10 +4,10 @@
 
 namespace apiclab {
 
-#define APICLAB_INSTANTIATE(T, K)                                                                     \
-  template void MpmSimulation<T, 3>::implicit_begin<K>(T);                                        \
+#define APICLAB_INSTANTIATE(T, K)                                                               \
+  template void MpmSimulation<T, 3>::implicit_begin<K>(T);                                      \
   template double MpmSimulation<T, 3>::implicit_energy<K>(const std::vector<Vec<T, 3>>&, bool); \
-  template void MpmSimulation<T, 3>::implicit_hessian_apply<K>(const std::vector<Vec<T, 3>>&,    \
+  template void MpmSimulation<T, 3>::implicit_hessian_apply<K>(const std::vector<Vec<T, 3>>&,   \
                                                                std::vector<Vec<T, 3>>&);
 
 template class MpmSimulation<float, 3>;

@@ -1,13 +1,13 @@
 // Definitions of MpmSimulation<T, D>, one concept per file; included by mpm_2d.cpp and
 // mpm_3d.cpp only.
 #pragma once
-#include "mpm_setup.hpp"
-#include "p2g.hpp"
+#include "g2p.hpp"
 #include "grid_update.hpp"
 #include "implicit.hpp"
-#include "g2p.hpp"
-#include "transfer_schemes.hpp"
-#include "time_step_rules.hpp"
-#include "mpm_step.hpp"
 #include "mpm_measure.hpp"
 #include "mpm_output.hpp"
+#include "mpm_setup.hpp"
+#include "mpm_step.hpp"
+#include "p2g.hpp"
+#include "time_step_rules.hpp"
+#include "transfer_schemes.hpp"

@@ -61,7 +61,9 @@ DiagnosticsRow MpmSimulation<T, D>::measure() const {
       kin += 0.5 * m * double((C * Dp * C.transpose()).trace());
       L += m * permutation_contract<T, D>(Mat<T, D>((C * Dp).transpose()));
     }
-    Lx += L[0]; Ly += L[1]; Lz += L[2];
+    Lx += L[0];
+    Ly += L[1];
+    Lz += L[2];
   }
   r.kinetic = kin;
   r.elastic = elastic_energy();
@@ -73,7 +75,8 @@ DiagnosticsRow MpmSimulation<T, D>::measure() const {
 }
 
 template <class T, int D>
-void MpmSimulation<T, D>::grid_momentum(bool updated, Eigen::Vector3d& p, Eigen::Vector3d& L) const {
+void MpmSimulation<T, D>::grid_momentum(bool updated, Eigen::Vector3d& p,
+                                        Eigen::Vector3d& L) const {
   p.setZero();
   L.setZero();
   const auto& vel = updated ? grid_.velocity_new : grid_.velocity;

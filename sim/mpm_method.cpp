@@ -22,8 +22,10 @@ void validate_mpm(SceneSection& r, SceneDesc& s) {
   v.flip_alpha = r.number("flip_alpha", v.flip_alpha);
   v.kernel = r.choice("kernel", kernel_choices(), v.kernel, "kernel");
   if (v.kernel == KernelType::linear && s.time.rule == DtRule::cfl)  // see sim/time_step_rules.hpp
-    r.fail("kernel", "the 'cfl' time-step rule needs the quadratic or cubic kernel (Sec 4.3 bounds D_p^-1 (x_i - x_p) "
-                     "only when D_p = k dx^2 I; Sec 5.9)");
+    r.fail("kernel",
+           "the 'cfl' time-step rule needs the quadratic or cubic kernel (Sec 4.3 bounds D_p^-1 "
+           "(x_i - x_p) "
+           "only when D_p = k dx^2 I; Sec 5.9)");
   v.integrator = r.choice("integrator", integrator_choices(), v.integrator, "integrator");
   if (r.has("lambda")) v.lambda = r.number("lambda", 0);
   v.newton_tolerance = r.number("newton_tolerance", v.newton_tolerance);
@@ -37,8 +39,8 @@ void validate_mpm(SceneSection& r, SceneDesc& s) {
 }  // namespace
 
 SolverMethod mpm_method() {
-  return {"mpm", "Material Point Method with PIC/FLIP/APIC/RPIC transfers (Jiang et al. 2017)", make_mpm,
-          validate_mpm};
+  return {"mpm", "Material Point Method with PIC/FLIP/APIC/RPIC transfers (Jiang et al. 2017)",
+          make_mpm, validate_mpm};
 }
 
 }  // namespace apiclab

@@ -87,12 +87,14 @@ std::shared_ptr<Snapshot> MpmSimulation<T, D>::snapshot() const {
 
 template <class T, int D>
 void MpmSimulation<T, D>::fill_velocity_noise(Snapshot& s) const {
-  with_kernel(scene_.solver.kernel, [&](auto kernel) { velocity_noise<decltype(kernel)>(s.noise); });
+  with_kernel(scene_.solver.kernel,
+              [&](auto kernel) { velocity_noise<decltype(kernel)>(s.noise); });
 }
 
 template <class T, int D>
 void MpmSimulation<T, D>::write_particles_csv(std::ostream& out) const {
-  out << "id,object,x,y" << (D == 3 ? ",z" : "") << ",vx,vy" << (D == 3 ? ",vz" : "") << ",mass,volume0";
+  out << "id,object,x,y" << (D == 3 ? ",z" : "") << ",vx,vy" << (D == 3 ? ",vz" : "")
+      << ",mass,volume0";
   for (int i = 0; i < D; ++i)
     for (int j = 0; j < D; ++j) out << ",F" << i << j;
   for (int i = 0; i < D; ++i)

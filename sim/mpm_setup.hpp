@@ -28,7 +28,10 @@ MpmSimulation<T, D>::MpmSimulation(const SceneDesc& scene) : scene_(scene) {
     p_.resize(start + s.positions.size());
     for (std::size_t k = 0; k < s.positions.size(); ++k) {
       std::size_t q = start + k;
-      for (int a = 0; a < D; ++a) { p_.x[q][a] = T(s.positions[k][a]); p_.v[q][a] = T(s.velocities[k][a]); }
+      for (int a = 0; a < D; ++a) {
+        p_.x[q][a] = T(s.positions[k][a]);
+        p_.v[q][a] = T(s.velocities[k][a]);
+      }
       p_.C[q].setZero();
       p_.F[q].setIdentity();
       p_.volume0[q] = T(s.volumes[k]);
@@ -71,49 +74,56 @@ void MpmSimulation<T, D>::rebuild_index_of_id() {
 template <class T, int D>
 void MpmSimulation<T, D>::add_triangulated_object(int o) {
   if constexpr (D == 2) {
-  const ObjectDesc& obj = scene_.objects[size_t(o)];
-  const MaterialDesc& mat = scene_.materials[size_t(obj.material)];
-  const double h = obj.sampling.spacing;
-  const int nx = std::max(1, int(std::lround((obj.shape.max[0] - obj.shape.min[0]) / h)));
-  const int ny = std::max(1, int(std::lround((obj.shape.max[1] - obj.shape.min[1]) / h)));
-  const double hx = (obj.shape.max[0] - obj.shape.min[0]) / nx, hy = (obj.shape.max[1] - obj.shape.min[1]) / ny;
-  const std::size_t start = p_.size();
-  p_.resize(start + std::size_t(nx + 1) * std::size_t(ny + 1));
-  auto vertex = [&](int i, int j) { return start + std::size_t(j) * std::size_t(nx + 1) + std::size_t(i); };
-  for (int j = 0; j <= ny; ++j)
-    for (int i = 0; i <= nx; ++i) {
-      std::size_t q = vertex(i, j);
-      p_.x[q] = Vec<T, D>(T(obj.shape.min[0] + i * hx), T(obj.shape.min[1] + j * hy));
-      Eigen::Vector3d r(double(p_.x[q][0]) - obj.shape.center[0], double(p_.x[q][1]) - obj.shape.center[1], 0);
-      Eigen::Vector3d v = Eigen::Vector3d(obj.velocity[0], obj.velocity[1], 0) +
-                          Eigen::Vector3d(0, 0, obj.angular_velocity[2]).cross(r);
-      p_.v[q] = Vec<T, D>(T(v[0]), T(v[1]));
-      p_.C[q].setZero();
-      p_.F[q].setIdentity();
-      p_.volume0[q] = T(0);
-      p_.mass[q] = T(0);
-      p_.material[q] = obj.material;
-      p_.object[q] = o;
-      p_.id[q] = std::int32_t(q);
-      radius_.push_back(float(0.5 * std::min(hx, hy)));
-    }
-  const MaterialParams<T>& params = materials_[size_t(obj.material)];
-  for (int j = 0; j < ny; ++j)
-    for (int i = 0; i < nx; ++i) {
-      std::size_t c[4] = {vertex(i, j), vertex(i + 1, j), vertex(i + 1, j + 1), vertex(i, j + 1)};
-      for (auto tri : {std::array<std::size_t, 3>{c[0], c[1], c[2]}, std::array<std::size_t, 3>{c[0], c[2], c[3]}}) {
-        mesh_.add_triangle({std::int32_t(tri[0]), std::int32_t(tri[1]), std::int32_t(tri[2])}, p_.x[tri[0]],
-                           p_.x[tri[1]], p_.x[tri[2]], params.model, params.lame);
-        for (std::size_t q : tri) p_.mass[q] += T(mat.rho * 0.5 * hx * hy / 3.0);
-      }
-    }
-  for (const std::string& row : obj.anchors)
+    const ObjectDesc& obj = scene_.objects[size_t(o)];
+    const MaterialDesc& mat = scene_.materials[size_t(obj.material)];
+    const double h = obj.sampling.spacing;
+    const int nx = std::max(1, int(std::lround((obj.shape.max[0] - obj.shape.min[0]) / h)));
+    const int ny = std::max(1, int(std::lround((obj.shape.max[1] - obj.shape.min[1]) / h)));
+    const double hx = (obj.shape.max[0] - obj.shape.min[0]) / nx,
+                 hy = (obj.shape.max[1] - obj.shape.min[1]) / ny;
+    const std::size_t start = p_.size();
+    p_.resize(start + std::size_t(nx + 1) * std::size_t(ny + 1));
+    auto vertex = [&](int i, int j) {
+      return start + std::size_t(j) * std::size_t(nx + 1) + std::size_t(i);
+    };
     for (int j = 0; j <= ny; ++j)
       for (int i = 0; i <= nx; ++i) {
-        bool on = (row == "bottom" && j == 0) || (row == "top" && j == ny) || (row == "left" && i == 0) ||
-                  (row == "right" && i == nx);
-        if (on) mesh_.add_anchor(std::int32_t(vertex(i, j)), p_.x[vertex(i, j)], T(obj.anchor_stiffness));
+        std::size_t q = vertex(i, j);
+        p_.x[q] = Vec<T, D>(T(obj.shape.min[0] + i * hx), T(obj.shape.min[1] + j * hy));
+        Eigen::Vector3d r(double(p_.x[q][0]) - obj.shape.center[0],
+                          double(p_.x[q][1]) - obj.shape.center[1], 0);
+        Eigen::Vector3d v = Eigen::Vector3d(obj.velocity[0], obj.velocity[1], 0) +
+                            Eigen::Vector3d(0, 0, obj.angular_velocity[2]).cross(r);
+        p_.v[q] = Vec<T, D>(T(v[0]), T(v[1]));
+        p_.C[q].setZero();
+        p_.F[q].setIdentity();
+        p_.volume0[q] = T(0);
+        p_.mass[q] = T(0);
+        p_.material[q] = obj.material;
+        p_.object[q] = o;
+        p_.id[q] = std::int32_t(q);
+        radius_.push_back(float(0.5 * std::min(hx, hy)));
       }
+    const MaterialParams<T>& params = materials_[size_t(obj.material)];
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        std::size_t c[4] = {vertex(i, j), vertex(i + 1, j), vertex(i + 1, j + 1), vertex(i, j + 1)};
+        for (auto tri : {std::array<std::size_t, 3>{c[0], c[1], c[2]},
+                         std::array<std::size_t, 3>{c[0], c[2], c[3]}}) {
+          mesh_.add_triangle({std::int32_t(tri[0]), std::int32_t(tri[1]), std::int32_t(tri[2])},
+                             p_.x[tri[0]], p_.x[tri[1]], p_.x[tri[2]], params.model, params.lame);
+          for (std::size_t q : tri) p_.mass[q] += T(mat.rho * 0.5 * hx * hy / 3.0);
+        }
+      }
+    for (const std::string& row : obj.anchors)
+      for (int j = 0; j <= ny; ++j)
+        for (int i = 0; i <= nx; ++i) {
+          bool on = (row == "bottom" && j == 0) || (row == "top" && j == ny) ||
+                    (row == "left" && i == 0) || (row == "right" && i == nx);
+          if (on)
+            mesh_.add_anchor(std::int32_t(vertex(i, j)), p_.x[vertex(i, j)],
+                             T(obj.anchor_stiffness));
+        }
   }
 }
 template <class T, int D>
@@ -132,17 +142,22 @@ void MpmSimulation<T, D>::build_constraints() {
     for (int a = 0; a < D; ++a) {
       if (dom.periodic(a)) continue;
       if (x[a] <= T(dom.min[a]) + eps) {
-        Vec<T, D> n = Vec<T, D>::Zero(); n[a] = T(1);
+        Vec<T, D> n = Vec<T, D>::Zero();
+        n[a] = T(1);
         constraints_.push_back({i, n, dom.walls[2 * a]});
       }
       if (x[a] >= T(dom.max[a]) - eps) {
-        Vec<T, D> n = Vec<T, D>::Zero(); n[a] = T(-1);
+        Vec<T, D> n = Vec<T, D>::Zero();
+        n[a] = T(-1);
         constraints_.push_back({i, n, dom.walls[2 * a + 1]});
       }
     }
     for (const auto& c : scene_.colliders) {
       Vec<T, D> n, p0;
-      for (int a = 0; a < D; ++a) { n[a] = T(c.normal[a]); p0[a] = T(c.point[a]); }
+      for (int a = 0; a < D; ++a) {
+        n[a] = T(c.normal[a]);
+        p0[a] = T(c.point[a]);
+      }
       if ((x - p0).dot(n) <= eps) constraints_.push_back({i, n, c.condition});
     }
   }

@@ -31,7 +31,8 @@ void MpmSimulation<T, D>::step_fixed(double dt) {
     last_solve_ = NewtonCgReport{};
   } else {
     particles_to_grid(false);
-    with_kernel(scene_.solver.kernel, [&](auto kernel) { implicit_velocity_update<decltype(kernel)>(T(dt)); });
+    with_kernel(scene_.solver.kernel,
+                [&](auto kernel) { implicit_velocity_update<decltype(kernel)>(T(dt)); });
   }
   apply_boundary_conditions();
   grid_to_particles(T(dt));
@@ -53,7 +54,8 @@ std::optional<Failure> MpmSimulation<T, D>::step(double t_limit, DiagnosticsRow*
   if (row) *row = r;
   auto fail = [&](const std::string& quantity, const std::string& detail) {
     std::ostringstream msg;
-    msg << "simulation blew up at step " << steps_ << ", t = " << time_ << ": " << quantity << " " << detail;
+    msg << "simulation blew up at step " << steps_ << ", t = " << time_ << ": " << quantity << " "
+        << detail;
     failure_ = Failure{steps_, time_, quantity, msg.str()};
   };
   if (!last_solve_.converged && scene_.solver.stop_on_nonconvergence) {

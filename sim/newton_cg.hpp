@@ -34,9 +34,11 @@ struct NewtonCgReport {
 // inadmissible x); update_hessian() at the last x whose gradient was taken; hessian_apply(in,
 // out) → out = H in; project(z) applies P, the constraints. x holds the start and the result.
 template <class T, int D, class Problem>
-NewtonCgReport newton_cg_minimise(Problem& problem, std::vector<Vec<T, D>>& x, std::vector<Vec<T, D>>& grad,
-                                  const std::vector<std::uint32_t>& active, const std::vector<T>& mass,
-                                  double mass_sum, const NewtonCgOptions& options, NewtonCgVectors<T, D>& v,
+NewtonCgReport newton_cg_minimise(Problem& problem, std::vector<Vec<T, D>>& x,
+                                  std::vector<Vec<T, D>>& grad,
+                                  const std::vector<std::uint32_t>& active,
+                                  const std::vector<T>& mass, double mass_sum,
+                                  const NewtonCgOptions& options, NewtonCgVectors<T, D>& v,
                                   std::vector<double>& residuals) {
   auto dot_m = [&](const std::vector<Vec<T, D>>& a, const std::vector<Vec<T, D>>& b) {
     double s = 0;
@@ -53,7 +55,9 @@ NewtonCgReport newton_cg_minimise(Problem& problem, std::vector<Vec<T, D>>& x, s
     for (std::uint32_t i : active) r2 += double(grad[i].squaredNorm()) / double(mass[i]);
     report.residual = std::sqrt(r2 / std::max(mass_sum, 1e-300));
     residuals.push_back(report.residual);
-    if (report.residual <= options.tolerance || report.newton_iterations >= options.max_newton_iterations) break;
+    if (report.residual <= options.tolerance ||
+        report.newton_iterations >= options.max_newton_iterations)
+      break;
     problem.update_hessian();
     // CG on A = M⁻¹ P H P, rhs = −M⁻¹ P g (Algorithm 1).
     for (std::uint32_t i : active) {

@@ -15,7 +15,9 @@ void MpmSimulation<T, D>::add_mesh_forces() {
     const auto& st = stencils<K>();
     for (std::size_t q = 0; q < p_.size(); ++q) {
       if (mesh_g_[q].isZero()) continue;
-      st[q].for_each([&](std::size_t i, T w, const Vec<T, D>&, const Vec<T, D>&) { grid_.force[i] -= w * mesh_g_[q]; });
+      st[q].for_each([&](std::size_t i, T w, const Vec<T, D>&, const Vec<T, D>&) {
+        grid_.force[i] -= w * mesh_g_[q];
+      });
     }
   }
 }
@@ -79,7 +81,8 @@ void MpmSimulation<T, D>::p2g_impl() {
           }
           Lanes per_x[W];
           for (int i = 0; i < W; ++i)
-            per_x[i] = st.w[0][i] * (mass_mom + st.r[0][i] * affine_lanes[0]) + st.dw[0][i] * stress_lanes[0];
+            per_x[i] = st.w[0][i] * (mass_mom + st.r[0][i] * affine_lanes[0]) +
+                       st.dw[0][i] * stress_lanes[0];
           st.for_each_row([&](const typename Stencil<T, D, K>::Row& row) {
             Lanes per_row{};
             for (int ax = 1; ax < D; ++ax) {
@@ -87,7 +90,8 @@ void MpmSimulation<T, D>::p2g_impl() {
               if constexpr (with_forces) per_row += row.dw[ax] * stress_lanes[ax];
             }
             const T rw = row.w;
-            for (int i = 0; i < W; ++i) acc[st.off[0][i] + row.off] += rw * per_x[i] + st.w[0][i] * per_row;
+            for (int i = 0; i < W; ++i)
+              acc[st.off[0][i] + row.off] += rw * per_x[i] + st.w[0][i] * per_row;
           });
         }
       },
@@ -117,8 +121,10 @@ void MpmSimulation<T, D>::particles_to_grid(bool with_forces) {
   if (with_forces) compute_stress();
   with_kernel(scene_.solver.kernel, [&](auto kernel) {
     using K = decltype(kernel);
-    if (affine) with_forces ? p2g_impl<K, true, true>() : p2g_impl<K, true, false>();
-    else with_forces ? p2g_impl<K, false, true>() : p2g_impl<K, false, false>();
+    if (affine)
+      with_forces ? p2g_impl<K, true, true>() : p2g_impl<K, true, false>();
+    else
+      with_forces ? p2g_impl<K, false, true>() : p2g_impl<K, false, false>();
   });
   unpack_accumulator();
 }

@@ -17,17 +17,30 @@ struct Particles {
 
   std::size_t size() const { return x.size(); }
   void resize(std::size_t n) {
-    x.resize(n); v.resize(n); C.resize(n); F.resize(n);
-    mass.resize(n); volume0.resize(n); material.resize(n); object.resize(n); id.resize(n);
+    x.resize(n);
+    v.resize(n);
+    C.resize(n);
+    F.resize(n);
+    mass.resize(n);
+    volume0.resize(n);
+    material.resize(n);
+    object.resize(n);
+    id.resize(n);
   }
   // out[k] = this[order[k]] for every array; `out` keeps its capacity between calls.
   void gather_into(const std::vector<std::uint32_t>& order, Particles& out) const {
     out.resize(order.size());
     for (std::size_t k = 0; k < order.size(); ++k) {
       std::uint32_t s = order[k];
-      out.x[k] = x[s]; out.v[k] = v[s]; out.C[k] = C[s]; out.F[k] = F[s];
-      out.mass[k] = mass[s]; out.volume0[k] = volume0[s];
-      out.material[k] = material[s]; out.object[k] = object[s]; out.id[k] = id[s];
+      out.x[k] = x[s];
+      out.v[k] = v[s];
+      out.C[k] = C[s];
+      out.F[k] = F[s];
+      out.mass[k] = mass[s];
+      out.volume0[k] = volume0[s];
+      out.material[k] = material[s];
+      out.object[k] = object[s];
+      out.id[k] = id[s];
     }
   }
 };

@@ -89,7 +89,8 @@ inline const std::vector<Choice<DtRule>>& dt_rule_choices() {
   static const std::vector<Choice<DtRule>> c = {
       {"fixed", DtRule::fixed, "constant dt (time.dt.value)"},
       {"cfl", DtRule::cfl, "Sec 4.3: nu dx / max(|v_p| + 6 sqrt(d)/dx |B_p|)"},
-      {"elastic", DtRule::elastic, "explicit limit nu dx / (c + max|v|), c = sqrt((lambda+2mu)/rho)"},
+      {"elastic", DtRule::elastic,
+       "explicit limit nu dx / (c + max|v|), c = sqrt((lambda+2mu)/rho)"},
       {"two-step", DtRule::two_step, "Sec 6.7: clamp(nu dx / max(v_max, v_tau), dt_min, dt_max)"}};
   return c;
 }

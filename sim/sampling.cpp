@@ -1,11 +1,12 @@
 #include "sampling.hpp"
 
+#include <tiny_obj_loader.h>
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <random>
-#include <tiny_obj_loader.h>
 
 namespace apiclab {
 namespace {
@@ -95,7 +96,8 @@ MeshSolid::MeshSolid(const std::string& path, const ShapeDesc& shape) {
   tinyobj::ObjReaderConfig config;
   config.triangulate = true;
   if (!reader.ParseFromFile(path, config))
-    throw SceneError(path + ": cannot read mesh: " + (reader.Error().empty() ? "no such file" : reader.Error()));
+    throw SceneError(
+        path + ": cannot read mesh: " + (reader.Error().empty() ? "no such file" : reader.Error()));
   const auto& verts = reader.GetAttrib().vertices;
   Eigen::Matrix3d R = rotation_of(shape);
   auto vertex = [&](int i) {
@@ -107,9 +109,13 @@ MeshSolid::MeshSolid(const std::string& path, const ShapeDesc& shape) {
   for (const auto& sh : reader.GetShapes()) {
     const auto& idx = sh.mesh.indices;
     for (size_t f = 0; f + 2 < idx.size(); f += 3) {
-      Tri t{vertex(idx[f].vertex_index), vertex(idx[f + 1].vertex_index), vertex(idx[f + 2].vertex_index)};
+      Tri t{vertex(idx[f].vertex_index), vertex(idx[f + 1].vertex_index),
+            vertex(idx[f + 2].vertex_index)};
       for (const Vec3d* v : {&t.a, &t.b, &t.c})
-        for (int a = 0; a < 3; ++a) { lo_[a] = std::min(lo_[a], (*v)[a]); hi_[a] = std::max(hi_[a], (*v)[a]); }
+        for (int a = 0; a < 3; ++a) {
+          lo_[a] = std::min(lo_[a], (*v)[a]);
+          hi_[a] = std::max(hi_[a], (*v)[a]);
+        }
       tris_.push_back(t);
     }
   }
@@ -124,8 +130,10 @@ MeshSolid::MeshSolid(const std::string& path, const ShapeDesc& shape) {
     const Tri& t = tris_[k];
     double x0 = std::min({t.a[0], t.b[0], t.c[0]}), x1 = std::max({t.a[0], t.b[0], t.c[0]});
     double y0 = std::min({t.a[1], t.b[1], t.c[1]}), y1 = std::max({t.a[1], t.b[1], t.c[1]});
-    int i0 = std::clamp(int((x0 - lo_[0]) / cell_x_), 0, nx_ - 1), i1 = std::clamp(int((x1 - lo_[0]) / cell_x_), 0, nx_ - 1);
-    int j0 = std::clamp(int((y0 - lo_[1]) / cell_y_), 0, ny_ - 1), j1 = std::clamp(int((y1 - lo_[1]) / cell_y_), 0, ny_ - 1);
+    int i0 = std::clamp(int((x0 - lo_[0]) / cell_x_), 0, nx_ - 1),
+        i1 = std::clamp(int((x1 - lo_[0]) / cell_x_), 0, nx_ - 1);
+    int j0 = std::clamp(int((y0 - lo_[1]) / cell_y_), 0, ny_ - 1),
+        j1 = std::clamp(int((y1 - lo_[1]) / cell_y_), 0, ny_ - 1);
     for (int j = j0; j <= j1; ++j)
       for (int i = i0; i <= i1; ++i) buckets_[size_t(j) * nx_ + i].push_back(k);
   }
@@ -158,7 +166,8 @@ double MeshSolid::volume() const {
   return std::abs(v);
 }
 
-std::vector<Vec3d> poisson_disk(const Vec3d& lo, const Vec3d& hi, double r, int dim, std::uint64_t seed, bool periodic) {
+std::vector<Vec3d> poisson_disk(const Vec3d& lo, const Vec3d& hi, double r, int dim,
+                                std::uint64_t seed, bool periodic) {
   // Bridson 2007: background grid of cell r/√d holds at most one sample; k = 30 tries.
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> uni(0.0, 1.0);
@@ -167,7 +176,9 @@ std::vector<Vec3d> poisson_disk(const Vec3d& lo, const Vec3d& hi, double r, int 
   for (int a = 0; a < dim; ++a) n[a] = std::max(1, int(std::ceil((hi[a] - lo[a]) / cell)));
   std::vector<int> grid(size_t(n[0]) * n[1] * n[2], -1);
   std::vector<Vec3d> samples, active;
-  auto cell_of = [&](const Vec3d& x, int a) { return std::clamp(int((x[a] - lo[a]) / cell), 0, n[a] - 1); };
+  auto cell_of = [&](const Vec3d& x, int a) {
+    return std::clamp(int((x[a] - lo[a]) / cell), 0, n[a] - 1);
+  };
   auto index = [&](int i, int j, int k) { return (size_t(k) * n[1] + j) * n[0] + i; };
   auto far_enough = [&](const Vec3d& x) {
     int c[3] = {cell_of(x, 0), cell_of(x, 1), dim == 3 ? cell_of(x, 2) : 0};
@@ -180,7 +191,10 @@ std::vector<Vec3d> poisson_disk(const Vec3d& lo, const Vec3d& hi, double r, int 
           bool skip = false;
           for (int a = 0; a < dim; ++a) {
             if (q[a] < 0 || q[a] >= n[a]) {
-              if (!periodic) { skip = true; break; }
+              if (!periodic) {
+                skip = true;
+                break;
+              }
               q[a] = (q[a] % n[a] + n[a]) % n[a];
             }
           }
@@ -218,7 +232,10 @@ std::vector<Vec3d> poisson_disk(const Vec3d& lo, const Vec3d& hi, double r, int 
       double norm2 = 0;
       do {
         norm2 = 0;
-        for (int a = 0; a < dim; ++a) { dir[a] = 2 * uni(rng) - 1; norm2 += dir[a] * dir[a]; }
+        for (int a = 0; a < dim; ++a) {
+          dir[a] = 2 * uni(rng) - 1;
+          norm2 += dir[a] * dir[a];
+        }
       } while (norm2 > 1 || norm2 < 1e-12);
       double rad = r * (1 + uni(rng));
       Vec3d x{0, 0, 0};
@@ -226,14 +243,23 @@ std::vector<Vec3d> poisson_disk(const Vec3d& lo, const Vec3d& hi, double r, int 
       for (int a = 0; a < dim; ++a) {
         x[a] = base[a] + rad * dir[a] / std::sqrt(norm2);
         if (x[a] < lo[a] || x[a] >= hi[a]) {
-          if (!periodic) { in = false; break; }
+          if (!periodic) {
+            in = false;
+            break;
+          }
           double L = hi[a] - lo[a];
           x[a] = lo[a] + std::fmod(std::fmod(x[a] - lo[a], L) + L, L);
         }
       }
-      if (in && far_enough(x)) { add(x); found = true; }
+      if (in && far_enough(x)) {
+        add(x);
+        found = true;
+      }
     }
-    if (!found) { active[pick] = active.back(); active.pop_back(); }
+    if (!found) {
+      active[pick] = active.back();
+      active.pop_back();
+    }
   }
   return samples;
 }
@@ -260,17 +286,23 @@ SampledParticles sample_object(const SceneDesc& scene, int object_index) {
           break;
         }
     }
-    if (!fs::exists(file)) throw SceneError(scene.source + ": key '" + key + ".shape.file': mesh file '" + shape.file + "' not found");
+    if (!fs::exists(file))
+      throw SceneError(scene.source + ": key '" + key + ".shape.file': mesh file '" + shape.file +
+                       "' not found");
     mesh = std::make_unique<MeshSolid>(file.string(), shape);
     lo = mesh->lower();
     hi = mesh->upper();
     for (int a = 0; a < dim; ++a)
       if (lo[a] < scene.domain.min[a] || hi[a] > scene.domain.max[a])
-        throw SceneError(scene.source + ": key '" + key + ".shape': mesh lies outside the domain on axis " + std::string(1, "xyz"[a]));
+        throw SceneError(scene.source + ": key '" + key +
+                         ".shape': mesh lies outside the domain on axis " +
+                         std::string(1, "xyz"[a]));
   } else {
     shape_bounds(shape, dim, lo, hi);
   }
-  auto inside = [&](const Vec3d& x) { return mesh ? mesh->inside(x) : inside_shape(shape, x, dim); };
+  auto inside = [&](const Vec3d& x) {
+    return mesh ? mesh->inside(x) : inside_shape(shape, x, dim);
+  };
 
   SampledParticles out;
   const SamplingDesc& smp = obj.sampling;
@@ -286,8 +318,10 @@ SampledParticles sample_object(const SceneDesc& scene, int object_index) {
     out.volumes.assign(out.positions.size(), vol);
     out.spacing = smp.radius;
   } else {
-    double s = smp.type == SamplingType::lattice ? smp.spacing : scene.domain.dx / std::pow(smp.ppc, 1.0 / dim);
-    // Grid-aligned: sample k sits at domain.min + (k + ½) s, so s = dx/2 gives 4 per full cell in 2D.
+    double s = smp.type == SamplingType::lattice ? smp.spacing
+                                                 : scene.domain.dx / std::pow(smp.ppc, 1.0 / dim);
+    // Grid-aligned: sample k sits at domain.min + (k + ½) s, so s = dx/2 gives 4 per full cell in
+    // 2D.
     std::array<long, 3> k0{0, 0, 0}, k1{0, 0, 0};
     for (int a = 0; a < dim; ++a) {
       k0[a] = long(std::floor((lo[a] - scene.domain.min[a]) / s - 0.5));
@@ -295,7 +329,9 @@ SampledParticles sample_object(const SceneDesc& scene, int object_index) {
     }
     double count = 1;
     for (int a = 0; a < dim; ++a) count *= double(k1[a] - k0[a] + 1);
-    if (count > 5e7) throw SceneError(scene.source + ": key '" + key + ".sampling': more than 5e7 lattice sites; spacing too small");
+    if (count > 5e7)
+      throw SceneError(scene.source + ": key '" + key +
+                       ".sampling': more than 5e7 lattice sites; spacing too small");
     for (long k = k0[2]; k <= k1[2]; ++k)
       for (long j = k0[1]; j <= k1[1]; ++j)
         for (long i = k0[0]; i <= k1[0]; ++i) {
@@ -307,7 +343,8 @@ SampledParticles sample_object(const SceneDesc& scene, int object_index) {
     out.spacing = s;
   }
   if (out.positions.empty())
-    throw SceneError(scene.source + ": key '" + key + "': no particle falls inside the shape (sampling too coarse?)");
+    throw SceneError(scene.source + ": key '" + key +
+                     "': no particle falls inside the shape (sampling too coarse?)");
   for (auto& x : out.positions)
     for (int a = 0; a < dim; ++a)
       if (x[a] < scene.domain.min[a] || x[a] > scene.domain.max[a])

@@ -1,7 +1,5 @@
 #include "scene.hpp"
 
-#include "method_registry.hpp"
-
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -9,6 +7,7 @@
 #include <set>
 #include <sstream>
 
+#include "method_registry.hpp"
 #include "parameters.hpp"
 
 namespace apiclab {
@@ -19,7 +18,8 @@ using nlohmann::json;
 // Reads one JSON object strictly: every key must be consumed, so a misspelled key is an error.
 class Reader {
  public:
-  Reader(const json& j, std::string path, const std::string& file) : j_(j), path_(std::move(path)), file_(file) {
+  Reader(const json& j, std::string path, const std::string& file)
+      : j_(j), path_(std::move(path)), file_(file) {
     if (!j_.is_object()) fail("", "expected an object");
   }
   ~Reader() noexcept(false) {
@@ -83,7 +83,8 @@ class Reader {
       return fallback;
     }
     const json& v = raw(key);
-    if (!v.is_array() || int(v.size()) != dim) fail(key, "expected " + std::to_string(dim) + " numbers, got " + v.dump());
+    if (!v.is_array() || int(v.size()) != dim)
+      fail(key, "expected " + std::to_string(dim) + " numbers, got " + v.dump());
     Vec3d out = fallback;
     for (int i = 0; i < dim; ++i) {
       if (!v[i].is_number()) fail(key, "expected numbers, got " + v.dump());
@@ -92,7 +93,8 @@ class Reader {
     return out;
   }
   template <class E>
-  E choice(const std::string& key, const std::vector<Choice<E>>& choices, E fallback, const char* what) {
+  E choice(const std::string& key, const std::vector<Choice<E>>& choices, E fallback,
+           const char* what) {
     if (!has(key)) return fallback;
     std::string s = string(key, "");
     try {
@@ -122,14 +124,20 @@ class SectionOf final : public SceneSection {
  public:
   explicit SectionOf(Reader& r) : r_(r) {}
   bool has(const std::string& key) const override { return r_.has(key); }
-  double number(const std::string& key, double fallback) override { return r_.number(key, fallback); }
-  double positive(const std::string& key, double fallback) override { return r_.positive(key, fallback); }
+  double number(const std::string& key, double fallback) override {
+    return r_.number(key, fallback);
+  }
+  double positive(const std::string& key, double fallback) override {
+    return r_.positive(key, fallback);
+  }
   int integer(const std::string& key, int fallback) override { return r_.integer(key, fallback); }
   bool boolean(const std::string& key, bool fallback) override { return r_.boolean(key, fallback); }
   std::string string(const std::string& key, const std::string& fallback) override {
     return r_.string(key, fallback);
   }
-  std::string where(const std::string& key) const override { return r_.file() + ": key '" + r_.join(key) + "'"; }
+  std::string where(const std::string& key) const override {
+    return r_.file() + ": key '" + r_.join(key) + "'";
+  }
 
  private:
   Reader& r_;
@@ -140,7 +148,10 @@ void read_domain(Reader r, SceneDesc& s) {
   d.min = r.vec("min", {0, 0, 0}, s.dim, true);
   d.max = r.vec("max", {1, 1, 1}, s.dim, true);
   d.dx = r.number("dx", 0, true);
-  if (s.dim == 2) { d.min[2] = 0; d.max[2] = 0; }
+  if (s.dim == 2) {
+    d.min[2] = 0;
+    d.max[2] = 0;
+  }
   d.walls.fill(BoundaryCondition::slip);
   if (r.has("boundary")) {
     const json& b = r.raw("boundary");
@@ -156,9 +167,11 @@ void read_domain(Reader r, SceneDesc& s) {
       Reader br(b, r.join("boundary"), r.file());
       const char* names[6] = {"x-", "x+", "y-", "y+", "z-", "z+"};
       for (int w = 0; w < 2 * s.dim; ++w)
-        d.walls[w] = br.choice(names[w], boundary_choices(), BoundaryCondition::slip, "boundary condition");
+        d.walls[w] =
+            br.choice(names[w], boundary_choices(), BoundaryCondition::slip, "boundary condition");
       for (int a = 0; a < s.dim; ++a)
-        if ((d.walls[2 * a] == BoundaryCondition::periodic) != (d.walls[2 * a + 1] == BoundaryCondition::periodic))
+        if ((d.walls[2 * a] == BoundaryCondition::periodic) !=
+            (d.walls[2 * a + 1] == BoundaryCondition::periodic))
           r.fail("boundary", "periodic must be set on both walls of an axis");
     }
   }
@@ -241,7 +254,8 @@ ShapeDesc read_shape(Reader r, int dim) {
         sh.axis = r.vec("axis", {0, 0, 1}, 3);
         if (sh.type == ShapeType::annulus) sh.length = r.positive("length", 0, true);
       }
-      if (sh.type == ShapeType::torus && dim != 3) r.fail("type", "torus needs dim 3 (use annulus in 2D)");
+      if (sh.type == ShapeType::torus && dim != 3)
+        r.fail("type", "torus needs dim 3 (use annulus in 2D)");
       break;
     case ShapeType::mesh:
       sh.file = r.string("file", "", true);
@@ -254,7 +268,8 @@ ShapeDesc read_shape(Reader r, int dim) {
     Reader rot = r.child("rotation");
     sh.rotation_axis = rot.vec("axis", {0, 0, 1}, 3);
     if (rot.has("random_seed")) {
-      if (rot.has("degrees")) rot.fail("random_seed", "give either degrees or random_seed, not both");
+      if (rot.has("degrees"))
+        rot.fail("random_seed", "give either degrees or random_seed, not both");
       const json& v = rot.raw("random_seed");
       if (!v.is_number_integer() || v.get<long long>() < 0)
         rot.fail("random_seed", "expected a non-negative integer, got " + v.dump());
@@ -293,7 +308,8 @@ ObjectDesc read_object(Reader r, const SceneDesc& s, int index) {
   const json& m = r.raw("material");
   if (m.is_number_integer()) {
     o.material = m.get<int>();
-    if (o.material < 0 || o.material >= int(s.materials.size())) r.fail("material", "no material with index " + m.dump());
+    if (o.material < 0 || o.material >= int(s.materials.size()))
+      r.fail("material", "no material with index " + m.dump());
   } else if (m.is_string()) {
     o.material = -1;
     for (size_t i = 0; i < s.materials.size(); ++i)
@@ -304,12 +320,13 @@ ObjectDesc read_object(Reader r, const SceneDesc& s, int index) {
   }
   o.sampling = r.has("sampling") ? read_sampling(r.child("sampling")) : SamplingDesc{};
   o.velocity = r.vec("velocity", {0, 0, 0}, s.dim);
-  if (o.sampling.type == SamplingType::triangulated && (s.dim != 2 || o.shape.type != ShapeType::box ||
-                                                        o.shape.rotation_degrees != 0))
+  if (o.sampling.type == SamplingType::triangulated &&
+      (s.dim != 2 || o.shape.type != ShapeType::box || o.shape.rotation_degrees != 0))
     r.fail("sampling", "triangulated sampling needs an unrotated box in 2D");
   if (r.has("anchors")) {
     Reader a = r.child("anchors");
-    if (!a.has("rows") || !a.raw("rows").is_array()) a.fail("rows", "expected an array of top|bottom|left|right");
+    if (!a.has("rows") || !a.raw("rows").is_array())
+      a.fail("rows", "expected an array of top|bottom|left|right");
     for (const auto& row : a.raw("rows")) {
       std::string name = row.is_string() ? row.get<std::string>() : "";
       if (name != "top" && name != "bottom" && name != "left" && name != "right")
@@ -317,7 +334,8 @@ ObjectDesc read_object(Reader r, const SceneDesc& s, int index) {
       o.anchors.push_back(name);
     }
     o.anchor_stiffness = a.positive("stiffness", o.anchor_stiffness);
-    if (o.sampling.type != SamplingType::triangulated) r.fail("anchors", "anchors need triangulated sampling");
+    if (o.sampling.type != SamplingType::triangulated)
+      r.fail("anchors", "anchors need triangulated sampling");
   }
   if (r.has("angular_velocity")) {
     if (s.dim == 2) {
@@ -332,7 +350,10 @@ ObjectDesc read_object(Reader r, const SceneDesc& s, int index) {
   double ext = sh.type == ShapeType::ball ? sh.radius : sh.outer;
   if (sh.type == ShapeType::annulus && s.dim == 3) ext = std::max(ext, 0.5 * sh.length);
   if (sh.type == ShapeType::ball || sh.type == ShapeType::annulus || sh.type == ShapeType::torus)
-    for (int a = 0; a < 3; ++a) { lo[a] = sh.center[a] - ext; hi[a] = sh.center[a] + ext; }
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = sh.center[a] - ext;
+      hi[a] = sh.center[a] + ext;
+    }
   if (sh.type != ShapeType::mesh)
     for (int a = 0; a < s.dim; ++a)
       if (lo[a] < s.domain.min[a] - 1e-12 || hi[a] > s.domain.max[a] + 1e-12)
@@ -346,11 +367,13 @@ ColliderDesc read_collider(Reader r, int dim) {
   if (type != "plane") r.fail("type", "unknown collider type '" + type + "' (expected plane)");
   c.point = r.vec("point", {0, 0, 0}, dim, true);
   c.normal = r.vec("normal", {0, 1, 0}, dim, true);
-  double n = std::sqrt(c.normal[0] * c.normal[0] + c.normal[1] * c.normal[1] + c.normal[2] * c.normal[2]);
+  double n =
+      std::sqrt(c.normal[0] * c.normal[0] + c.normal[1] * c.normal[1] + c.normal[2] * c.normal[2]);
   if (!(n > 0)) r.fail("normal", "must be non-zero");
   for (double& x : c.normal) x /= n;
   c.condition = r.choice("condition", boundary_choices(), c.condition, "boundary condition");
-  if (c.condition == BoundaryCondition::periodic) r.fail("condition", "a collider cannot be periodic");
+  if (c.condition == BoundaryCondition::periodic)
+    r.fail("condition", "a collider cannot be periodic");
   return c;
 }
 
@@ -371,7 +394,8 @@ SceneDesc parse_json(const json& j, const std::string& file) {
     r.fail("materials", "expected a non-empty array");
   const json& mats = r.raw("materials");
   for (size_t i = 0; i < mats.size(); ++i)
-    s.materials.push_back(read_material(Reader(mats[i], "materials." + std::to_string(i), file), int(i)));
+    s.materials.push_back(
+        read_material(Reader(mats[i], "materials." + std::to_string(i), file), int(i)));
   // Every numeric parameter is read by now: ranges and the relations between values are
   // checked before any object is placed in the domain.
   validate(s);
@@ -379,12 +403,14 @@ SceneDesc parse_json(const json& j, const std::string& file) {
     r.fail("objects", "expected a non-empty array");
   const json& objs = r.raw("objects");
   for (size_t i = 0; i < objs.size(); ++i)
-    s.objects.push_back(read_object(Reader(objs[i], "objects." + std::to_string(i), file), s, int(i)));
+    s.objects.push_back(
+        read_object(Reader(objs[i], "objects." + std::to_string(i), file), s, int(i)));
   if (r.has("colliders")) {
     const json& cols = r.raw("colliders");
     if (!cols.is_array()) r.fail("colliders", "expected an array");
     for (size_t i = 0; i < cols.size(); ++i)
-      s.colliders.push_back(read_collider(Reader(cols[i], "colliders." + std::to_string(i), file), s.dim));
+      s.colliders.push_back(
+          read_collider(Reader(cols[i], "colliders." + std::to_string(i), file), s.dim));
   }
   return s;
 }
@@ -424,7 +450,8 @@ void apply_override(json& j, const std::string& assignment, const std::string& f
   *node = value;
 }
 
-SceneDesc parse_with_overrides(json j, const std::string& file, const std::vector<std::string>& overrides) {
+SceneDesc parse_with_overrides(json j, const std::string& file,
+                               const std::vector<std::string>& overrides) {
   for (auto& o : overrides) apply_override(j, o, file);
   try {
     return parse_json(j, file);
@@ -437,7 +464,8 @@ SceneDesc parse_with_overrides(json j, const std::string& file, const std::vecto
 
 }  // namespace
 
-SceneDesc parse_scene_text(const std::string& text, const std::string& source, const std::vector<std::string>& overrides) {
+SceneDesc parse_scene_text(const std::string& text, const std::string& source,
+                           const std::vector<std::string>& overrides) {
   json j = json::parse(text, nullptr, false);
   if (j.is_discarded()) {
     // Parse again with exceptions to get the position of the error.

@@ -39,7 +39,8 @@ struct TimeDesc {
 };
 
 struct SolverDesc {
-  std::string method = "mpm";  // the solver family (sim/method_registry.hpp); the keys below are MPM's
+  std::string method =
+      "mpm";  // the solver family (sim/method_registry.hpp); the keys below are MPM's
   Scheme scheme = Scheme::apic;
   double flip_alpha = 1.0;  // eq 3 blend: 1 = pure FLIP, 0 = PIC
   KernelType kernel = KernelType::quadratic;
@@ -146,7 +147,8 @@ class SceneSection {
     throw SceneError(where(key) + ": " + what);
   }
   template <class E>
-  E choice(const std::string& key, const std::vector<Choice<E>>& choices, E fallback, const char* what) {
+  E choice(const std::string& key, const std::vector<Choice<E>>& choices, E fallback,
+           const char* what) {
     if (!has(key)) return fallback;
     const std::string s = string(key, "");
     try {

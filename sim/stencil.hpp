@@ -11,9 +11,9 @@ namespace apiclab {
 template <class T, int D, class K>
 struct Stencil {
   static constexpr int W = K::width;
-  T w[D][W], dw[D][W];       // dw already in 1/length units
-  T r[D][W];                 // (x_i − x_p) per axis
-  std::size_t off[D][W];     // node index contribution per axis (wrapped × stride)
+  T w[D][W], dw[D][W];    // dw already in 1/length units
+  T r[D][W];              // (x_i − x_p) per axis
+  std::size_t off[D][W];  // node index contribution per axis (wrapped × stride)
 
   void compute(const Vec<T, D>& x, const Grid<T, D>& g) {
     for (int a = 0; a < D; ++a) {
@@ -45,7 +45,8 @@ struct Stencil {
           T wjk = w[1][j] * w[2][k];
           for (int i = 0; i < W; ++i) {
             T wijk = w[0][i] * wjk;
-            Vec<T, 3> grad(dw[0][i] * wjk, w[0][i] * dw[1][j] * w[2][k], w[0][i] * w[1][j] * dw[2][k]);
+            Vec<T, 3> grad(dw[0][i] * wjk, w[0][i] * dw[1][j] * w[2][k],
+                           w[0][i] * w[1][j] * dw[2][k]);
             Vec<T, 3> rr(r[0][i], r[1][j], r[2][k]);
             f(off[0][i] + off[1][j] + off[2][k], wijk, grad, rr);
           }

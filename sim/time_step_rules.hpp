@@ -20,7 +20,8 @@ double MpmSimulation<T, D>::choose_dt(double t_limit) const {
   double dt_star = tm.dt;
   if (tm.rule != DtRule::fixed) {
     double vmax = 0, cterm = 0;
-    const double affine_reach = 6.0 * std::sqrt(double(D)) * inertia_factor(scene_.solver.kernel) * dx;
+    const double affine_reach =
+        6.0 * std::sqrt(double(D)) * inertia_factor(scene_.solver.kernel) * dx;
     const std::ptrdiff_t n = std::ptrdiff_t(p_.size());
 #pragma omp parallel for reduction(max : vmax, cterm) if (parallel_worthwhile())
     for (std::ptrdiff_t q = 0; q < n; ++q) {
@@ -40,7 +41,7 @@ double MpmSimulation<T, D>::choose_dt(double t_limit) const {
   }
   dt_star = std::min(dt_star, 1.0 / tm.fps);
   double to_frame = t_limit - time_;
-  if (to_frame < 1.001 * dt_star) return to_frame;  // land on the frame time
+  if (to_frame < 1.001 * dt_star) return to_frame;      // land on the frame time
   if (to_frame < 2.0 * dt_star) return 0.5 * to_frame;  // avoid a sliver step
   return dt_star;
 }

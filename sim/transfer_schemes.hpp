@@ -47,8 +47,8 @@ struct GatheredVelocity {
 // v_p and C_p of scheme S from the gathered velocities; `inertia()` gives D_p, read only by RPIC
 // with the multilinear kernel (`lagged`).
 template <Scheme S, class T, int D, class Inertia>
-inline void update_particle_velocity(const GatheredVelocity<T, D>& g, T flip_alpha, bool lagged, Inertia&& inertia,
-                                     Vec<T, D>& v, Mat<T, D>& C) {
+inline void update_particle_velocity(const GatheredVelocity<T, D>& g, T flip_alpha, bool lagged,
+                                     Inertia&& inertia, Vec<T, D>& v, Mat<T, D>& C) {
   if constexpr (S == Scheme::pic) {
     v = g.pic;  // eq 2
   } else if constexpr (S == Scheme::flip) {

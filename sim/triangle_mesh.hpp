@@ -31,8 +31,8 @@ class TriangleMesh {
   };
 
   bool empty() const { return tris_.empty() && anchors_.empty(); }
-  void add_triangle(std::array<std::int32_t, 3> v, const V& x0, const V& x1, const V& x2, MaterialModel model,
-                    Lame<T> lame) {
+  void add_triangle(std::array<std::int32_t, 3> v, const V& x0, const V& x1, const V& x2,
+                    MaterialModel model, Lame<T> lame) {
     M Dm;
     Dm.col(0) = x1 - x0;
     Dm.col(1) = x2 - x0;
@@ -42,7 +42,8 @@ class TriangleMesh {
 
   // Φ = Σ_t A_t Ψ(F_t) + Σ ½ c |x − x⁰|² at positions x (by particle index, idx maps id → index);
   // adds ∂Φ/∂x_p into g (by index) when g is given. +∞ for an inverted neo-Hookean triangle.
-  double energy(const std::vector<V>& x, const std::vector<std::uint32_t>& idx, std::vector<V>* g) const {
+  double energy(const std::vector<V>& x, const std::vector<std::uint32_t>& idx,
+                std::vector<V>* g) const {
     double e = 0;
     for (const Triangle& t : tris_) {
       const V& a = x[idx[t.v[0]]];
@@ -67,7 +68,8 @@ class TriangleMesh {
   }
 
   // Per-triangle ∂P/∂F at x, PSD-projected when asked (as for the particles' Hessian).
-  void update_hessian(const std::vector<V>& x, const std::vector<std::uint32_t>& idx, bool project) {
+  void update_hessian(const std::vector<V>& x, const std::vector<std::uint32_t>& idx,
+                      bool project) {
     hess_.resize(tris_.size());
     for (std::size_t k = 0; k < tris_.size(); ++k) {
       const Triangle& t = tris_[k];
@@ -87,13 +89,15 @@ class TriangleMesh {
       if (project) {
         Eigen::SelfAdjointEigenSolver<Eigen::Matrix<T, 4, 4>> eig(H);
         if (eig.eigenvalues().minCoeff() < T(0))
-          H = eig.eigenvectors() * eig.eigenvalues().cwiseMax(T(0)).asDiagonal() * eig.eigenvectors().transpose();
+          H = eig.eigenvectors() * eig.eigenvalues().cwiseMax(T(0)).asDiagonal() *
+              eig.eigenvectors().transpose();
       }
       hess_[k] = H;
     }
   }
   // kx += K dx, K = ∂²Φ/∂x² with the stored per-triangle ∂P/∂F.
-  void apply_hessian(const std::vector<V>& dx, const std::vector<std::uint32_t>& idx, std::vector<V>& kx) const {
+  void apply_hessian(const std::vector<V>& dx, const std::vector<std::uint32_t>& idx,
+                     std::vector<V>& kx) const {
     for (std::size_t k = 0; k < tris_.size(); ++k) {
       const Triangle& t = tris_[k];
       const V& a = dx[idx[t.v[0]]];
@@ -101,7 +105,8 @@ class TriangleMesh {
       dDs.col(0) = dx[idx[t.v[1]]] - a;
       dDs.col(1) = dx[idx[t.v[2]]] - a;
       M dF = dDs * t.Dm_inv, dP;
-      Eigen::Map<Eigen::Matrix<T, 4, 1>>(dP.data()) = hess_[k] * Eigen::Map<const Eigen::Matrix<T, 4, 1>>(dF.data());
+      Eigen::Map<Eigen::Matrix<T, 4, 1>>(dP.data()) =
+          hess_[k] * Eigen::Map<const Eigen::Matrix<T, 4, 1>>(dF.data());
       M H = t.area * dP * t.Dm_inv.transpose();
       kx[idx[t.v[1]]] += H.col(0);
       kx[idx[t.v[2]]] += H.col(1);

@@ -22,7 +22,8 @@ int main(int argc, char** argv) {
   }
   int failures = 0;
   if (img.width < std::atoi(argv[2]) || img.height < std::atoi(argv[3])) {
-    std::printf("%s: %dx%d, smaller than %sx%s\n", argv[1], img.width, img.height, argv[2], argv[3]);
+    std::printf("%s: %dx%d, smaller than %sx%s\n", argv[1], img.width, img.height, argv[2],
+                argv[3]);
     ++failures;
   }
   long ink = 0;
@@ -33,8 +34,8 @@ int main(int argc, char** argv) {
     colors.insert(r << 16 | g << 8 | b);
   }
   const long pixels = long(img.width) * img.height;
-  std::printf("%s: %dx%d, %.1f%% ink, %zu colors\n", argv[1], img.width, img.height, 100.0 * ink / pixels,
-              colors.size());
+  std::printf("%s: %dx%d, %.1f%% ink, %zu colors\n", argv[1], img.width, img.height,
+              100.0 * ink / pixels, colors.size());
   if (ink < pixels / 200 || colors.size() < 50) {
     std::printf("  blank\n");
     ++failures;
@@ -44,7 +45,9 @@ int main(int argc, char** argv) {
     const int cr = c >> 16 & 255, cg = c >> 8 & 255, cb = c & 255;
     long n = 0;
     for (std::size_t i = 0; i + 3 < img.rgba.size(); i += 4)
-      n += std::abs(img.rgba[i] - cr) + std::abs(img.rgba[i + 1] - cg) + std::abs(img.rgba[i + 2] - cb) < 40;
+      n += std::abs(img.rgba[i] - cr) + std::abs(img.rgba[i + 1] - cg) +
+               std::abs(img.rgba[i + 2] - cb) <
+           40;
     std::printf("  #%s: %ld pixels%s\n", argv[k], n, n >= 30 ? "" : "  <- MISSING");
     failures += n < 30;
   }

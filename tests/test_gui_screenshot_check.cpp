@@ -33,7 +33,8 @@ int main(int argc, char** argv) {
         saturated += hi - lo > 50;
       }
     const bool ok = saturated > 2000;
-    std::printf("pane %d (%d,%d %dx%d): %ld particle pixels%s\n", k, x, y, w, h, saturated, ok ? "" : "  <- EMPTY");
+    std::printf("pane %d (%d,%d %dx%d): %ld particle pixels%s\n", k, x, y, w, h, saturated,
+                ok ? "" : "  <- EMPTY");
     failures += !ok;
   }
   if (panes != expected) {

@@ -24,16 +24,17 @@ inline std::string scene_json(int dim, const std::string& scheme, const std::str
   std::snprintf(dxs, sizeof dxs, "%.17g", dx);
   char Es[64];
   std::snprintf(Es, sizeof Es, "%.17g", E);
-  return std::string("{\"name\":\"unit\",\"dim\":") + std::to_string(dim) + ",\"domain\":{\"min\":" + v(0) +
-         ",\"max\":" + v(1) + ",\"dx\":" + dxs + ",\"boundary\":" + boundary +
-         "},\"solver\":{\"scheme\":\"" + scheme + "\",\"kernel\":\"" + kernel +
-         "\"},\"materials\":[{\"name\":\"m\",\"model\":\"neo-hookean\",\"E\":" + Es +
+  return std::string("{\"name\":\"unit\",\"dim\":") + std::to_string(dim) +
+         ",\"domain\":{\"min\":" + v(0) + ",\"max\":" + v(1) + ",\"dx\":" + dxs +
+         ",\"boundary\":" + boundary + "},\"solver\":{\"scheme\":\"" + scheme + "\",\"kernel\":\"" +
+         kernel + "\"},\"materials\":[{\"name\":\"m\",\"model\":\"neo-hookean\",\"E\":" + Es +
          ",\"nu\":0.3,\"rho\":1}],\"objects\":[{\"shape\":{\"type\":\"box\",\"min\":" + v(0.45) +
          ",\"max\":" + v(0.55) + "},\"material\":0}]}";
 }
 
-inline SceneDesc make_scene(int dim, const std::string& scheme, const std::string& kernel, double dx = 1.0 / 16,
-                            const std::string& boundary = "\"slip\"", double E = 1000.0) {
+inline SceneDesc make_scene(int dim, const std::string& scheme, const std::string& kernel,
+                            double dx = 1.0 / 16, const std::string& boundary = "\"slip\"",
+                            double E = 1000.0) {
   return parse_scene_text(scene_json(dim, scheme, kernel, dx, boundary, E), "test");
 }
 
@@ -57,8 +58,9 @@ Vec<T, D> random_vector(std::mt19937_64& rng, double lo, double hi) {
 // Replaces the simulation's particles by n random ones in [lo, hi]^D with random mass,
 // velocity and affine matrix (skew when `skew_C`, zero when `zero_C`).
 template <int D>
-void randomize_particles(MpmSimulation<double, D>& sim, std::size_t n, std::uint64_t seed, double lo = 0.3,
-                         double hi = 0.7, bool skew_C = false, bool zero_C = false) {
+void randomize_particles(MpmSimulation<double, D>& sim, std::size_t n, std::uint64_t seed,
+                         double lo = 0.3, double hi = 0.7, bool skew_C = false,
+                         bool zero_C = false) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> um(0.5, 2.0);
   auto& p = sim.particles();

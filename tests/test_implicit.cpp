@@ -19,14 +19,19 @@ std::string scene_path(const std::string& name) {
 // A small disk (2D) or ball (3D) away from the walls, with a given material model.
 SceneDesc small_scene(int dim, const std::string& model) {
   std::string v = dim == 2 ? "[0.3, -0.2]" : "[0.3, -0.2, 0.1]";
-  std::string json = std::string(R"({"dim":)") + std::to_string(dim) + R"(,
-    "domain":{"min":)" + (dim == 2 ? "[0,0]" : "[0,0,0]") + R"(,"max":)" + (dim == 2 ? "[1,1]" : "[1,1,1]") +
-                     R"(,"dx":0.1},
-    "gravity":)" + (dim == 2 ? "[0,-1]" : "[0,-1,0]") + R"(,
+  std::string json =
+      std::string(R"({"dim":)") + std::to_string(dim) + R"(,
+    "domain":{"min":)" +
+      (dim == 2 ? "[0,0]" : "[0,0,0]") + R"(,"max":)" + (dim == 2 ? "[1,1]" : "[1,1,1]") +
+      R"(,"dx":0.1},
+    "gravity":)" +
+      (dim == 2 ? "[0,-1]" : "[0,-1,0]") + R"(,
     "solver":{"scheme":"apic","integrator":"midpoint"},
-    "materials":[{"model":")" + model + R"(","E":100,"nu":0.3,"rho":1}],
-    "objects":[{"shape":{"type":"ball","center":)" + (dim == 2 ? "[0.5,0.5]" : "[0.5,0.5,0.5]") +
-                     R"(,"radius":0.2},"material":0,"sampling":{"type":"ppc","ppc":4},"velocity":)" + v + "}]}";
+    "materials":[{"model":")" +
+      model + R"(","E":100,"nu":0.3,"rho":1}],
+    "objects":[{"shape":{"type":"ball","center":)" +
+      (dim == 2 ? "[0.5,0.5]" : "[0.5,0.5,0.5]") +
+      R"(,"radius":0.2},"material":0,"sampling":{"type":"ppc","ppc":4},"velocity":)" + v + "}]}";
   return parse_scene_text(json, "test");
 }
 
@@ -48,7 +53,10 @@ struct Fixture {
     dv.assign(sim.grid().size(), Vec<double, D>::Zero());
     dir = dv;
     for (auto i : sim.active_nodes()) {
-      for (int a = 0; a < D; ++a) { dv[i][a] = 0.3 * u(rng); dir[i][a] = u(rng); }
+      for (int a = 0; a < D; ++a) {
+        dv[i][a] = 0.3 * u(rng);
+        dir[i][a] = u(rng);
+      }
     }
   }
   double energy(double h) {
@@ -89,7 +97,9 @@ void check_derivatives(const std::string& model, double dt) {
   EXPECT_LT(std::sqrt(err / norm), 1e-6) << model << " " << D << "D";
 }
 
-double norm3(const std::array<double, 3>& a) { return std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
+double norm3(const std::array<double, 3>& a) {
+  return std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+}
 
 }  // namespace
 
@@ -136,7 +146,8 @@ TEST(Implicit, MidpointConservesAngularMomentumOfTumblingBall3D) {
   const double L0 = norm3(first.L);
   double dL = 0;
   for (int a = 0; a < 3; ++a) dL = std::max(dL, std::abs(last.L[a] - first.L[a]));
-  std::printf("[ tumbling ball 3D, midpoint ] %ld steps: max |dL_a| / |L0| = %.3g\n", last.step, dL / L0);
+  std::printf("[ tumbling ball 3D, midpoint ] %ld steps: max |dL_a| / |L0| = %.3g\n", last.step,
+              dL / L0);
   EXPECT_LT(dL / L0, 1e-6);
 }
 
@@ -157,8 +168,8 @@ TEST(Implicit, LinearMomentumExactEvenWithTwoCgIterations) {
 
 TEST(Implicit, BackwardEulerVisiblyLosesEnergy) {
   auto run = [](const std::string& integrator) {
-    SceneDesc s = load_scene(scene_path("rotating-disk"),
-                             {"solver.integrator=" + integrator, R"(time.dt={"rule":"cfl","nu":1})"});
+    SceneDesc s = load_scene(scene_path("rotating-disk"), {"solver.integrator=" + integrator,
+                                                           R"(time.dt={"rule":"cfl","nu":1})"});
     auto sim = make_simulation(s);
     double e0 = sim->measure().total;
     EXPECT_FALSE(sim->advance_to(2.0));
@@ -172,8 +183,9 @@ TEST(Implicit, BackwardEulerVisiblyLosesEnergy) {
 TEST(Implicit, LargeStepBlowsUpExplicitButNotImplicit) {
   // dt = 0.01 s is 8x the explicit elastic limit Δx / c ≈ 1.2e-3 s of the disk.
   auto run = [](const std::string& integrator, DiagnosticsRow* first, DiagnosticsRow* last) {
-    SceneDesc s = load_scene(scene_path("rotating-disk"), {"solver.integrator=" + integrator, "time.end=1.0",
-                                                            R"(time.dt={"rule":"fixed","value":0.01})"});
+    SceneDesc s =
+        load_scene(scene_path("rotating-disk"), {"solver.integrator=" + integrator, "time.end=1.0",
+                                                 R"(time.dt={"rule":"fixed","value":0.01})"});
     auto sim = make_simulation(s);
     *first = sim->measure();
     *last = *first;
@@ -217,13 +229,15 @@ TEST(Implicit, NewtonConvergesQuadratically) {
 // gradient and its Hessian like the particle elasticity: check them the same way.
 TEST(Implicit, TriangleMeshGradientAndHessianMatchFiniteDifferences) {
   for (const char* model : {"neo-hookean", "fixed-corotated"}) {
-    SceneDesc s = parse_scene_text(std::string(R"({"dim":2,"domain":{"min":[0,0],"max":[1,1],"dx":0.1},
+    SceneDesc s =
+        parse_scene_text(std::string(R"({"dim":2,"domain":{"min":[0,0],"max":[1,1],"dx":0.1},
       "gravity":[0,-1],"solver":{"scheme":"apic","kernel":"cubic","integrator":"backward"},
-      "materials":[{"model":")") + model + R"(","E":100,"nu":0.3,"rho":1}],
+      "materials":[{"model":")") +
+                             model + R"(","E":100,"nu":0.3,"rho":1}],
       "objects":[{"shape":{"type":"box","min":[0.3,0.3],"max":[0.6,0.7]},"material":0,
                   "sampling":{"type":"triangulated","spacing":0.05},"velocity":[0.5,0.1],
                   "anchors":{"rows":["top"],"stiffness":1000}}]})",
-                                   "test");
+                         "test");
     MpmSimulation<double, 2> sim(s);
     std::mt19937 rng(3);
     std::uniform_real_distribution<double> u(-1, 1);
@@ -233,7 +247,10 @@ TEST(Implicit, TriangleMeshGradientAndHessianMatchFiniteDifferences) {
     sim.implicit_begin<CubicKernel>(0.02);
     std::vector<Vec<double, 2>> dv(sim.grid().size(), Vec<double, 2>::Zero()), dir = dv;
     for (auto i : sim.active_nodes())
-      for (int a = 0; a < 2; ++a) { dv[i][a] = 0.5 * u(rng); dir[i][a] = u(rng); }
+      for (int a = 0; a < 2; ++a) {
+        dv[i][a] = 0.5 * u(rng);
+        dir[i][a] = u(rng);
+      }
     auto shifted = [&](double h) {
       auto x = dv;
       for (auto i : sim.active_nodes()) x[i] += h * dir[i];
@@ -245,7 +262,8 @@ TEST(Implicit, TriangleMeshGradientAndHessianMatchFiniteDifferences) {
     double analytic = 0;
     for (auto i : sim.active_nodes()) analytic += g[i].dot(dir[i]);
     double numeric = (sim.implicit_energy<CubicKernel>(shifted(h), false) -
-                      sim.implicit_energy<CubicKernel>(shifted(-h), false)) / (2 * h);
+                      sim.implicit_energy<CubicKernel>(shifted(-h), false)) /
+                     (2 * h);
     EXPECT_NEAR(numeric, analytic, 1e-6 * std::abs(analytic)) << model;
     sim.implicit_energy<CubicKernel>(dv, true);
     sim.implicit_update_hessian(false);
@@ -284,7 +302,8 @@ TEST(Implicit, RingingFlipKeepsNoiseApicAndPicDoNot) {
     EXPECT_FALSE(sim->advance_to(40.0 / 24.0)) << scheme;
     auto end = sim->snapshot();
     std::size_t first = 0;
-    while (start->object[first] != 1) ++first;  // target vertices follow the projectile's, row by row
+    while (start->object[first] != 1)
+      ++first;  // target vertices follow the projectile's, row by row
     auto at = [&](const Snapshot& snap, int i, int j) {
       std::size_t k = first + std::size_t(j) * std::size_t(nx + 1) + std::size_t(i);
       return Eigen::Vector2d(snap.positions[2 * k], snap.positions[2 * k + 1]);
@@ -297,10 +316,17 @@ TEST(Implicit, RingingFlipKeepsNoiseApicAndPicDoNot) {
       for (int i = 0; i < nx; ++i)
         for (int t = 0; t < 2; ++t) {
           int c[3][2] = {{i, j}, {i + 1, j}, {i + 1, j + 1}};
-          if (t == 1) { c[1][0] = i + 1; c[1][1] = j + 1; c[2][0] = i; c[2][1] = j + 1; }
+          if (t == 1) {
+            c[1][0] = i + 1;
+            c[1][1] = j + 1;
+            c[2][0] = i;
+            c[2][1] = j + 1;
+          }
           Eigen::Matrix2d Dm, Ds;
-          Dm << at(*start, c[1][0], c[1][1]) - at(*start, c[0][0], c[0][1]), at(*start, c[2][0], c[2][1]) - at(*start, c[0][0], c[0][1]);
-          Ds << at(*end, c[1][0], c[1][1]) - at(*end, c[0][0], c[0][1]), at(*end, c[2][0], c[2][1]) - at(*end, c[0][0], c[0][1]);
+          Dm << at(*start, c[1][0], c[1][1]) - at(*start, c[0][0], c[0][1]),
+              at(*start, c[2][0], c[2][1]) - at(*start, c[0][0], c[0][1]);
+          Ds << at(*end, c[1][0], c[1][1]) - at(*end, c[0][0], c[0][1]),
+              at(*end, c[2][0], c[2][1]) - at(*end, c[0][0], c[0][1]);
           Eigen::Matrix2d F = Ds * Dm.inverse(), R, S;
           polar_decomposition<double, 2>(F, R, S);
           strain2 += (F - R).squaredNorm();
@@ -309,9 +335,11 @@ TEST(Implicit, RingingFlipKeepsNoiseApicAndPicDoNot) {
     return Result{std::sqrt(v2 / n), std::sqrt(strain2 / tris)};
   };
   Result flip = run("flip"), apic = run("apic"), pic = run("pic");
-  std::printf("target velocity RMS: FLIP %.4g, APIC %.4g, PIC %.4g m/s; strain RMS: FLIP %.4g, APIC %.4g, PIC %.4g\n",
-              flip.target_v_rms, apic.target_v_rms, pic.target_v_rms, flip.target_strain_rms, apic.target_strain_rms,
-              pic.target_strain_rms);
+  std::printf(
+      "target velocity RMS: FLIP %.4g, APIC %.4g, PIC %.4g m/s; strain RMS: FLIP %.4g, APIC %.4g, "
+      "PIC %.4g\n",
+      flip.target_v_rms, apic.target_v_rms, pic.target_v_rms, flip.target_strain_rms,
+      apic.target_strain_rms, pic.target_strain_rms);
   EXPECT_GT(flip.target_v_rms, 5 * apic.target_v_rms);  // measured 27x
   EXPECT_GT(flip.target_v_rms, 5 * pic.target_v_rms);
   EXPECT_LT(apic.target_strain_rms, flip.target_strain_rms);

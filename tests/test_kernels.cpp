@@ -29,11 +29,13 @@ Grid<double, D> make_grid(bool periodic, double dx) {
 
 template <int D, class K>
 void check_identities(const Grid<double, D>& g, const Vec<double, D>& xp, const char* where) {
-  SCOPED_TRACE(::testing::Message() << where << " x_p = " << xp.transpose() << " D = " << D << " width " << K::width);
+  SCOPED_TRACE(::testing::Message()
+               << where << " x_p = " << xp.transpose() << " D = " << D << " width " << K::width);
   Stencil<double, D, K> st;
   st.compute(xp, g);
   double sw = 0;
-  Vec<double, D> swx = Vec<double, D>::Zero(), swr = Vec<double, D>::Zero(), sg = Vec<double, D>::Zero();
+  Vec<double, D> swx = Vec<double, D>::Zero(), swr = Vec<double, D>::Zero(),
+                 sg = Vec<double, D>::Zero();
   Mat<double, D> sxg = Mat<double, D>::Zero(), srg = Mat<double, D>::Zero();
   bool any_periodic = false;
   for (int a = 0; a < D; ++a) any_periodic = any_periodic || g.periodic[a];
@@ -46,7 +48,7 @@ void check_identities(const Grid<double, D>& g, const Vec<double, D>& xp, const 
     Vec<double, D> xi = g.node_position(node), xu = xp + r;
     for (int a = 0; a < D; ++a) {
       double d = xu[a] - xi[a];
-      if (g.periodic[a]) d -= std::round(d);  // period 1
+      if (g.periodic[a]) d -= std::round(d);       // period 1
       EXPECT_NEAR(d, 0.0, 1e-14) << "axis " << a;  // |x| ≤ 1, a few roundings of x/dx·dx
     }
     sw += w;
@@ -67,9 +69,11 @@ void check_identities(const Grid<double, D>& g, const Vec<double, D>& xp, const 
     EXPECT_LE((swx - xp).norm(), 64 * eps * 1.2) << "Σ w x_i = x_p";
   }
   EXPECT_LE(sg.norm(), 64 * eps * gscale) << "Σ ∇w = 0";
-  EXPECT_LE((srg - Mat<double, D>::Identity()).norm(), 64 * eps * gscale * g.dx) << "Σ (x_i - x_p) ∇wᵀ = I";
+  EXPECT_LE((srg - Mat<double, D>::Identity()).norm(), 64 * eps * gscale * g.dx)
+      << "Σ (x_i - x_p) ∇wᵀ = I";
   if (!any_periodic) {
-    EXPECT_LE((sxg - Mat<double, D>::Identity()).norm(), 64 * eps * gscale * 1.2) << "Σ x_i ∇wᵀ = I";
+    EXPECT_LE((sxg - Mat<double, D>::Identity()).norm(), 64 * eps * gscale * 1.2)
+        << "Σ x_i ∇wᵀ = I";
   }
   // D_p = k Δx² I for quadratic and cubic (Sec 3.3); 1e-14: ~10 ulp of the per-axis sums.
   if (K::type != KernelType::linear) {

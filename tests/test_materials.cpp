@@ -64,16 +64,26 @@ void check_model(MaterialModel model) {
         M<D> Fp = F, Fm = F;
         Fp(i, j) += h;
         Fm(i, j) -= h;
-        Pfd(i, j) = (energy_density<double, D>(model, Fp, l) - energy_density<double, D>(model, Fm, l)) / (2 * h);
+        Pfd(i, j) =
+            (energy_density<double, D>(model, Fp, l) - energy_density<double, D>(model, Fm, l)) /
+            (2 * h);
       }
-    EXPECT_LE((P - Pfd).norm(), 1e-6 * (P.norm() + l.mu)) << "F =\n" << F << "\nP =\n" << P << "\nFD =\n" << Pfd;
+    EXPECT_LE((P - Pfd).norm(), 1e-6 * (P.norm() + l.mu)) << "F =\n"
+                                                          << F << "\nP =\n"
+                                                          << P << "\nFD =\n"
+                                                          << Pfd;
     // ∂P/∂F : dF against central differences of P along dF (same error budget, one order up).
     for (int k = 0; k < 3; ++k) {
       M<D> dF = M<D>::Random();
       M<D> dP = first_piola_differential<double, D>(model, F, dF, l);
-      M<D> dPfd = (first_piola<double, D>(model, F + h * dF, l) - first_piola<double, D>(model, F - h * dF, l)) / (2 * h);
-      EXPECT_LE((dP - dPfd).norm(), 1e-6 * (dP.norm() + l.mu + l.lambda)) << "F =\n" << F << "\ndF =\n" << dF
-                                                                          << "\ndP =\n" << dP << "\nFD =\n" << dPfd;
+      M<D> dPfd = (first_piola<double, D>(model, F + h * dF, l) -
+                   first_piola<double, D>(model, F - h * dF, l)) /
+                  (2 * h);
+      EXPECT_LE((dP - dPfd).norm(), 1e-6 * (dP.norm() + l.mu + l.lambda)) << "F =\n"
+                                                                          << F << "\ndF =\n"
+                                                                          << dF << "\ndP =\n"
+                                                                          << dP << "\nFD =\n"
+                                                                          << dPfd;
     }
     // Rotation invariance Ψ(QF) = Ψ(F), and P(QF) = Q P(F) (frame indifference). Round-off
     // of a determinant, a log and a polar decomposition: 1e-12 relative.
@@ -118,7 +128,8 @@ void check_inverted() {
     F.col(0) *= -1;  // reflect: det F < 0
     ASSERT_LT(F.determinant(), 0.0);
     double nh = energy_density<double, D>(MaterialModel::neo_hookean, F, l);
-    EXPECT_TRUE(std::isinf(nh) && nh > 0) << "neo-Hookean Ψ of an inverted F must be +inf, got " << nh;
+    EXPECT_TRUE(std::isinf(nh) && nh > 0)
+        << "neo-Hookean Ψ of an inverted F must be +inf, got " << nh;
     double fc = energy_density<double, D>(MaterialModel::fixed_corotated, F, l);
     EXPECT_TRUE(std::isfinite(fc)) << fc;
     EXPECT_GT(fc, 0.0);
@@ -168,18 +179,22 @@ void polar_matches_svd(double tolerance) {
       return Mat<double, 3>(q.normalized().toRotationMatrix());
     };
     Vec<double, 3> sigma(std::exp(logs(rng)), std::exp(logs(rng)), std::exp(logs(rng)));
-    if (k % 4 == 0) sigma = Vec<double, 3>::Constant(1) + 0.01 * Vec<double, 3>(u(rng), u(rng), u(rng));
+    if (k % 4 == 0)
+      sigma = Vec<double, 3>::Constant(1) + 0.01 * Vec<double, 3>(u(rng), u(rng), u(rng));
     const Mat<double, 3> Fd = rotation() * sigma.asDiagonal() * rotation();
     const Mat<T, 3> F = Fd.cast<T>();
     Mat<T, 3> R, S;
     polar_decomposition<T, 3>(F, R, S);
-    Eigen::JacobiSVD<Mat<double, 3>> svd(F.template cast<double>(), Eigen::ComputeFullU | Eigen::ComputeFullV);
+    Eigen::JacobiSVD<Mat<double, 3>> svd(F.template cast<double>(),
+                                         Eigen::ComputeFullU | Eigen::ComputeFullV);
     const Mat<double, 3> Rsvd = svd.matrixU() * svd.matrixV().transpose();
     Mat<T, 3> Rn;
     newton += polar_newton_3d<T>(F, Rn);
-    ASSERT_LT((R.template cast<double>() - Rsvd).norm(), tolerance * svd.singularValues()[0] / svd.singularValues()[2])
+    ASSERT_LT((R.template cast<double>() - Rsvd).norm(),
+              tolerance * svd.singularValues()[0] / svd.singularValues()[2])
         << "sigma " << sigma.transpose();
-    EXPECT_LT((R.transpose() * R - Mat<T, 3>::Identity()).norm(), T(10) * std::numeric_limits<T>::epsilon());
+    EXPECT_LT((R.transpose() * R - Mat<T, 3>::Identity()).norm(),
+              T(10) * std::numeric_limits<T>::epsilon());
     EXPECT_NEAR(double(R.determinant()), 1.0, 10 * std::numeric_limits<T>::epsilon());
     EXPECT_LT((S - S.transpose()).norm(), T(4) * std::numeric_limits<T>::epsilon() * S.norm());
     EXPECT_GT(double(Eigen::SelfAdjointEigenSolver<Mat<T, 3>>(S).eigenvalues().minCoeff()), 0.0);

@@ -20,7 +20,10 @@ double fitted_slope(const std::vector<RoundTripResult>& rs) {
   double sx = 0, sy = 0, sxx = 0, sxy = 0, n = double(rs.size());
   for (const auto& r : rs) {
     double x = std::log(r.dx), y = std::log(r.l2_error);
-    sx += x; sy += y; sxx += x * x; sxy += x * y;
+    sx += x;
+    sy += y;
+    sxx += x * x;
+    sxy += x * y;
   }
   return (n * sxy - sx * sy) / (n * sxx - sx * sx);
 }
@@ -38,13 +41,14 @@ TEST(RoundTrip, ConvergesAndApicBeatsPic) {
   for (std::size_t k = 0; k < pic.size(); ++k) {
     const double ratio = pic[k].l2_error / apic[k].l2_error;
     min_ratio = std::min(min_ratio, ratio);
-    std::printf("[ round trip ] n = %3d  particles %6zu  PIC %.4e  APIC %.4e  PIC/APIC %.2f\n", pic[k].resolution,
-                pic[k].particles, pic[k].l2_error, apic[k].l2_error, ratio);
+    std::printf("[ round trip ] n = %3d  particles %6zu  PIC %.4e  APIC %.4e  PIC/APIC %.2f\n",
+                pic[k].resolution, pic[k].particles, pic[k].l2_error, apic[k].l2_error, ratio);
     EXPECT_GT(apic[k].l2_error, 0.0);
     // The paper reports about one order of magnitude; require at least 3×.
     EXPECT_GT(ratio, 3.0) << "at resolution " << pic[k].resolution;
   }
-  std::printf("[ round trip ] fitted slopes: PIC %.3f  APIC %.3f  (min PIC/APIC ratio %.2f)\n", spic, sapic, min_ratio);
+  std::printf("[ round trip ] fitted slopes: PIC %.3f  APIC %.3f  (min PIC/APIC ratio %.2f)\n",
+              spic, sapic, min_ratio);
   ::testing::Test::RecordProperty("slope_pic", std::to_string(spic));
   ::testing::Test::RecordProperty("slope_apic", std::to_string(sapic));
   ::testing::Test::RecordProperty("min_ratio", std::to_string(min_ratio));
@@ -60,14 +64,15 @@ TEST(RoundTrip, ConvergesAndApicBeatsPic) {
   for (std::size_t k = 2; k < pic.size(); ++k) {
     const double prev = std::log(pic[k - 2].l2_error / pic[k - 1].l2_error) / std::log(2.0);
     const double last = std::log(pic[k - 1].l2_error / pic[k].l2_error) / std::log(2.0);
-    EXPECT_LT(last, prev) << "PIC local slope should fall towards 1 (pre-asymptotic O(Δx²) part fading)";
+    EXPECT_LT(last, prev)
+        << "PIC local slope should fall towards 1 (pre-asymptotic O(Δx²) part fading)";
   }
   const double pic_last = std::log(pic[2].l2_error / pic[3].l2_error) / std::log(2.0);
   EXPECT_GE(pic_last, 0.8);  // first order once the O(Δx) term dominates (1.36 at 64→128)
   EXPECT_LE(pic_last, 1.5);
-  EXPECT_GE(spic, 0.8);      // fitted over 16..128 (measured 1.64): between first and second
+  EXPECT_GE(spic, 0.8);  // fitted over 16..128 (measured 1.64): between first and second
   EXPECT_LE(spic, 2.0);
-  EXPECT_GE(sapic, 1.8);     // second order (measured 2.05)
+  EXPECT_GE(sapic, 1.8);  // second order (measured 2.05)
   EXPECT_LE(sapic, 2.2);
 }
 

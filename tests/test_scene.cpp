@@ -43,7 +43,8 @@ void expect_scene_error(Fn&& fn, const std::vector<std::string>& needles, const 
     const std::string msg = e.what();
     EXPECT_EQ(msg.find('\n'), std::string::npos) << "message is not one line: " << msg;
     EXPECT_FALSE(msg.empty());
-    for (const auto& n : needles) EXPECT_NE(msg.find(n), std::string::npos) << "'" << n << "' not in: " << msg;
+    for (const auto& n : needles)
+      EXPECT_NE(msg.find(n), std::string::npos) << "'" << n << "' not in: " << msg;
   } catch (const std::exception& e) {
     ADD_FAILURE() << "wrong exception type for " << what << ": " << e.what();
   }
@@ -61,8 +62,8 @@ std::string edited(const std::string& pointer, const nlohmann::json& value, bool
 }
 
 void bad(const std::string& pointer, const nlohmann::json& value, const std::string& key) {
-  expect_scene_error([&] { parse_scene_text(edited(pointer, value), "bad.json"); }, {"bad.json", "'" + key + "'"},
-                     pointer + " = " + value.dump());
+  expect_scene_error([&] { parse_scene_text(edited(pointer, value), "bad.json"); },
+                     {"bad.json", "'" + key + "'"}, pointer + " = " + value.dump());
 }
 
 TEST(Scene, GoodSceneParses) {
@@ -77,7 +78,8 @@ TEST(Scene, GoodSceneParses) {
 }
 
 TEST(Scene, SetOverrides) {
-  SceneDesc s = parse_scene_text(kGood, "good.json", {"materials.0.E=2000", "solver.scheme=pic", "time.end=0.5"});
+  SceneDesc s = parse_scene_text(kGood, "good.json",
+                                 {"materials.0.E=2000", "solver.scheme=pic", "time.end=0.5"});
   EXPECT_EQ(s.materials[0].E, 2000.0);
   EXPECT_EQ(s.solver.scheme, Scheme::pic);
   EXPECT_EQ(s.time.end, 0.5);
@@ -96,25 +98,29 @@ TEST(Scene, ShippedScenesLoadAndBuild) {
   }
   EXPECT_GE(count, 1);
   // The scene the conservation tests use builds particles.
-  auto sim = make_simulation(load_scene(std::string(APICLAB_SOURCE_DIR) + "/assets/scenes/rotating-disk.json"));
+  auto sim = make_simulation(
+      load_scene(std::string(APICLAB_SOURCE_DIR) + "/assets/scenes/rotating-disk.json"));
   EXPECT_GT(particle_count(*sim), 1000u);
 }
 
 TEST(Scene, MissingFile) {
-  expect_scene_error([] { load_scene("/nonexistent/dir/nope.json"); }, {"/nonexistent/dir/nope.json"}, "missing file");
+  expect_scene_error([] { load_scene("/nonexistent/dir/nope.json"); },
+                     {"/nonexistent/dir/nope.json"}, "missing file");
 }
 
 TEST(Scene, MalformedJson) {
-  expect_scene_error([] { parse_scene_text("{\"dim\": 2,\n \"domain\": {", "broken.json"); }, {"broken.json", "JSON"},
-                     "truncated");
-  expect_scene_error([] { parse_scene_text("{\"dim\": 2,, }", "broken.json"); }, {"broken.json"}, "double comma");
+  expect_scene_error([] { parse_scene_text("{\"dim\": 2,\n \"domain\": {", "broken.json"); },
+                     {"broken.json", "JSON"}, "truncated");
+  expect_scene_error([] { parse_scene_text("{\"dim\": 2,, }", "broken.json"); }, {"broken.json"},
+                     "double comma");
   expect_scene_error([] { parse_scene_text("", "empty.json"); }, {"empty.json"}, "empty");
-  expect_scene_error([] { parse_scene_text("[1, 2]", "array.json"); }, {"array.json"}, "top level not an object");
+  expect_scene_error([] { parse_scene_text("[1, 2]", "array.json"); }, {"array.json"},
+                     "top level not an object");
 }
 
 TEST(Scene, UnknownKeys) {
-  bad("/gravty", {0, -1}, "gravty");                            // top level, misspelled
-  bad("/materials/0/Ee", 1000, "materials.0.Ee");              // nested, misspelled
+  bad("/gravty", {0, -1}, "gravty");               // top level, misspelled
+  bad("/materials/0/Ee", 1000, "materials.0.Ee");  // nested, misspelled
   bad("/domain/dxx", 0.1, "domain.dxx");
   bad("/solver/shceme", "apic", "solver.shceme");
   bad("/objects/0/shape/radus", 0.1, "objects.0.shape.radus");
@@ -156,28 +162,29 @@ TEST(Scene, InvalidValues) {
   // Required keys.
   expect_scene_error([] { parse_scene_text(edited("/materials/0/E", 0, true), "bad.json"); },
                      {"bad.json", "'materials.0.E'"}, "missing E");
-  expect_scene_error([] { parse_scene_text(edited("/domain", 0, true), "bad.json"); }, {"bad.json", "'domain'"},
-                     "missing domain");
+  expect_scene_error([] { parse_scene_text(edited("/domain", 0, true), "bad.json"); },
+                     {"bad.json", "'domain'"}, "missing domain");
 }
 
 TEST(Scene, ObjectOutsideDomain) {
   bad("/objects/0/shape/center", {0.9, 0.5}, "objects.0.shape");  // radius 0.2 reaches x = 1.1
-  bad("/objects/0/shape", nlohmann::json{{"type", "box"}, {"min", {-0.1, 0.2}}, {"max", {0.5, 0.5}}},
+  bad("/objects/0/shape",
+      nlohmann::json{{"type", "box"}, {"min", {-0.1, 0.2}}, {"max", {0.5, 0.5}}},
       "objects.0.shape");
 }
 
 TEST(Scene, SetOnMissingKey) {
-  expect_scene_error([] { parse_scene_text(kGood, "good.json", {"solver.nope.x=1"}); }, {"good.json", "solver.nope"},
-                     "--set solver.nope.x");
-  expect_scene_error([] { parse_scene_text(kGood, "good.json", {"materials.5.E=1"}); }, {"good.json", "materials.5"},
-                     "--set materials.5.E");
+  expect_scene_error([] { parse_scene_text(kGood, "good.json", {"solver.nope.x=1"}); },
+                     {"good.json", "solver.nope"}, "--set solver.nope.x");
+  expect_scene_error([] { parse_scene_text(kGood, "good.json", {"materials.5.E=1"}); },
+                     {"good.json", "materials.5"}, "--set materials.5.E");
   // A new last key reaches the strict parser, which names it.
-  expect_scene_error([] { parse_scene_text(kGood, "good.json", {"solver.nope=1"}); }, {"good.json", "'solver.nope'"},
-                     "--set solver.nope");
+  expect_scene_error([] { parse_scene_text(kGood, "good.json", {"solver.nope=1"}); },
+                     {"good.json", "'solver.nope'"}, "--set solver.nope");
   expect_scene_error([] { parse_scene_text(kGood, "good.json", {"materials.0.E=-5"}); },
                      {"good.json", "'materials.0.E'"}, "--set negative E");
-  expect_scene_error([] { parse_scene_text(kGood, "good.json", {"noequals"}); }, {"good.json", "noequals"},
-                     "--set without =");
+  expect_scene_error([] { parse_scene_text(kGood, "good.json", {"noequals"}); },
+                     {"good.json", "noequals"}, "--set without =");
 }
 
 TEST(Scene, LoadSceneFromFileNamesFile) {
@@ -189,7 +196,8 @@ TEST(Scene, LoadSceneFromFileNamesFile) {
     std::ofstream out(f);
     out << edited("/materials/0/Ee", 5);
   }
-  expect_scene_error([&] { load_scene(f.string()); }, {f.string(), "'materials.0.Ee'"}, "file with typo");
+  expect_scene_error([&] { load_scene(f.string()); }, {f.string(), "'materials.0.Ee'"},
+                     "file with typo");
   fs::remove_all(dir);
 }
 

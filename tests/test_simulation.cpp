@@ -21,7 +21,8 @@ const std::string kDisk = std::string(APICLAB_SOURCE_DIR) + "/assets/scenes/rota
 // The disk with symplectic Euler and the explicit elastic time-step limit (the scene itself
 // runs the paper's midpoint rule; tests/test_implicit.cpp covers that).
 SceneDesc disk(const std::string& scheme, std::vector<std::string> extra = {}) {
-  extra.insert(extra.begin(), {"solver.integrator=symplectic", R"(time.dt={"rule":"elastic","nu":0.3})"});
+  extra.insert(extra.begin(),
+               {"solver.integrator=symplectic", R"(time.dt={"rule":"elastic","nu":0.3})"});
   extra.push_back("solver.scheme=" + scheme);
   return load_scene(kDisk, extra);
 }
@@ -51,8 +52,9 @@ void conserves(const std::string& scheme) {
     dp = std::max(dp, (test::to3(r.p) - test::to3(r0.p)).norm());
     dL = std::max(dL, std::abs(r.L[2] - L0));
   }
-  std::printf("[ %s rotating disk ] 500 steps to t = %.4f: max |dp|/Σm|v| = %.3g, max |dL|/L0 = %.3g\n",
-              scheme.c_str(), sim.time(), dp / sp, dL / L0);
+  std::printf(
+      "[ %s rotating disk ] 500 steps to t = %.4f: max |dp|/Σm|v| = %.3g, max |dL|/L0 = %.3g\n",
+      scheme.c_str(), sim.time(), dp / sp, dL / L0);
   ::testing::Test::RecordProperty("max_rel_dp", std::to_string(dp / sp));
   ::testing::Test::RecordProperty("max_rel_dL", std::to_string(dL / L0));
   // Every step is exact up to round-off (~1e-16 per operation, ~1e3 particles × 9 nodes);
@@ -78,9 +80,11 @@ TEST(Simulation, PicLosesAngularMomentum) {
   ASSERT_FALSE(apic.advance_to(1.0));
   const double Lp = pic.measure().L[2], La = apic.measure().L[2];
   const double per_step = 1.0 - std::pow(Ls[100] / Ls[0], 0.01);
-  std::printf("[ PIC rotating disk ] L(%.4f s)/L0 = %.4f after 100 steps (%.3f%% per step); L(1 s)/L0 = %.3g "
-              "after %ld steps; APIC L(1 s)/L0 - 1 = %.3g\n",
-              t_first100, Ls[100] / Ls[0], 100 * per_step, Lp / Lp0, pic.steps(), La / La0 - 1);
+  std::printf(
+      "[ PIC rotating disk ] L(%.4f s)/L0 = %.4f after 100 steps (%.3f%% per step); L(1 s)/L0 = "
+      "%.3g "
+      "after %ld steps; APIC L(1 s)/L0 - 1 = %.3g\n",
+      t_first100, Ls[100] / Ls[0], 100 * per_step, Lp / Lp0, pic.steps(), La / La0 - 1);
   ::testing::Test::RecordProperty("pic_L_ratio_1s", std::to_string(Lp / Lp0));
   ::testing::Test::RecordProperty("pic_L_loss_per_step", std::to_string(per_step));
   // Each PIC G2P drops the affine part of the angular momentum, m tr(D_p) ω = 2kΔx²·m ω per
@@ -100,8 +104,8 @@ TEST(Simulation, InternalForcesSumToZero) {
   for (const char* kernel : {"linear", "quadratic", "cubic"}) {
     for (const char* model : {"neo-hookean", "fixed-corotated"}) {
       SCOPED_TRACE(::testing::Message() << kernel << " " << model);
-      MpmSimulation<double, 2> sim(
-          disk("apic", {std::string("solver.kernel=") + kernel, std::string("materials.0.model=") + model}));
+      MpmSimulation<double, 2> sim(disk("apic", {std::string("solver.kernel=") + kernel,
+                                                 std::string("materials.0.model=") + model}));
       std::mt19937_64 rng(5);
       for (auto& F : sim.particles().F) F += test::random_matrix<double, 2>(rng, 0.2);  // deform
       sim.sort_particles();
@@ -189,12 +193,15 @@ TEST(Simulation, ThreadCountDeterminism) {
 // random directions (the re-sort threshold), and still no two same-coloured blocks share a
 // node and every stencil stays inside the active box.
 template <int D>
-void partition_holds(const std::string& kernel, const std::string& boundary, int cells, std::uint64_t seed) {
-  SCOPED_TRACE(::testing::Message() << D << "D " << kernel << " " << boundary << " " << cells << " cells");
+void partition_holds(const std::string& kernel, const std::string& boundary, int cells,
+                     std::uint64_t seed) {
+  SCOPED_TRACE(::testing::Message()
+               << D << "D " << kernel << " " << boundary << " " << cells << " cells");
   const double dx = 1.0 / cells;
   MpmSimulation<double, D> sim(test::make_scene(D, "apic", kernel, dx, "\"" + boundary + "\""));
   const bool periodic = boundary == "periodic";
-  test::randomize_particles<D>(sim, D == 2 ? 3000 : 4000, seed, periodic ? 0.0 : 0.05, periodic ? 0.999 : 0.95);
+  test::randomize_particles<D>(sim, D == 2 ? 3000 : 4000, seed, periodic ? 0.0 : 0.05,
+                               periodic ? 0.999 : 0.95);
   sim.sort_particles();
   std::mt19937_64 rng(seed + 1);
   std::uniform_real_distribution<double> drift(-0.49 * dx, 0.49 * dx);
@@ -249,8 +256,9 @@ TEST(Simulation, NonFiniteStateFreezesInsteadOfCrashing) {
 // Periodic axes wrap a position that left the domain by more than one period (a large step):
 // a uniform velocity field moves every particle to exactly x₀ + vΔt mod L (eq 39 with ū = v).
 TEST(Simulation, PeriodicWrapHandlesSeveralPeriods) {
-  SceneDesc scene = load_scene(std::string(APICLAB_SOURCE_DIR) + "/assets/scenes/rotating-disk.json",
-                               {"domain.boundary=periodic", "solver.integrator=symplectic", "gravity=[0,0]"});
+  SceneDesc scene =
+      load_scene(std::string(APICLAB_SOURCE_DIR) + "/assets/scenes/rotating-disk.json",
+                 {"domain.boundary=periodic", "solver.integrator=symplectic", "gravity=[0,0]"});
   MpmSimulation<double, 2> sim(scene);
   const double L = scene.domain.max[0] - scene.domain.min[0];
   ASSERT_EQ(L, scene.domain.max[1] - scene.domain.min[1]);
@@ -276,7 +284,8 @@ TEST(Simulation, PeriodicWrapHandlesSeveralPeriods) {
       const double moved = x0[std::size_t(p.id[q])][a] + v[a] * dt - lo;
       const double expected = lo + moved - L * std::floor(moved / L);
       double d = x - expected;
-      if (std::abs(d) > 0.5 * L) d -= std::copysign(L, d);  // landed a rounding error across the seam
+      if (std::abs(d) > 0.5 * L)
+        d -= std::copysign(L, d);  // landed a rounding error across the seam
       worst = std::max(worst, std::abs(d));
     }
   EXPECT_LE(worst, tol) << "x ≠ x₀ + vΔt mod L";
@@ -319,7 +328,8 @@ TEST(Simulation, CflRuleRefusesTheLinearKernel) {
   } catch (const SceneError& e) {
     EXPECT_NE(std::string(e.what()).find("solver.kernel"), std::string::npos) << e.what();
   }
-  EXPECT_NO_THROW(load_scene(path, {"solver.kernel=\"linear\"", R"(time.dt={"rule":"fixed","value":0.001})"}));
+  EXPECT_NO_THROW(
+      load_scene(path, {"solver.kernel=\"linear\"", R"(time.dt={"rule":"fixed","value":0.001})"}));
   EXPECT_NO_THROW(load_scene(path, {"solver.kernel=\"cubic\""}));
 }
 

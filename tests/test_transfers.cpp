@@ -35,8 +35,13 @@ void scales(const MpmSimulation<double, D>& sim, double& sp, double& sL) {
 // Largest relative errors seen, printed once per test for the record.
 struct Worst {
   double p = 0, L = 0;
-  void add(double ep, double eL) { p = std::max(p, ep); L = std::max(L, eL); }
-  void print(const char* what) const { std::printf("[ %s ] max relative |dp| = %.3g, |dL| = %.3g\n", what, p, L); }
+  void add(double ep, double eL) {
+    p = std::max(p, ep);
+    L = std::max(L, eL);
+  }
+  void print(const char* what) const {
+    std::printf("[ %s ] max relative |dp| = %.3g, |dL| = %.3g\n", what, p, L);
+  }
 };
 
 template <int D>
@@ -64,8 +69,8 @@ void p2g_conserves(const std::string& scheme, const std::string& kernel, Worst& 
   worst.add((p - test::to3(before.p)).norm() / sp, (L - test::to3(before.L)).norm() / sL);
   EXPECT_NEAR(mgrid, msum, 1e-12 * msum) << "mass (eq 24)";
   EXPECT_LE((p - test::to3(before.p)).norm(), 1e-12 * sp) << "grid p " << p.transpose();
-  EXPECT_LE((L - test::to3(before.L)).norm(), 1e-12 * sL) << "grid L " << L.transpose() << " particle L "
-                                                          << test::to3(before.L).transpose();
+  EXPECT_LE((L - test::to3(before.L)).norm(), 1e-12 * sL)
+      << "grid L " << L.transpose() << " particle L " << test::to3(before.L).transpose();
 }
 
 TEST(Transfers, P2GConservesMassMomentumAngularMomentum2D) {
@@ -110,13 +115,14 @@ void g2p_conserves(const std::string& scheme, const std::string& kernel, double 
   }
   sim.grid_to_particles(dt);
   const DiagnosticsRow after = sim.measure();
-  worst.add((test::to3(after.p) - p).norm() / sp, scheme == "pic" ? 0.0 : (test::to3(after.L) - L).norm() / sL);
+  worst.add((test::to3(after.p) - p).norm() / sp,
+            scheme == "pic" ? 0.0 : (test::to3(after.L) - L).norm() / sL);
   // Same budget as P2G: sums of ~1e4 O(1) products, 1e-12 relative to the absolute scale.
-  EXPECT_LE((test::to3(after.p) - p).norm(), 1e-12 * sp) << "particles p " << test::to3(after.p).transpose()
-                                                         << " grid p " << p.transpose();
+  EXPECT_LE((test::to3(after.p) - p).norm(), 1e-12 * sp)
+      << "particles p " << test::to3(after.p).transpose() << " grid p " << p.transpose();
   if (scheme != "pic") {
-    EXPECT_LE((test::to3(after.L) - L).norm(), 1e-12 * sL) << "particles L " << test::to3(after.L).transpose()
-                                                           << " grid L " << L.transpose();
+    EXPECT_LE((test::to3(after.L) - L).norm(), 1e-12 * sL)
+        << "particles L " << test::to3(after.L).transpose() << " grid L " << L.transpose();
   }
 }
 
@@ -168,7 +174,8 @@ void affine_round_trip(const std::string& scheme, const std::string& kernel) {
   const auto& g = sim.grid();
   double grid_err = 0;
   for (std::size_t i = 0; i < g.size(); ++i)
-    if (g.mass[i] > 0) grid_err = std::max(grid_err, (g.velocity[i] - (v + C * g.node_position(i))).norm());
+    if (g.mass[i] > 0)
+      grid_err = std::max(grid_err, (g.velocity[i] - (v + C * g.node_position(i))).norm());
   sim.grid_to_particles(0.0);
   double verr = 0, cerr = 0;
   for (std::size_t q = 0; q < n; ++q) {
@@ -180,8 +187,9 @@ void affine_round_trip(const std::string& scheme, const std::string& kernel) {
   EXPECT_LE(grid_err, 1e-12 * scale) << "grid velocity is not v + C x_i";
   EXPECT_LE(verr, 1e-12 * scale);
   EXPECT_LE(cerr, 1e-12 * C.norm());
-  std::printf("[ affine round trip %s %-9s %dD ] max |dv|/scale = %.3g, max |dC| = %.3g (|C| = %.3g)\n",
-              scheme.c_str(), kernel.c_str(), D, verr / scale, cerr, C.norm());
+  std::printf(
+      "[ affine round trip %s %-9s %dD ] max |dv|/scale = %.3g, max |dC| = %.3g (|C| = %.3g)\n",
+      scheme.c_str(), kernel.c_str(), D, verr / scale, cerr, C.norm());
 }
 
 TEST(Transfers, AffineRoundTripExact) {
@@ -220,7 +228,7 @@ void one_particle(const std::string& kernel) {
   MpmSimulation<double, D> sim(make_scene(D, "apic", kernel));
   randomize_particles<D>(sim, 1, 77 + D, 0.4, 0.45);
   auto& p = sim.particles();
-  p.v[0] *= 0.1;  // moves ≤ 0.17 in 1000 steps of 1e-3: stays clear of the walls
+  p.v[0] *= 0.1;     // moves ≤ 0.17 in 1000 steps of 1e-3: stays clear of the walls
   p.volume0[0] = 0;  // no elastic energy, so no force as F follows C (eq 34 scales by V_p)
   const Vec<double, D> v0 = p.v[0], x0 = p.x[0];
   const Mat<double, D> C0 = p.C[0];
@@ -239,8 +247,8 @@ void one_particle(const std::string& kernel) {
   EXPECT_LE((p.x[0] - (x0 + 1000 * dt * v0)).norm(), 1e-12) << "x_p^{n+1} = x_p^n + Δt v_p (eq 80)";
   ::testing::Test::RecordProperty(kernel + std::to_string(D) + "d_max_dv", std::to_string(verr));
   ::testing::Test::RecordProperty(kernel + std::to_string(D) + "d_max_dC", std::to_string(cerr));
-  std::printf("[ one-particle %dD %-9s ] max |dv| = %.3g, max |dC| = %.3g over 1000 steps\n", D, kernel.c_str(), verr,
-              cerr);
+  std::printf("[ one-particle %dD %-9s ] max |dv| = %.3g, max |dC| = %.3g over 1000 steps\n", D,
+              kernel.c_str(), verr, cerr);
 }
 
 TEST(Transfers, OneParticleStable) {

@@ -35,11 +35,11 @@ ChartCanvas::ChartCanvas(float font_px) : gl_(std::make_unique<Gl>()) {
   ImFontConfig cfg;
   cfg.FontDataOwnedByAtlas = false;  // the bytes are embedded in the binary
   cfg.OversampleH = 3;
-  static const ImWchar ranges[] = {0x0020, 0x00FF,   // Latin-1: ², ·, ×
-                                   0x0370, 0x03FF,   // Greek: Δ, α, λ
-                                   0x2013, 0x2014,   // dashes
-                                   0x2070, 0x209F,   // super- and subscripts
-                                   0x2212, 0x2212,   // minus sign
+  static const ImWchar ranges[] = {0x0020, 0x00FF,  // Latin-1: ², ·, ×
+                                   0x0370, 0x03FF,  // Greek: Δ, α, λ
+                                   0x2013, 0x2014,  // dashes
+                                   0x2070, 0x209F,  // super- and subscripts
+                                   0x2212, 0x2212,  // minus sign
                                    0};
   io.Fonts->AddFontFromMemoryTTF(const_cast<char*>(ttf.data()), int(ttf.size()), font_px, &cfg,
                                  ranges);

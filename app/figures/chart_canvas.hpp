@@ -26,7 +26,7 @@ class ChartCanvas {
   // gui::plot) in a window that fills it.
   render::Image draw(int width, int height, const std::function<void()>& body);
   std::string description() const { return description_; }
-  void make_current();        // the context, for other drawing (render::Renderer)
+  void make_current();  // the context, for other drawing (render::Renderer)
   ImFont* title_font() const { return title_font_; }  // the same face, larger
 
  private:

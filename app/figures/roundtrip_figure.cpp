@@ -59,7 +59,8 @@ void write_roundtrip_figure(ChartCanvas& canvas, const std::vector<int>& resolut
     const double slope = fitted_slope(results[s]);
     slopes.push_back(slope);
     char label[64];
-    std::snprintf(label, sizeof label, "%s (slope %.2f)", style_of(schemes[s]).label.c_str(), slope);
+    std::snprintf(label, sizeof label, "%s (slope %.2f)", style_of(schemes[s]).label.c_str(),
+                  slope);
     gui::PlotSeries p;
     p.label = label;
     p.color = style_of(schemes[s]).color;

@@ -35,13 +35,15 @@ bool choice_combo(const char* label, E& value, const std::vector<Choice<E>>& cho
 
 // The same with a first entry meaning "the scene's value".
 template <class E>
-bool optional_combo(const char* label, std::optional<E>& value, const std::vector<Choice<E>>& choices) {
+bool optional_combo(const char* label, std::optional<E>& value,
+                    const std::vector<Choice<E>>& choices) {
   bool changed = false;
   const std::string shown = value ? std::string(choice_key(choices, *value)) : "scene";
   if (ImGui::BeginCombo(label, shown.c_str())) {
     if (ImGui::Selectable("scene", !value) && value) value.reset(), changed = true;
     for (auto& c : choices) {
-      if (ImGui::Selectable(std::string(c.key).c_str(), value && *value == c.value) && !(value && *value == c.value))
+      if (ImGui::Selectable(std::string(c.key).c_str(), value && *value == c.value) &&
+          !(value && *value == c.value))
         value = c.value, changed = true;
       if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", std::string(c.help).c_str());
     }
@@ -131,10 +133,12 @@ void scene_section(ViewerState& st, SimWorker& worker) {
     ImGui::EndCombo();
   }
   ImGui::SetNextItemWidth(-60);
-  const bool enter = ImGui::InputTextWithHint("##open", "path/to/scene.json", st.open_path, sizeof st.open_path,
-                                              ImGuiInputTextFlags_EnterReturnsTrue);
+  const bool enter =
+      ImGui::InputTextWithHint("##open", "path/to/scene.json", st.open_path, sizeof st.open_path,
+                               ImGuiInputTextFlags_EnterReturnsTrue);
   ImGui::SameLine();
-  if ((ImGui::Button("Open", ImVec2(-1, 0)) || enter) && st.open_path[0]) load_scene_file(st, worker, st.open_path);
+  if ((ImGui::Button("Open", ImVec2(-1, 0)) || enter) && st.open_path[0])
+    load_scene_file(st, worker, st.open_path);
   if (!st.load_error.empty()) {
     ImGui::PushStyleColor(ImGuiCol_Text, kError);
     ImGui::TextWrapped("%s", st.load_error.c_str());
@@ -158,15 +162,17 @@ void playback_section(ViewerState& st, const Published& pub, SimWorker& worker) 
   if (ImGui::Button("Reset", ImVec2(w, 0))) worker.reset(), st.notice.clear();
   if (ImGui::RadioButton("real time", st.realtime)) st.realtime = true, worker.set_realtime(true);
   ImGui::SameLine();
-  if (ImGui::RadioButton("as fast as possible", !st.realtime)) st.realtime = false, worker.set_realtime(false);
+  if (ImGui::RadioButton("as fast as possible", !st.realtime))
+    st.realtime = false, worker.set_realtime(false);
   const double t = pub.panes.empty() ? 0 : pub.panes[0].snapshot->time;
   const double end = pub.scene ? pub.scene->time.end : 0;
-  ImGui::ProgressBar(end > 0 ? float(t / end) : 0, ImVec2(-1, 0),
-                     (std::to_string(t).substr(0, 7) + " / " + std::to_string(end).substr(0, 7) + " s").c_str());
+  ImGui::ProgressBar(
+      end > 0 ? float(t / end) : 0, ImVec2(-1, 0),
+      (std::to_string(t).substr(0, 7) + " / " + std::to_string(end).substr(0, 7) + " s").c_str());
   ImGui::Text("%s sim s / wall s", human(pub.sim_seconds_per_wall_second, "").c_str());
   ImGui::Text("%s particle-steps/s", human(pub.particle_steps_per_second, "").c_str());
-  ImGui::Text("display %.0f fps (%.1f ms/frame, GUI CPU %.1f ms)", st.frame_ms > 0 ? 1000 / st.frame_ms : 0,
-              st.frame_ms, st.frame_cpu_ms);
+  ImGui::Text("display %.0f fps (%.1f ms/frame, GUI CPU %.1f ms)",
+              st.frame_ms > 0 ? 1000 / st.frame_ms : 0, st.frame_ms, st.frame_cpu_ms);
   if (!pub.error.empty()) {
     ImGui::PushStyleColor(ImGuiCol_Text, kError);
     ImGui::TextWrapped("%s", pub.error.c_str());
@@ -184,10 +190,12 @@ void panes_section(ViewerState& st, const Published& pub, SimWorker& worker) {
   for (std::size_t k = 0; k < st.panes.size(); ++k) {
     PaneConfig& c = st.panes[k];
     ImGui::PushID(int(k));
-    ImGui::ColorButton("##c", ImGui::ColorConvertU32ToFloat4(pane_color(k)), ImGuiColorEditFlags_NoTooltip, ImVec2(12, 12));
+    ImGui::ColorButton("##c", ImGui::ColorConvertU32ToFloat4(pane_color(k)),
+                       ImGuiColorEditFlags_NoTooltip, ImVec2(12, 12));
     ImGui::SameLine();
     ImGui::SetNextItemWidth(80);
-    if (choice_combo("##scheme", c.scheme, scheme_choices())) worker.set_scheme(k, c.scheme, c.flip_alpha);
+    if (choice_combo("##scheme", c.scheme, scheme_choices()))
+      worker.set_scheme(k, c.scheme, c.flip_alpha);
     if (c.scheme == Scheme::flip) {
       ImGui::SameLine();
       ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x - (st.panes.size() > 1 ? 30 : 0));
@@ -212,16 +220,19 @@ void panes_section(ViewerState& st, const Published& pub, SimWorker& worker) {
     ImGui::Indent(18);
     const float half = (ImGui::GetContentRegionAvail().x - ImGui::GetStyle().ItemSpacing.x) / 2;
     ImGui::SetNextItemWidth(half);
-    if (optional_combo("##kernel", c.kernel, kernel_choices())) restart_because(st, worker, "Pane kernel");
+    if (optional_combo("##kernel", c.kernel, kernel_choices()))
+      restart_because(st, worker, "Pane kernel");
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("kernel for this pane (restarts)");
     ImGui::SameLine();
     ImGui::SetNextItemWidth(half);
-    if (optional_combo("##integrator", c.integrator, integrator_choices())) restart_because(st, worker, "Pane integrator");
+    if (optional_combo("##integrator", c.integrator, integrator_choices()))
+      restart_because(st, worker, "Pane integrator");
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("integrator for this pane (restarts)");
     ImGui::Unindent(18);
     ImGui::PopID();
   }
-  if (st.scene_loaded && st.panes.size() < 4 && ImGui::Button("+ add pane (restarts)", ImVec2(-1, 0))) {
+  if (st.scene_loaded && st.panes.size() < 4 &&
+      ImGui::Button("+ add pane (restarts)", ImVec2(-1, 0))) {
     PaneConfig next = st.panes.empty() ? PaneConfig{} : st.panes.back();
     next.scheme = Scheme((int(next.scheme) + 1) % int(scheme_choices().size()));
     st.panes.push_back(next);
@@ -233,10 +244,13 @@ void solver_section(ViewerState& st, SimWorker& worker) {
   section("Solver (changes restart)");
   SceneDesc& s = st.scene;
   ImGui::PushItemWidth(-170);
-  if (choice_combo("kernel", s.solver.kernel, kernel_choices())) restart_because(st, worker, "Kernel");
-  if (choice_combo("integrator", s.solver.integrator, integrator_choices())) restart_because(st, worker, "Integrator");
+  if (choice_combo("kernel", s.solver.kernel, kernel_choices()))
+    restart_because(st, worker, "Kernel");
+  if (choice_combo("integrator", s.solver.integrator, integrator_choices()))
+    restart_because(st, worker, "Integrator");
   parameter_field(st, worker, "time.end");
-  if (choice_combo("time step", s.time.rule, dt_rule_choices())) restart_because(st, worker, "Time-step rule");
+  if (choice_combo("time step", s.time.rule, dt_rule_choices()))
+    restart_because(st, worker, "Time-step rule");
   if (s.time.rule == DtRule::fixed) {
     parameter_field(st, worker, "time.dt.value");
   } else {
@@ -257,7 +271,8 @@ void solver_section(ViewerState& st, SimWorker& worker) {
     MaterialDesc& mat = s.materials[m];
     ImGui::PushID(int(m));
     ImGui::TextColored(kMuted, "material '%s'", mat.name.c_str());
-    if (choice_combo("model", mat.model, material_choices())) restart_because(st, worker, "Material model");
+    if (choice_combo("model", mat.model, material_choices()))
+      restart_because(st, worker, "Material model");
     for (const char* field : {"E", "nu", "rho"})
       parameter_field(st, worker, "materials." + std::to_string(m) + "." + field);
     ImGui::PopID();
@@ -276,13 +291,17 @@ void view_section(ViewerState& st, const Published& pub, SimWorker& worker) {
     ImGui::Checkbox("auto scale", &st.auto_scale);
     ImGui::SameLine();
     ImGui::SetNextItemWidth(-1);
-    if (ImGui::DragFloat("##cmax", &st.color_max, st.color_max * 0.01f + 1e-6f, 0, 1e9f, "max %.3g")) st.auto_scale = false;
+    if (ImGui::DragFloat("##cmax", &st.color_max, st.color_max * 0.01f + 1e-6f, 0, 1e9f,
+                         "max %.3g"))
+      st.auto_scale = false;
   }
   ImGui::Checkbox("velocity vectors", &st.vectors);
   ImGui::SameLine();
   ImGui::Checkbox("grid", &st.grid);
-  ImGui::SliderFloat("arrow length", &st.vector_gain, 0.1f, 10, "x%.2f", ImGuiSliderFlags_Logarithmic);
-  ImGui::SliderFloat("particle size", &st.particle_scale, 0.25f, 4, "x%.2f", ImGuiSliderFlags_Logarithmic);
+  ImGui::SliderFloat("arrow length", &st.vector_gain, 0.1f, 10, "x%.2f",
+                     ImGuiSliderFlags_Logarithmic);
+  ImGui::SliderFloat("particle size", &st.particle_scale, 0.25f, 4, "x%.2f",
+                     ImGuiSliderFlags_Logarithmic);
   ImGui::PopItemWidth();
   if (ImGui::Button("Frame domain", ImVec2(-1, 0))) st.framed_generation = ~std::uint64_t(0);
   (void)pub;
@@ -291,8 +310,9 @@ void view_section(ViewerState& st, const Published& pub, SimWorker& worker) {
 }  // namespace
 
 void draw_controls(ViewerState& st, const Published& pub, SimWorker& worker) {
-  ImGui::Begin("Controls", nullptr, ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoMove |
-                                         ImGuiWindowFlags_NoBringToFrontOnFocus);
+  ImGui::Begin("Controls", nullptr,
+               ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoMove |
+                   ImGuiWindowFlags_NoBringToFrontOnFocus);
   ImGui::TextColored(ImVec4(0.1f, 0.1f, 0.1f, 1), "apiclab");
   ImGui::SameLine();
   ImGui::TextColored(kMuted, "MPM transfers: PIC / FLIP / APIC / RPIC");

@@ -75,7 +75,8 @@ std::string tick_label(double v, double step) {
   if (v == 0) return "0";
   if (v != 0 && (a >= 1e5 || a < 1e-3)) {
     // Enough significant digits that neighbouring ticks differ.
-    const int sig = step > 0 ? int(std::floor(std::log10(a)) - std::floor(std::log10(step) + 1e-9)) + 1 : 3;
+    const int sig =
+        step > 0 ? int(std::floor(std::log10(a)) - std::floor(std::log10(step) + 1e-9)) + 1 : 3;
     std::snprintf(buf, sizeof buf, "%.*g", std::clamp(sig, 3, 10), v);
   } else {
     int digits = step > 0 ? std::clamp(int(-std::floor(std::log10(step) + 1e-9)), 0, 6) : 2;
@@ -140,7 +141,8 @@ void add_dashed(ImDrawList* dl, const std::vector<ImVec2>& pts, ImU32 color, flo
 
 }  // namespace
 
-void plot(const char* id, ImVec2 size, const PlotOptions& o, const std::vector<PlotSeries>& series) {
+void plot(const char* id, ImVec2 size, const PlotOptions& o,
+          const std::vector<PlotSeries>& series) {
   ImGui::PushID(id);
   const ImVec2 avail = ImGui::GetContentRegionAvail();
   if (size.x <= 0) size.x = avail.x;
@@ -202,9 +204,11 @@ void plot(const char* id, ImVec2 size, const PlotOptions& o, const std::vector<P
   };
   constexpr ImU32 kMinor = IM_COL32(240, 240, 240, 255);
   if (o.log_y && o.minor_log_grid)
-    minor(yr.lo, yr.hi, [&](double v) { dl->AddLine(ImVec2(a.x, sy(v)), ImVec2(b.x, sy(v)), kMinor); });
+    minor(yr.lo, yr.hi,
+          [&](double v) { dl->AddLine(ImVec2(a.x, sy(v)), ImVec2(b.x, sy(v)), kMinor); });
   if (o.log_x && o.minor_log_grid)
-    minor(xr.lo, xr.hi, [&](double v) { dl->AddLine(ImVec2(sx(v), a.y), ImVec2(sx(v), b.y), kMinor); });
+    minor(xr.lo, xr.hi,
+          [&](double v) { dl->AddLine(ImVec2(sx(v), a.y), ImVec2(sx(v), b.y), kMinor); });
   for (std::size_t k = 0; k < yt.size(); ++k) {
     const float y = sy(yt[k]);
     dl->AddLine(ImVec2(a.x, y), ImVec2(b.x, y), kGrid);
@@ -312,7 +316,8 @@ void plot(const char* id, ImVec2 size, const PlotOptions& o, const std::vector<P
       else
         dl->AddLine(l0, l1, series[k].color, 2.5f);
       if (series[k].markers)
-        dl->AddCircleFilled(ImVec2((l0.x + l1.x) / 2, l0.y), series[k].thickness + 2.0f, series[k].color, 12);
+        dl->AddCircleFilled(ImVec2((l0.x + l1.x) / 2, l0.y), series[k].thickness + 2.0f,
+                            series[k].color, 12);
       dl->AddText(ImVec2(la.x + 28, y), kText, series[k].label.c_str());
     }
   }
@@ -332,7 +337,8 @@ void plot(const char* id, ImVec2 size, const PlotOptions& o, const std::vector<P
         const std::size_t mid = (lo + hi) / 2;
         (s.x(mid) < xv ? lo = mid + 1 : hi = mid);
       }
-      ImGui::TextColored(ImGui::ColorConvertU32ToFloat4(s.color), "%s: %.6g", s.label.c_str(), s.y(lo));
+      ImGui::TextColored(ImGui::ColorConvertU32ToFloat4(s.color), "%s: %.6g", s.label.c_str(),
+                         s.y(lo));
     }
     ImGui::EndTooltip();
   }

@@ -30,9 +30,15 @@ struct PlotOptions {
   bool log_x = false;   // non-positive values are left out
   bool log_y = false;   // non-positive values are left out
   bool legend = true;
-  enum class Corner { top_right, top_left, bottom_right, bottom_left, best };  // best: fewest samples covered
+  enum class Corner {
+    top_right,
+    top_left,
+    bottom_right,
+    bottom_left,
+    best
+  };  // best: fewest samples covered
   Corner legend_corner = Corner::top_right;
-  bool interactive = true;  // false: no hover readout (offscreen figures)
+  bool interactive = true;      // false: no hover readout (offscreen figures)
   bool minor_log_grid = false;  // log axes: light grid lines at 2..9 times each decade
 };
 

@@ -42,7 +42,8 @@ void draw_plots(ViewerState& st, const Published& pub, ImVec2 pos, ImVec2 size) 
     ImGui::Combo("energy##c", &st.energy_component, "kinetic\0potential\0total\0");
     ImGui::SameLine(w);
     ImGui::SetNextItemWidth(w * 0.5f);
-    ImGui::Combo("momentum##c", &st.momentum_component, dim == 3 ? "p_x\0p_y\0p_z\0" : "p_x\0p_y\0");
+    ImGui::Combo("momentum##c", &st.momentum_component,
+                 dim == 3 ? "p_x\0p_y\0p_z\0" : "p_x\0p_y\0");
     if (dim == 3) {
       ImGui::SameLine(2 * w);
       ImGui::SetNextItemWidth(w * 0.5f);
@@ -64,21 +65,28 @@ void draw_plots(ViewerState& st, const Published& pub, ImVec2 pos, ImVec2 size) 
     const auto dE = [=](const DiagnosticsRow& r) { return std::abs(drift_rule.energy(r)); };
     const auto dL = [=](const DiagnosticsRow& r) { return drift_rule.angular_momentum(r); };
     const char* dL_label = drift_rule.angular_momentum_relative() ? "|dL|/|L0|" : "|dL| (L0 = 0)";
-    auto energy_of = [](const DiagnosticsRow& r, int c) { return c == 0 ? r.kinetic : c == 1 ? r.potential : r.total; };
+    auto energy_of = [](const DiagnosticsRow& r, int c) {
+      return c == 0 ? r.kinetic : c == 1 ? r.potential : r.total;
+    };
     if (!multi) {
       for (int c = 0; c < 3; ++c)
-        energy.push_back(series_of(h, ek[c], kComponent[c], [=](const DiagnosticsRow& r) { return energy_of(r, c); }));
+        energy.push_back(series_of(h, ek[c], kComponent[c],
+                                   [=](const DiagnosticsRow& r) { return energy_of(r, c); }));
       for (int c = 0; c < dim; ++c)
-        momentum.push_back(series_of(h, std::string("p_") + kAxes[c], kComponent[c], [=](const DiagnosticsRow& r) { return r.p[c]; }));
+        momentum.push_back(series_of(h, std::string("p_") + kAxes[c], kComponent[c],
+                                     [=](const DiagnosticsRow& r) { return r.p[c]; }));
       for (int c = dim == 2 ? 2 : 0; c < 3; ++c)
-        angular.push_back(series_of(h, std::string("L_") + kAxes[c], kComponent[c], [=](const DiagnosticsRow& r) { return r.L[c]; }));
+        angular.push_back(series_of(h, std::string("L_") + kAxes[c], kComponent[c],
+                                    [=](const DiagnosticsRow& r) { return r.L[c]; }));
       drift.push_back(series_of(h, "|dE|/|E0|", kComponent[0], dE));
       drift.push_back(series_of(h, dL_label, kComponent[1], dL));
       continue;
     }
     const ImU32 col = pane_color(k);
-    const int ec = st.energy_component, pc = std::min(st.momentum_component, dim - 1), ac = st.angular_component;
-    energy.push_back(series_of(h, name, col, [=](const DiagnosticsRow& r) { return energy_of(r, ec); }));
+    const int ec = st.energy_component, pc = std::min(st.momentum_component, dim - 1),
+              ac = st.angular_component;
+    energy.push_back(
+        series_of(h, name, col, [=](const DiagnosticsRow& r) { return energy_of(r, ec); }));
     momentum.push_back(series_of(h, name, col, [=](const DiagnosticsRow& r) { return r.p[pc]; }));
     angular.push_back(series_of(h, name, col, [=](const DiagnosticsRow& r) { return r.L[ac]; }));
     drift.push_back(series_of(h, name + " E", col, dE));
@@ -90,11 +98,13 @@ void draw_plots(ViewerState& st, const Published& pub, ImVec2 pos, ImVec2 size) 
   o.title = multi ? std::string(ek[st.energy_component]) + " energy [J]" : "energy [J]";
   plot("energy", cell, o, energy);
   ImGui::SameLine();
-  o.title = multi ? std::string("linear momentum p_") + kAxes[std::min(st.momentum_component, dim - 1)] + " [kg m/s]"
+  o.title = multi ? std::string("linear momentum p_") +
+                        kAxes[std::min(st.momentum_component, dim - 1)] + " [kg m/s]"
                   : "linear momentum [kg m/s]";
   plot("momentum", cell, o, momentum);
   ImGui::SameLine();
-  o.title = std::string("angular momentum ") + (multi || dim == 2 ? std::string("L_") + kAxes[st.angular_component] : "") +
+  o.title = std::string("angular momentum ") +
+            (multi || dim == 2 ? std::string("L_") + kAxes[st.angular_component] : "") +
             " [kg m^2/s]";
   plot("angular", cell, o, angular);
   ImGui::SameLine();

@@ -1,22 +1,26 @@
 #include "app/gui/scene_view.hpp"
 
-#include "render/figure.hpp"
-#include "render/legend.hpp"
-#include "render/snapshot_stats.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
+#include "render/figure.hpp"
+#include "render/legend.hpp"
+#include "render/snapshot_stats.hpp"
+
 namespace apiclab::gui {
 namespace {
 
-constexpr float kTitle = 26;  // pane title strip, pixels
-constexpr float kHint = 22;   // strip under the panes: how to move the camera
+constexpr float kTitle = 26;                       // pane title strip, pixels
+constexpr float kHint = 22;                        // strip under the panes: how to move the camera
 constexpr float kLegendFont = 13, kLegendPad = 8;  // the renderer's legend, pixels
 
-render::Rect scene_rect(render::Rect pane) { return {pane.x, pane.y + kTitle, pane.w, pane.h - kTitle}; }
-bool inside(render::Rect r, ImVec2 p) { return p.x >= r.x && p.y >= r.y && p.x < r.x + r.w && p.y < r.y + r.h; }
+render::Rect scene_rect(render::Rect pane) {
+  return {pane.x, pane.y + kTitle, pane.w, pane.h - kTitle};
+}
+bool inside(render::Rect r, ImVec2 p) {
+  return p.x >= r.x && p.y >= r.y && p.x < r.x + r.w && p.y < r.y + r.h;
+}
 ImU32 to_u32(render::Rgba8 c) { return IM_COL32(c.r, c.g, c.b, c.a); }
 
 // The scales follow the panes' snapshots (render/auto_scale.hpp, the PNGs' rules); they are
@@ -51,7 +55,8 @@ void handle_input(ViewerState& st, const Snapshot& s, render::Rect r, bool mouse
   }
   const ImVec2 d = io.MouseDelta;
   const bool left = ImGui::IsMouseDown(ImGuiMouseButton_Left);
-  const bool other = ImGui::IsMouseDown(ImGuiMouseButton_Right) || ImGui::IsMouseDown(ImGuiMouseButton_Middle);
+  const bool other =
+      ImGui::IsMouseDown(ImGuiMouseButton_Right) || ImGui::IsMouseDown(ImGuiMouseButton_Middle);
   render::View& v = st.view;
   if (s.dim == 2) {
     const float per_px = 2 * v.half_height / r.h;
@@ -113,8 +118,8 @@ void draw_hint(render::Rect r) {
   const char* hint = "drag: pan/orbit   wheel: zoom   double-click: frame";
   ImDrawList* dl = ImGui::GetBackgroundDrawList();
   dl->AddLine(ImVec2(r.x, r.y), ImVec2(r.x + r.w, r.y), IM_COL32(210, 210, 210, 255));
-  dl->AddText(ImVec2(r.x + r.w - 14 - ImGui::CalcTextSize(hint).x, r.y + 3), IM_COL32(130, 130, 130, 255),
-              hint);
+  dl->AddText(ImVec2(r.x + r.w - 14 - ImGui::CalcTextSize(hint).x, r.y + 3),
+              IM_COL32(130, 130, 130, 255), hint);
 }
 
 }  // namespace
@@ -139,25 +144,30 @@ render::FigureStyle figure_style(const ViewerState& st, int up_axis) {
   return style;
 }
 
-std::vector<render::Rect> draw_scene_panes(render::Renderer& r, ViewerState& st, const Published& pub,
-                                           render::Rect area) {
+std::vector<render::Rect> draw_scene_panes(render::Renderer& r, ViewerState& st,
+                                           const Published& pub, render::Rect area) {
   ImDrawList* dl = ImGui::GetBackgroundDrawList();
   if (pub.panes.empty()) {
-    const char* msg = st.load_error.empty() ? "Loading scene..." : "No scene: see the error on the left.";
+    const char* msg =
+        st.load_error.empty() ? "Loading scene..." : "No scene: see the error on the left.";
     const ImVec2 ts = ImGui::CalcTextSize(msg);
-    dl->AddText(ImVec2(area.x + (area.w - ts.x) / 2, area.y + area.h / 2), IM_COL32(90, 90, 90, 255), msg);
+    dl->AddText(ImVec2(area.x + (area.w - ts.x) / 2, area.y + area.h / 2),
+                IM_COL32(90, 90, 90, 255), msg);
     return {};
   }
   const Snapshot& first = *pub.panes[0].snapshot;
   const int up_axis = pub.scene ? render::up_axis_from_gravity(pub.scene->gravity, first.dim) : 1;
   const render::FigureStyle wanted = figure_style(st, up_axis);
   // The legend is the renderer's, as in the PNGs, in a column right of the panes.
-  const float legend_w = render::legend_width(r, kLegendFont, kLegendPad, st.color, st.vectors, first);
+  const float legend_w =
+      render::legend_width(r, kLegendFont, kLegendPad, st.color, st.vectors, first);
   const render::Rect panes_area{area.x, area.y, area.w - legend_w, area.h - kHint};
-  const render::Rect legend{area.x + area.w - legend_w, area.y + kTitle, legend_w, area.h - kHint - kTitle};
+  const render::Rect legend{area.x + area.w - legend_w, area.y + kTitle, legend_w,
+                            area.h - kHint - kTitle};
   const auto rects = pane_scene_rects(panes_area, pub.panes.size());
   if (st.framed_generation != pub.generation) {  // new scene or reset: frame the domain
-    st.view = render::frame_view(first.dim, render::domain_box(first), rects[0].w / rects[0].h, up_axis);
+    st.view =
+        render::frame_view(first.dim, render::domain_box(first), rects[0].w / rects[0].h, up_axis);
     st.framed_generation = pub.generation;
     st.scales.reset();
     st.scaled_for = nullptr;
@@ -165,7 +175,8 @@ std::vector<render::Rect> draw_scene_panes(render::Renderer& r, ViewerState& st,
   update_scales(st, pub);
   std::vector<const Snapshot*> snapshots;
   for (const PaneState& p : pub.panes) snapshots.push_back(p.snapshot.get());
-  const render::SceneStyle style = render::resolve_scene_style(wanted, snapshots, rects[0], st.scales);
+  const render::SceneStyle style =
+      render::resolve_scene_style(wanted, snapshots, rects[0], st.scales);
   if (st.auto_scale) st.color_max = style.color_max;  // the controls show the scale in use
 
   const ImVec2 mouse = ImGui::GetIO().MousePos;
@@ -194,22 +205,25 @@ std::vector<render::Rect> draw_scene_panes(render::Renderer& r, ViewerState& st,
     std::snprintf(buf, sizeof buf, "t = %.4g s   step %ld", s.time, s.step);
     std::string info = s.kernel + " / " + s.integrator + "   " + buf;
     if (ImGui::CalcTextSize(info.c_str()).x > room) info = buf;
-    dl->AddText(ImVec2(t1.x - 10 - ImGui::CalcTextSize(info.c_str()).x, t0.y + 5), IM_COL32(100, 100, 100, 255),
-                info.c_str());
-    if (k > 0) dl->AddLine(ImVec2(t0.x, t0.y), ImVec2(t0.x, sr.y + sr.h), IM_COL32(200, 200, 200, 255));
+    dl->AddText(ImVec2(t1.x - 10 - ImGui::CalcTextSize(info.c_str()).x, t0.y + 5),
+                IM_COL32(100, 100, 100, 255), info.c_str());
+    if (k > 0)
+      dl->AddLine(ImVec2(t0.x, t0.y), ImVec2(t0.x, sr.y + sr.h), IM_COL32(200, 200, 200, 255));
 
     if (p.failure) {  // the pane is frozen: say where and why
       const Failure& f = *p.failure;
-      std::snprintf(buf, sizeof buf, "BLEW UP at step %ld, t = %.5g s: %s", f.step, f.t, f.quantity.c_str());
+      std::snprintf(buf, sizeof buf, "BLEW UP at step %ld, t = %.5g s: %s", f.step, f.t,
+                    f.quantity.c_str());
       const float wrap = sr.w - 32, fh = ImGui::GetFontSize();
       const float msg_h = ImGui::CalcTextSize(f.message.c_str(), nullptr, false, wrap).y;
       const ImVec2 b0(sr.x + 8, sr.y + 8), b1(sr.x + sr.w - 8, sr.y + 20 + fh + msg_h);
       dl->AddRectFilled(b0, b1, IM_COL32(200, 30, 30, 230), 4);
       dl->AddText(ImVec2(b0.x + 8, b0.y + 4), IM_COL32(255, 255, 255, 255), buf);
-      dl->AddText(nullptr, 0, ImVec2(b0.x + 8, b0.y + 6 + ImGui::GetFontSize()), IM_COL32(255, 230, 230, 255),
-                  f.message.c_str(), nullptr, wrap);
+      dl->AddText(nullptr, 0, ImVec2(b0.x + 8, b0.y + 6 + ImGui::GetFontSize()),
+                  IM_COL32(255, 230, 230, 255), f.message.c_str(), nullptr, wrap);
     }
-    if (inside(sr, mouse) && !ImGui::GetIO().WantCaptureMouse && !ImGui::IsMouseDown(ImGuiMouseButton_Left)) {
+    if (inside(sr, mouse) && !ImGui::GetIO().WantCaptureMouse &&
+        !ImGui::IsMouseDown(ImGuiMouseButton_Left)) {
       const long i = pick(s, cam, sr, mouse);
       if (i >= 0) particle_tooltip(s, std::size_t(i));
     }

@@ -17,7 +17,7 @@ std::vector<render::Rect> pane_scene_rects(render::Rect area, std::size_t n);
 // (render/auto_scale.hpp) and legend (render/legend.hpp, the renderer's overlay); titles,
 // failure banners and the hover readout go into ImGui's background draw list.
 // Returns the rects of the particle views, one per pane.
-std::vector<render::Rect> draw_scene_panes(render::Renderer& r, ViewerState& st, const Published& pub,
-                                           render::Rect area);
+std::vector<render::Rect> draw_scene_panes(render::Renderer& r, ViewerState& st,
+                                           const Published& pub, render::Rect area);
 
 }  // namespace apiclab::gui

@@ -21,14 +21,14 @@
 #include "render/gl.hpp"
 #include "render/image.hpp"
 #include "render/palette.hpp"
-#include "render/target.hpp"
 #include "render/renderer.hpp"
+#include "render/target.hpp"
 
 namespace apiclab::gui {
 namespace {
 
-constexpr float kSidebar = 350;     // control column width, pixels
-constexpr float kSceneShare = 0.6f; // of the height right of the column; plots below
+constexpr float kSidebar = 350;      // control column width, pixels
+constexpr float kSceneShare = 0.6f;  // of the height right of the column; plots below
 
 void setup_style() {
   ImGui::StyleColorsLight();
@@ -75,7 +75,8 @@ void load_scene_file(ViewerState& st, SimWorker& worker, const std::string& path
     st.scene_loaded = true;
     st.load_error.clear();
     st.notice.clear();
-    if (st.panes.empty()) st.panes.push_back({st.scene.solver.scheme, st.scene.solver.flip_alpha, {}, {}});
+    if (st.panes.empty())
+      st.panes.push_back({st.scene.solver.scheme, st.scene.solver.flip_alpha, {}, {}});
     restart(st, worker);
     worker.play(true);
   } catch (const std::exception& e) {  // the window stays up and shows why
@@ -94,7 +95,8 @@ bool display_available() {
 }
 
 int run_viewer(const ViewerOptions& opt) {
-  glfwSetErrorCallback([](int code, const char* msg) { std::fprintf(stderr, "apiclab: GLFW %d: %s\n", code, msg); });
+  glfwSetErrorCallback(
+      [](int code, const char* msg) { std::fprintf(stderr, "apiclab: GLFW %d: %s\n", code, msg); });
   // A display server that has just started (xvfb-run on a busy machine) may need a moment.
   bool up = glfwInit();
   for (int i = 0; i < 5 && !up && std::getenv("DISPLAY"); ++i) {
@@ -102,8 +104,9 @@ int run_viewer(const ViewerOptions& opt) {
     up = glfwInit();
   }
   if (!up) {
-    std::fprintf(stderr, "apiclab: cannot open a window (no display? set DISPLAY or use xvfb-run); "
-                         "headless frames: apiclab render\n");
+    std::fprintf(stderr,
+                 "apiclab: cannot open a window (no display? set DISPLAY or use xvfb-run); "
+                 "headless frames: apiclab render\n");
     return 2;
   }
   glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
@@ -155,7 +158,8 @@ int run_viewer(const ViewerOptions& opt) {
     st.vectors = opt.vectors;
     st.color = render::parse_color_mode(opt.color);
     st.precision = parse_choice(precision_choices(), opt.precision, "precision");
-    for (auto& s : opt.schemes) st.panes.push_back({parse_choice(scheme_choices(), s, "scheme"), 1.0, {}, {}});
+    for (auto& s : opt.schemes)
+      st.panes.push_back({parse_choice(scheme_choices(), s, "scheme"), 1.0, {}, {}});
     std::error_code ec;
     for (auto& e : std::filesystem::directory_iterator(scenes_directory(), ec))
       if (e.path().extension() == ".json") st.scene_files.push_back(e.path().string());
@@ -196,11 +200,12 @@ int run_viewer(const ViewerOptions& opt) {
       ++frame;
       if (!opt.screenshot.empty() && frame >= std::max(opt.frames, 1)) {
         for (std::size_t k = 0; k < rects.size(); ++k)  // where each pane is, for the smoke test
-          std::printf("pane %zu: %.0f %.0f %.0f %.0f\n", k, rects[k].x, rects[k].y, rects[k].w, rects[k].h);
+          std::printf("pane %zu: %.0f %.0f %.0f %.0f\n", k, rects[k].x, rects[k].y, rects[k].w,
+                      rects[k].h);
         try {
           render::write_png(render::read_window_pixels(fw, fh), opt.screenshot);
-          std::printf("screenshot: %s (%dx%d, %ld frames, t = %.4g s)\n", opt.screenshot.c_str(), fw, fh, frame,
-                      pub->panes.empty() ? 0.0 : pub->panes[0].snapshot->time);
+          std::printf("screenshot: %s (%dx%d, %ld frames, t = %.4g s)\n", opt.screenshot.c_str(),
+                      fw, fh, frame, pub->panes.empty() ? 0.0 : pub->panes[0].snapshot->time);
         } catch (const std::exception& e) {
           std::fprintf(stderr, "apiclab: %s\n", e.what());
           status = 2;
@@ -208,10 +213,13 @@ int run_viewer(const ViewerOptions& opt) {
         if (!st.load_error.empty()) status = 2;  // scripts see that the scene did not load
         glfwSetWindowShouldClose(window, 1);
       }
-      if (opt.screenshot.empty() && opt.frames > 0 && frame >= opt.frames) {  // timed run: report, exit
-        std::printf("%ld frames, display %.1f fps (%.2f ms/frame, GUI CPU %.2f ms), %.3g sim s/wall s, "
-                    "%.3g particle-steps/s\n", frame, 1000 / st.frame_ms, st.frame_ms, st.frame_cpu_ms,
-                    pub->sim_seconds_per_wall_second, pub->particle_steps_per_second);
+      if (opt.screenshot.empty() && opt.frames > 0 &&
+          frame >= opt.frames) {  // timed run: report, exit
+        std::printf(
+            "%ld frames, display %.1f fps (%.2f ms/frame, GUI CPU %.2f ms), %.3g sim s/wall s, "
+            "%.3g particle-steps/s\n",
+            frame, 1000 / st.frame_ms, st.frame_ms, st.frame_cpu_ms,
+            pub->sim_seconds_per_wall_second, pub->particle_steps_per_second);
         glfwSetWindowShouldClose(window, 1);
       }
       const double t1 = now_seconds();
@@ -220,7 +228,8 @@ int run_viewer(const ViewerOptions& opt) {
       const double spent = now_seconds() - t0;
       if (opt.screenshot.empty() && spent < 1.0 / 62) glfwWaitEventsTimeout(1.0 / 62 - spent);
       const double now = now_seconds();
-      st.frame_ms = st.frame_ms == 0 ? (now - last) * 1000 : 0.9 * st.frame_ms + 0.1 * (now - last) * 1000;
+      st.frame_ms =
+          st.frame_ms == 0 ? (now - last) * 1000 : 0.9 * st.frame_ms + 0.1 * (now - last) * 1000;
       st.frame_cpu_ms = 0.9 * st.frame_cpu_ms + 0.1 * (t1 - t0) * 1000;
       last = now;
     }

@@ -7,9 +7,9 @@
 namespace apiclab::gui {
 
 struct ViewerOptions {
-  std::string scene = "rotating-disk";      // path or shipped scene name
-  std::vector<std::string> schemes;         // one pane per scheme; empty: the scene's
-  std::vector<std::string> overrides;       // --set KEY=VALUE, applied to the scene
+  std::string scene = "rotating-disk";  // path or shipped scene name
+  std::vector<std::string> schemes;     // one pane per scheme; empty: the scene's
+  std::vector<std::string> overrides;   // --set KEY=VALUE, applied to the scene
   std::string precision = "double";
   std::string color = "speed";
   bool vectors = false, realtime = true, paused = false;

@@ -35,8 +35,8 @@ struct ViewerState {
   std::uint64_t framed_generation = ~std::uint64_t(0);
   render::ColorMode color = render::ColorMode::speed;
   bool vectors = false, grid = false, auto_scale = true;
-  float color_max = 0;       // top of the colormap: shown (auto scale) or set by hand
-  float vector_gain = 1;     // multiplies the automatic arrow length
+  float color_max = 0;    // top of the colormap: shown (auto scale) or set by hand
+  float vector_gain = 1;  // multiplies the automatic arrow length
   float particle_scale = 1;
   const Snapshot* scaled_for = nullptr;  // snapshot the scales were last updated from
   render::ScaleState scales;             // render/auto_scale.hpp: shared by all panes
