@@ -1,5 +1,5 @@
 // The interactive viewer: a GLFW window with Dear ImGui controls, the renderer's panes side by
-// side, and live plots, fed by a SimWorker (DESIGN.md, Threads).
+// side, and live plots, fed by a SimWorker (docs/architecture.md, "Threads").
 #pragma once
 #include <string>
 #include <vector>
