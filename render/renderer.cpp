@@ -5,6 +5,7 @@
 #include <cstddef>
 
 #include "render/gl.hpp"
+#include "render/gl_upload.hpp"
 #include "render/program.hpp"
 #include "render/scene_geometry.hpp"
 
@@ -16,7 +17,6 @@ constexpr Rgba8 kArrowHalo{255, 255, 255, 140};
 constexpr Rgba8 kBox{120, 120, 120, 255};
 constexpr Rgba8 kGrid{222, 222, 222, 255};
 constexpr Rgba8 kCollider{70, 70, 70, 255};
-constexpr Rgba8 kFloor{238, 238, 236, 255};
 
 Vec3 to_vec3(const Vec3d& v) { return {float(v[0]), float(v[1]), float(v[2])}; }
 
@@ -27,14 +27,6 @@ void attribute(GLuint index, int count, GLenum type, std::size_t stride, std::si
   gl::VertexAttribPointer(index, count, type, type == GL_UNSIGNED_BYTE ? GL_TRUE : GL_FALSE,
                           GLsizei(stride), reinterpret_cast<const void*>(offset));
   gl::VertexAttribDivisor(index, per_instance ? 1 : 0);
-}
-
-template <class T>
-void upload(GLuint vbo, const std::vector<T>& data) {
-  gl::BindBuffer(GL_ARRAY_BUFFER, vbo);
-  // Orphan, then fill: the driver need not wait for the previous draw.
-  gl::BufferData(GL_ARRAY_BUFFER, GLsizeiptr(data.size() * sizeof(T)), nullptr, GL_STREAM_DRAW);
-  gl::BufferData(GL_ARRAY_BUFFER, GLsizeiptr(data.size() * sizeof(T)), data.data(), GL_STREAM_DRAW);
 }
 
 }  // namespace
@@ -344,80 +336,6 @@ bool Renderer::upload_particles(const Snapshot& s, const Camera& camera, Rect re
   return 2 * (1.3f * largest_px + 2) + 2 <= max_point_size_;
 }
 
-void Renderer::draw_floor(const Box3& box, int up, const Mat4& view_projection, Rect rect) {
-  const int a1 = (up + 1) % 3, a2 = (up + 2) % 3;
-  constexpr int kMap = 128;  // shadow map side: soft shadows come from its coarseness
-  GLint previous = 0;        // the caller's framebuffer (ours, or the GUI's window)
-  gl::GetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &previous);
-  if (!shadow_texture_) {
-    gl::GenTextures(1, &shadow_texture_);
-    gl::BindTexture(GL_TEXTURE_2D, shadow_texture_);
-    gl::TexImage2D(GL_TEXTURE_2D, 0, GL_R8, kMap, kMap, 0, GL_RED, GL_UNSIGNED_BYTE, nullptr);
-    gl::TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-    gl::TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-    gl::TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    gl::TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    gl::GenFramebuffers(1, &shadow_fbo_);
-    gl::BindFramebuffer(GL_FRAMEBUFFER, shadow_fbo_);
-    gl::FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, shadow_texture_,
-                             0);
-  }
-  // 1. The shadow map: the particles seen from straight above, u along a1 and v along a2.
-  gl::BindFramebuffer(GL_FRAMEBUFFER, shadow_fbo_);
-  gl::Viewport(0, 0, kMap, kMap);
-  gl::Disable(GL_SCISSOR_TEST);
-  gl::Disable(GL_DEPTH_TEST);
-  gl::ClearColor(0, 0, 0, 0);
-  gl::Clear(GL_COLOR_BUFFER_BIT);
-  const Vec3 c = box.center(), size = box.size();
-  Camera top;  // rows pick the world axes a1, a2, up; the map's far side is the floor
-  top.view(0, 0) = top.view(1, 1) = top.view(2, 2) = 0;
-  top.view(0, a1) = 1, top.view(0, 3) = -c[a1];
-  top.view(1, a2) = 1, top.view(1, 3) = -c[a2];
-  top.view(2, up) = 1, top.view(2, 3) = -(box.max[up] + 1);
-  top.projection =
-      ortho(-size[a1] / 2, size[a1] / 2, -size[a2] / 2, size[a2] / 2, 0.5f, size[up] + 2);
-  const float map_px = largest_radius_ * kMap / std::max(std::min(size[a1], size[a2]), 1e-6f);
-  gl::BlendEquation(GL_MAX);
-  shadow_map_->use();
-  shadow_map_->set("u_flatten_axis", up);
-  shadow_map_->set("u_flatten_to", box.min[up]);
-  shadow_map_->set("u_radius_scale", 1.2f);
-  shadow_map_->set("u_shadow_reach", std::max(size[up], 1e-6f));
-  draw_particles(*shadow_map_, top, {0, 0, float(kMap), float(kMap)},
-                 2 * (1.6f * map_px + 2) + 2 <= max_point_size_);
-  gl::BlendEquation(GL_FUNC_ADD);
-  gl::BindFramebuffer(GL_FRAMEBUFFER, GLuint(previous));
-  set_viewport(rect);
-  gl::Enable(GL_DEPTH_TEST);
-
-  // 2. The floor face, darkened where the map says.
-  Vec3 q[4];
-  for (int k = 0; k < 4; ++k) {
-    q[k][up] = box.min[up];
-    q[k][a1] = (k == 1 || k == 2) ? box.max[a1] : box.min[a1];
-    q[k][a2] = (k >= 2) ? box.max[a2] : box.min[a2];
-  }
-  std::vector<FillVertex> floor;
-  for (int k : {0, 1, 2, 0, 2, 3}) floor.push_back({q[k], kFloor});
-  upload(fill_vbo_, floor);
-  Vec3 axis_u, axis_v;
-  axis_u[a1] = 1 / std::max(size[a1], 1e-12f);
-  axis_v[a2] = 1 / std::max(size[a2], 1e-12f);
-  floor_->use();
-  floor_->set("u_matrix", view_projection);
-  floor_->set("u_shadow", 0);
-  floor_->set("u_origin", box.min);
-  floor_->set("u_axis_u", axis_u);
-  floor_->set("u_axis_v", axis_v);
-  floor_->set("u_texel", 1.0f / kMap);
-  gl::ActiveTexture(GL_TEXTURE0);
-  gl::BindTexture(GL_TEXTURE_2D, shadow_texture_);
-  gl::BindVertexArray(fill_vao_);
-  gl::DrawArrays(GL_TRIANGLES, 0, 6);
-  gl::BindVertexArray(0);
-}
-
 void Renderer::draw_particles(const Program& program, const Camera& camera, Rect rect,
                               bool points) {
   if (particles_.empty()) return;
@@ -437,113 +355,6 @@ void Renderer::draw_particles(const Program& program, const Camera& camera, Rect
     gl::DrawArraysInstanced(GL_TRIANGLE_STRIP, 0, 4, GLsizei(particles_.size()));
   gl::BindVertexArray(0);
   gl::Disable(GL_PROGRAM_POINT_SIZE);
-}
-
-void Renderer::draw_segments(const std::vector<SegmentInstance>& segments, const Mat4& view,
-                             const Mat4& projection, Vec2 viewport) {
-  if (segments.empty()) return;
-  upload(segment_vbo_, segments);
-  segments_->use();
-  segments_->set("u_view", view);
-  segments_->set("u_projection", projection);
-  segments_->set("u_viewport", viewport.x, viewport.y);
-  gl::BindVertexArray(segment_vao_);
-  gl::DrawArraysInstanced(GL_TRIANGLES, 0, 9, GLsizei(segments.size()));
-  gl::BindVertexArray(0);
-}
-
-void Renderer::draw_fills(const std::vector<FillVertex>& vertices, const Mat4& matrix) {
-  if (vertices.empty()) return;
-  upload(fill_vbo_, vertices);
-  fills_->use();
-  fills_->set("u_matrix", matrix);
-  gl::BindVertexArray(fill_vao_);
-  gl::DrawArrays(GL_TRIANGLES, 0, GLsizei(vertices.size()));
-  gl::BindVertexArray(0);
-}
-
-void Renderer::fill_rect(Rect r, Rgba8 color) {
-  const Vec2 c[4] = {{r.x, r.y}, {r.x + r.w, r.y}, {r.x + r.w, r.y + r.h}, {r.x, r.y + r.h}};
-  const Rgba8 colors[4] = {color, color, color, color};
-  fill_quad(c, colors);
-}
-
-void Renderer::fill_quad(const Vec2 corners[4], const Rgba8 colors[4]) {
-  for (int k : {0, 1, 2, 0, 2, 3})
-    overlay_fills_.push_back({{corners[k].x, corners[k].y, 0}, colors[k]});
-}
-
-void Renderer::line(Vec2 a, Vec2 b, float width, Rgba8 color, float head) {
-  overlay_lines_.push_back({{a.x, a.y, 0}, {b.x, b.y, 0}, color, width, head, 0});
-}
-
-Renderer::FontEntry& Renderer::font_entry(float size) {
-  const int key = std::max(6, int(std::lround(size)));
-  auto it = fonts_.find(key);
-  if (it != fonts_.end()) return it->second;
-  FontEntry& e = fonts_[key];
-  e.font = std::make_unique<Font>(float(key));
-  gl::GenTextures(1, &e.texture);
-  gl::BindTexture(GL_TEXTURE_2D, e.texture);
-  gl::PixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  gl::TexImage2D(GL_TEXTURE_2D, 0, GL_R8, e.font->atlas_width(), e.font->atlas_height(), 0, GL_RED,
-                 GL_UNSIGNED_BYTE, e.font->atlas().data());
-  gl::TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
-  gl::TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  gl::TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  gl::TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-  return e;
-}
-
-const Font& Renderer::font(float size) { return *font_entry(size).font; }
-
-float Renderer::text_width(std::string_view utf8, float size) {
-  return font_entry(size).font->width(utf8);
-}
-
-float Renderer::text(std::string_view utf8, float x, float y, float size, Rgba8 color,
-                     float align) {
-  FontEntry& e = font_entry(size);
-  const float w = e.font->width(utf8);
-  // Whole-pixel pen and baseline keep glyph stems sharp.
-  const float x0 = std::round(x - align * w), y0 = std::round(y);
-  std::vector<Font::Quad> quads;
-  e.font->layout(utf8, x0, y0, quads);
-  for (const Font::Quad& q : quads) {
-    const TextVertex v[4] = {{q.x0, q.y0, q.s0, q.t0, color},
-                             {q.x1, q.y0, q.s1, q.t0, color},
-                             {q.x1, q.y1, q.s1, q.t1, color},
-                             {q.x0, q.y1, q.s0, q.t1, color}};
-    for (int k : {0, 1, 2, 0, 2, 3}) e.vertices.push_back(v[k]);
-  }
-  return w;
-}
-
-void Renderer::end_frame() {
-  gl::Viewport(0, 0, width_, height_);
-  gl::Disable(GL_DEPTH_TEST);
-  gl::Disable(GL_SCISSOR_TEST);
-  gl::Enable(GL_BLEND);
-  gl::BlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
-  // Pixel space with y down, origin at the top-left corner.
-  const Mat4 pixels = ortho(0, float(width_), float(height_), 0, -1, 1);
-  draw_fills(overlay_fills_, pixels);
-  draw_segments(overlay_lines_, Mat4{}, pixels, {float(width_), float(height_)});
-  text_->use();
-  text_->set("u_viewport", float(width_), float(height_));
-  text_->set("u_atlas", 0);
-  gl::ActiveTexture(GL_TEXTURE0);
-  for (auto& [size, e] : fonts_) {
-    if (e.vertices.empty()) continue;
-    upload(text_vbo_, e.vertices);
-    gl::BindTexture(GL_TEXTURE_2D, e.texture);
-    gl::BindVertexArray(text_vao_);
-    gl::DrawArrays(GL_TRIANGLES, 0, GLsizei(e.vertices.size()));
-    e.vertices.clear();
-  }
-  gl::BindVertexArray(0);
-  overlay_lines_.clear();
-  overlay_fills_.clear();
 }
 
 }  // namespace apiclab::render
