@@ -1,6 +1,7 @@
 // Shared helpers for the solver tests: small scenes as JSON text, random particle states.
 #pragma once
 #include <cstdio>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <string>
 #include <vector>
@@ -15,21 +16,19 @@ namespace apiclab::test {
 inline std::string scene_json(int dim, const std::string& scheme, const std::string& kernel,
                               double dx = 1.0 / 16, const std::string& boundary = "\"slip\"",
                               double E = 1000.0) {
-  auto v = [dim](double a) {
-    std::string s = "[" + std::to_string(a);
-    for (int i = 1; i < dim; ++i) s += "," + std::to_string(a);
-    return s + "]";
-  };
-  char dxs[64];
-  std::snprintf(dxs, sizeof dxs, "%.17g", dx);
-  char Es[64];
-  std::snprintf(Es, sizeof Es, "%.17g", E);
-  return std::string("{\"name\":\"unit\",\"dim\":") + std::to_string(dim) +
-         ",\"domain\":{\"min\":" + v(0) + ",\"max\":" + v(1) + ",\"dx\":" + dxs +
-         ",\"boundary\":" + boundary + "},\"solver\":{\"scheme\":\"" + scheme + "\",\"kernel\":\"" +
-         kernel + "\"},\"materials\":[{\"name\":\"m\",\"model\":\"neo-hookean\",\"E\":" + Es +
-         ",\"nu\":0.3,\"rho\":1}],\"objects\":[{\"shape\":{\"type\":\"box\",\"min\":" + v(0.45) +
-         ",\"max\":" + v(0.55) + "},\"material\":0}]}";
+  // `boundary` is JSON text: "\"slip\"" or an object of walls.
+  const std::vector<double> lo(std::size_t(dim), 0.0), hi(std::size_t(dim), 1.0),
+      box_min(std::size_t(dim), 0.45), box_max(std::size_t(dim), 0.55);
+  const nlohmann::json scene = {
+      {"name", "unit"},
+      {"dim", dim},
+      {"domain",
+       {{"min", lo}, {"max", hi}, {"dx", dx}, {"boundary", nlohmann::json::parse(boundary)}}},
+      {"solver", {{"scheme", scheme}, {"kernel", kernel}}},
+      {"materials", {{{"name", "m"}, {"model", "neo-hookean"}, {"E", E}, {"nu", 0.3}, {"rho", 1}}}},
+      {"objects",
+       {{{"shape", {{"type", "box"}, {"min", box_min}, {"max", box_max}}}, {"material", 0}}}}};
+  return scene.dump();
 }
 
 inline SceneDesc make_scene(int dim, const std::string& scheme, const std::string& kernel,
