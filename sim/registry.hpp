@@ -113,7 +113,10 @@ inline const std::vector<Choice<ColorMode>>& color_mode_choices() {
 template <class E>
 std::string choice_keys(const std::vector<Choice<E>>& choices) {
   std::string s;
-  for (auto& c : choices) s += (s.empty() ? "" : "|") + std::string(c.key);
+  for (auto& c : choices) {
+    if (!s.empty()) s += '|';
+    s += c.key;  // appended, not `"|" + key`: GCC 12 warns falsely (-Wrestrict) on that
+  }
   return s;
 }
 
