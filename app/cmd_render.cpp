@@ -1,12 +1,14 @@
 // `apiclab render` and `apiclab compare`: headless PNG frames through EGL (OSMesa fallback).
 // render draws one simulation; compare advances several schemes in lockstep from the same
 // scene and draws them side by side, one diagnostics CSV per scheme.
+#include <algorithm>
 #include <fstream>
 #include <set>
 #include <sstream>
 
 #include "app/frame_loop.hpp"
 #include "app/render_session.hpp"
+#include "app/run_outputs.hpp"
 #include "app/video.hpp"
 #include "cli.hpp"
 #include "commands.hpp"
@@ -15,11 +17,30 @@
 namespace apiclab::cli {
 namespace {
 
-std::ofstream open_csv(const std::string& path) {
+// A diagnostics CSV with its settings sidecar (NAME.csv.json, app/run_outputs.hpp).
+std::ofstream open_csv(const std::string& path, const SceneDesc& scene, const RenderOptions& o) {
   ensure_writable_file(path);
   std::ofstream out(path);
   out << diagnostics_header() << '\n';
+  write_csv_sidecar(path, run_settings(scene, precision_of(o.run), o.run.sets));
   return out;
+}
+
+// The frame's time (the healthy panes share it; a pane that failed stopped earlier) and each
+// pane's step count.
+void add_frame(FrameIndex& index, int frame, const Lockstep& panes) {
+  std::vector<long> steps;
+  double t = 0;
+  for (std::size_t k = 0; k < panes.size(); ++k) {
+    steps.push_back(panes[k].steps());
+    t = std::max(t, panes[k].time());
+  }
+  index.add(frame, t, steps);
+}
+
+void print_time_step_note(const SceneDesc& scene, bool quiet) {
+  if (const std::string note = time_step_note(scene); !note.empty() && !quiet)
+    std::fprintf(stderr, "apiclab: %s\n", note.c_str());
 }
 
 int render(const RenderOptions& o) {
@@ -27,8 +48,12 @@ int render(const RenderOptions& o) {
   const SceneDesc& scene = session.scene;
   const std::string scheme(key_of(scene.solver.scheme));
   const std::string csv_path = o.run.csv.empty() ? o.out + "/" + scheme + ".csv" : o.run.csv;
-  std::ofstream csv = open_csv(csv_path);
+  std::ofstream csv = open_csv(csv_path, scene, o);
   if (!o.run.dump.empty()) ensure_writable_dir(o.run.dump);
+  print_time_step_note(scene, o.run.quiet);
+  // The real time of every frame: PNGs in --out, particle dumps in --dump.
+  FrameIndex frame_times(o.out), dump_times;
+  if (!o.run.dump.empty() && o.run.dump != o.out) dump_times = FrameIndex(o.run.dump);
 
   auto sim = make_simulation(scene, precision_of(o.run));
   const bool noise = session.style.color == render::ColorMode::noise;
@@ -48,7 +73,9 @@ int render(const RenderOptions& o) {
       if (!sim->transfers())
         throw UsageError("--dump: solver method '" + scene.solver.method + "' has no particles");
       sim->transfers()->write_particles_csv(dump);
+      dump_times.add(f, sim->time(), {sim->steps()});
     }
+    frame_times.add(f, sim->time(), {sim->steps()});
     auto snapshot = sim->snapshot();
     if (noise && sim->transfers()) sim->transfers()->fill_velocity_noise(*snapshot);
     session.draw({snapshot.get()}, frame_path(o.out, f));
@@ -108,7 +135,7 @@ int compare(const RenderOptions& o) {
     SceneDesc scene = session.scene;
     scene.solver.scheme = scheme;
     Pane p{std::string(key_of(scheme)), make_simulation(scene, precision_of(o.run)),
-           open_csv(o.out + "/" + std::string(key_of(scheme)) + ".csv")};
+           open_csv(o.out + "/" + std::string(key_of(scheme)) + ".csv", scene, o)};
     DiagnosticsRow first = p.sim->measure();
     first.dt = 0;
     write_diagnostics_row(p.csv, first);
@@ -118,6 +145,10 @@ int compare(const RenderOptions& o) {
   const SceneDesc& scene = session.scene;
   const bool noise = session.style.color == render::ColorMode::noise;
   const FrameTimes times(scene);
+  print_time_step_note(scene, o.run.quiet);
+  std::vector<std::string> keys;
+  for (const Pane& p : panes) keys.push_back(p.key);
+  FrameIndex frame_times(o.out, keys);  // panes step in lockstep: one time per frame
   Progress progress(
       scene.name + " [" + o.schemes + ", " + std::to_string(particles) + " particles]",
       times.frames + 1, o.run.quiet);
@@ -145,8 +176,9 @@ int compare(const RenderOptions& o) {
       views.push_back(snapshots.back().get());
     }
     session.draw(views, frame_path(o.out, f));
+    add_frame(frame_times, f, lockstep);
     progress.update(f + 1, "frame " + std::to_string(f) + "/" + std::to_string(times.frames));
-    return failed < int(panes.size());
+    return failed < int(panes.size());  // a frozen pane still shows where it failed
   });
   session.sim_seconds = lockstep.stepping_seconds();
   session.flush();
@@ -157,8 +189,8 @@ int compare(const RenderOptions& o) {
   progress.finish(scene.name + ": " + session.timing() + "\nframes: " + frame_path(o.out, 0) +
                   " ...\ndiagnostics CSVs: " + csvs +
                   (o.video.empty() ? "" : "\nvideo: " + o.video) +
-                  (failures.empty() ? "" : "\nstopped early:" + failures));
-  return failed == int(panes.size()) ? 3 : 0;
+                  (failures.empty() ? "" : "\nblew up (frozen from then on):" + failures));
+  return failed > 0 ? 3 : 0;  // as run: any pane that blew up, after all frames and CSVs
 }
 
 }  // namespace

@@ -77,6 +77,8 @@ float legend_width(Renderer& r, float font, float pad, ColorMode color, bool vec
       content = std::max(content, 1.4f * font + r.text_width(name, font));
   } else {
     content = std::max(content, 1.4f * font + r.text_width("object 00", font));
+    for (const std::string& name : first.object_names)
+      content = std::max(content, 1.4f * font + r.text_width(name, font));
   }
   if (vectors) content = std::max(content, r.text_width("|v| = 0.000", font));
   return std::round(content + 2 * pad);
@@ -102,9 +104,12 @@ void draw_legend(Renderer& r, Rect area, float font, float pad, const SceneStyle
     for (int k = 0; k < n; ++k) {
       y += 0.3f * f;
       r.fill_rect({x, std::round(y), std::round(bar_w), std::round(bar_w)}, category_color(k));
+      // The scene's names; "material k" / "object k" only where the scene gives none.
+      const std::vector<std::string>& names =
+          s.color == ColorMode::material ? first.material_names : first.object_names;
       std::string name =
-          s.color == ColorMode::material && k < int(first.material_names.size())
-              ? first.material_names[k]
+          k < int(names.size()) && !names[k].empty()
+              ? names[k]
               : (s.color == ColorMode::material ? "material " : "object ") + std::to_string(k);
       r.text(name, x + 1.4f * f, y + 0.8f * f, f, kText);
       y += 1.2f * f;
