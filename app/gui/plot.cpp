@@ -21,6 +21,14 @@ struct Range {
   }
 };
 
+// `text`, or as much of it as fits in `width` pixels followed by "...".
+std::string fit_text(const std::string& text, float width) {
+  if (ImGui::CalcTextSize(text.c_str()).x <= width) return text;
+  std::string cut = text;
+  while (!cut.empty() && ImGui::CalcTextSize((cut + "...").c_str()).x > width) cut.pop_back();
+  return cut + "...";
+}
+
 // A readable range around the data: padded, never empty (a constant series sits mid-plot).
 Range pad(Range r, bool log) {
   if (!r.valid()) return log ? Range{1e-16, 1} : Range{0, 1};
@@ -205,9 +213,11 @@ void plot(const char* id, ImVec2 size, const PlotOptions& o,
   auto sy = [&](double y) { return float(b.y - (fy(y) - ylo) / (yhi - ylo) * (b.y - a.y)); };
 
   dl->AddRectFilled(a, b, IM_COL32(255, 255, 255, 255));
-  const float title_w = ImGui::CalcTextSize(o.title.c_str()).x;
+  // Text never runs into the next plot: cut to the room it has, with "...".
+  const std::string title = fit_text(o.title, size.x - 8);
+  const float title_w = ImGui::CalcTextSize(title.c_str()).x;
   dl->AddText(ImVec2(o.interactive ? p0.x + 4 : (a.x + b.x - title_w) / 2, p0.y + 2), kText,
-              o.title.c_str());
+              title.c_str());
   // Minor grid lines of log axes: 2..9 times each decade.
   auto minor = [&](double lo, double hi, auto&& draw) {
     for (double d = std::pow(10.0, std::floor(std::log10(lo))); d <= hi; d *= 10)
@@ -291,8 +301,12 @@ void plot(const char* id, ImVec2 size, const PlotOptions& o,
 
   // Legend, in a top corner inside the box: the band the y range left empty for it.
   if (legend) {
+    std::vector<std::string> labels;  // cut so the legend stays inside the box
     float w = 0;
-    for (auto& s : series) w = std::max(w, ImGui::CalcTextSize(s.label.c_str()).x);
+    for (auto& s : series) {
+      labels.push_back(fit_text(s.label, b.x - a.x - 8 - 34));
+      w = std::max(w, ImGui::CalcTextSize(labels.back().c_str()).x);
+    }
     const float lw = w + 34, lh = legend_h;
     using C = PlotOptions::Corner;
     auto box_at = [&](C c) {
@@ -332,7 +346,7 @@ void plot(const char* id, ImVec2 size, const PlotOptions& o,
       if (series[k].markers)
         dl->AddCircleFilled(ImVec2((l0.x + l1.x) / 2, l0.y), series[k].thickness + 2.0f,
                             series[k].color, 12);
-      dl->AddText(ImVec2(la.x + 28, y), kText, series[k].label.c_str());
+      dl->AddText(ImVec2(la.x + 28, y), kText, labels[k].c_str());
     }
   }
 
