@@ -3,6 +3,7 @@
 #include <omp.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -171,7 +172,8 @@ void Progress::update(double done, const std::string& extra) {
   // A terminal gets one line rewritten in place; a log file or pipe gets plain lines, fewer.
   if (t - last_ < (terminal_ ? 0.25 : 2.0) && done < total_) return;
   last_ = t;
-  double elapsed = t - start_, frac = total_ > 0 ? done / total_ : 1;
+  // A fixed step may end past the total (the step at or just past time.end): 100 % at most.
+  double elapsed = t - start_, frac = total_ > 0 ? std::min(done / total_, 1.0) : 1;
   double eta = frac > 0 ? elapsed * (1 - frac) / frac : 0;
   std::fprintf(stderr,
                terminal_ ? "\r%s %5.1f%% %s elapsed %.1fs ETA %.1fs   "
