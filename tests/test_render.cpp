@@ -323,6 +323,26 @@ TEST(RenderPaths, RoundOffNoiseIsNotPaintedAsFullRange) {
   EXPECT_GE(scales.noise, kNoiseFloor * scales.speed);
 }
 
+// A scene at rest (two-cubes' first frame): round-off noise sets no scale; the first motion
+// sets it, on the floor relative to the speed.
+TEST(AutoScale, RestSetsNoNoiseScale) {
+  Snapshot rest = synthetic::scene_2d(), moving = rest;
+  for (float& v : rest.velocities) v = 0;
+  for (float& n : rest.noise) n = 1e-16f;
+  for (float& n : moving.noise) n = 1e-16f;
+  for (ScaleHold how : {ScaleHold::grow, ScaleHold::first_frame}) {
+    ScaleState s;
+    s.hold = how;
+    update_scales(s, {&rest});
+    EXPECT_EQ(s.speed, 0);
+    EXPECT_EQ(s.noise, 0) << "round-off at rest set the noise scale";
+    EXPECT_EQ(color_top(s, ColorMode::noise), 1.0f);
+    update_scales(s, {&moving});
+    EXPECT_GT(s.speed, 0);
+    EXPECT_FLOAT_EQ(s.noise, kNoiseFloor * s.speed);
+  }
+}
+
 TEST(AutoScale, GrowsOrHoldsTheFirstFrame) {
   Snapshot slow = synthetic::scene_2d(), fast = slow;
   for (float& v : fast.velocities) v *= 10;
