@@ -56,9 +56,9 @@ float draw_color_bar(Renderer& r, float x, float y, float f, float height, float
 std::string legend_title(ColorMode m) {
   switch (m) {
     case ColorMode::speed:
-      return "speed |v|";
+      return "speed |v| [m/s]";
     case ColorMode::noise:
-      return "noise |v \u2212 v_PIC|";
+      return "noise |v \u2212 v_PIC| [m/s]";
     case ColorMode::material:
       return "material";
     case ColorMode::object:
@@ -80,7 +80,7 @@ float legend_width(Renderer& r, float font, float pad, ColorMode color, bool vec
     for (const std::string& name : first.object_names)
       content = std::max(content, 1.4f * font + r.text_width(name, font));
   }
-  if (vectors) content = std::max(content, r.text_width("|v| = 0.000", font));
+  if (vectors) content = std::max(content, r.text_width("|v| = 0.000 m/s", font));
   return std::round(content + 2 * pad);
 }
 
@@ -131,7 +131,7 @@ void draw_legend(Renderer& r, Rect area, float font, float pad, const SceneStyle
     r.line({x, line_y}, {x + len, line_y}, std::max(1.0f, 0.9f * lw), {20, 20, 20, 235},
            std::max(4.0f, 3.5f * lw));
     y += 1.3f * f;
-    r.text("|v| = " + format_g(speed), x, y, f, kText);
+    r.text("|v| = " + format_g(speed) + " m/s", x, y, f, kText);
   }
 }
 
