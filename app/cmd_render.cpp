@@ -38,6 +38,17 @@ void add_frame(FrameIndex& index, int frame, const Lockstep& panes) {
   index.add(frame, t, steps);
 }
 
+// A long implicit step shows its Newton and CG iterations on the progress line (`frame` is
+// the frame being computed).
+void show_solver_progress(Simulation& sim, Progress& progress, const int& frame, int frames) {
+  sim.on_solver_iteration([&sim, &progress, &frame, frames](int newton, int cg, double residual) {
+    std::ostringstream s;
+    s << "frame " << frame << "/" << frames << ", t=" << sim.time() << ": Newton " << newton
+      << ", CG " << cg << ", residual " << residual;
+    progress.update(frame, s.str());
+  });
+}
+
 void print_time_step_note(const SceneDesc& scene, bool quiet) {
   if (const std::string note = time_step_note(scene); !note.empty() && !quiet)
     std::fprintf(stderr, "apiclab: %s\n", note.c_str());
@@ -64,6 +75,8 @@ int render(const RenderOptions& o) {
   Progress progress(
       scene.name + " [" + scheme + ", " + std::to_string(particle_count(*sim)) + " particles]",
       times.frames + 1, o.run.quiet);
+  int computing = 1;  // the frame being computed, for the solver's progress
+  show_solver_progress(*sim, progress, computing, times.frames);
   int status = 0;
   Lockstep panes({sim.get()});
   const auto on_row = [&](std::size_t, const DiagnosticsRow& r) { write_diagnostics_row(csv, r); };
@@ -80,6 +93,7 @@ int render(const RenderOptions& o) {
     if (noise && sim->transfers()) sim->transfers()->fill_velocity_noise(*snapshot);
     session.draw({snapshot.get()}, frame_path(o.out, f));
     progress.update(f + 1, "frame " + std::to_string(f) + "/" + std::to_string(times.frames));
+    computing = f + 1;
     if (sim->failure()) {
       session.flush();
       progress.finish("apiclab: " + sim->failure()->message + " (frames up to " +
@@ -152,8 +166,12 @@ int compare(const RenderOptions& o) {
   Progress progress(
       scene.name + " [" + o.schemes + ", " + std::to_string(particles) + " particles]",
       times.frames + 1, o.run.quiet);
+  int computing = 1;
   std::vector<Simulation*> sims;
-  for (Pane& p : panes) sims.push_back(p.sim.get());
+  for (Pane& p : panes) {
+    sims.push_back(p.sim.get());
+    show_solver_progress(*p.sim, progress, computing, times.frames);
+  }
   Lockstep lockstep(std::move(sims));
   std::string failures;
   int failed = 0;
@@ -178,6 +196,7 @@ int compare(const RenderOptions& o) {
     session.draw(views, frame_path(o.out, f));
     add_frame(frame_times, f, lockstep);
     progress.update(f + 1, "frame " + std::to_string(f) + "/" + std::to_string(times.frames));
+    computing = f + 1;
     return failed < int(panes.size());  // a frozen pane still shows where it failed
   });
   session.sim_seconds = lockstep.stepping_seconds();
