@@ -12,7 +12,8 @@ namespace apiclab {
 
 std::string apiclab_version() {
 #ifdef APICLAB_VERSION
-  return APICLAB_VERSION;
+  const std::string v = APICLAB_VERSION;
+  return v.empty() ? "unknown" : v;
 #else
   return "unknown";
 #endif
