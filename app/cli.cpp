@@ -1,7 +1,9 @@
 #include "cli.hpp"
 
 #include <omp.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -117,7 +119,15 @@ SceneDesc load_scene_with_options(const RunOptions& o) {
   for (auto& s : o.sets) sets.push_back(s);
   SceneDesc scene = load_scene(resolve_scene_path(o.scene), sets);
   scene.asset_dirs.push_back(assets_directory());
-  if (o.frames) apply_parameter(scene, "time.end", *o.frames / scene.time.fps);
+  if (o.frames) {
+    const double end = *o.frames / scene.time.fps;
+    if (end > scene.time.end * (1 + 1e-9) && !o.quiet)
+      std::fprintf(stderr,
+                   "apiclab: note: --frames %d runs to t = %g s, past the scene's end "
+                   "(time.end = %g s)\n",
+                   *o.frames, end, scene.time.end);
+    apply_parameter(scene, "time.end", end);
+  }
   return scene;
 }
 
@@ -150,22 +160,30 @@ void ensure_writable_file(const std::string& file) {
 }
 
 Progress::Progress(std::string label, double total, bool quiet)
-    : label_(std::move(label)), total_(total), quiet_(quiet), start_(now_seconds()) {}
+    : label_(std::move(label)),
+      total_(total),
+      quiet_(quiet),
+      terminal_(isatty(fileno(stderr))),
+      start_(now_seconds()) {}
 
 void Progress::update(double done, const std::string& extra) {
   if (quiet_) return;
   double t = now_seconds();
-  if (t - last_ < 0.25 && done < total_) return;
+  // A terminal gets one line rewritten in place; a log file or pipe gets plain lines, fewer.
+  if (t - last_ < (terminal_ ? 0.25 : 2.0) && done < total_) return;
   last_ = t;
-  double elapsed = t - start_, frac = total_ > 0 ? done / total_ : 1;
+  // A fixed step may end past the total (the step at or just past time.end): 100 % at most.
+  double elapsed = t - start_, frac = total_ > 0 ? std::min(done / total_, 1.0) : 1;
   double eta = frac > 0 ? elapsed * (1 - frac) / frac : 0;
-  std::fprintf(stderr, "\r%s %5.1f%% %s elapsed %.1fs ETA %.1fs   ", label_.c_str(), 100 * frac,
-               extra.c_str(), elapsed, eta);
+  std::fprintf(stderr,
+               terminal_ ? "\r%s %5.1f%% %s elapsed %.1fs ETA %.1fs   "
+                         : "%s %5.1f%% %s elapsed %.1fs ETA %.1fs\n",
+               label_.c_str(), 100 * frac, extra.c_str(), elapsed, eta);
   std::fflush(stderr);
 }
 
 void Progress::finish(const std::string& summary) {
-  if (!quiet_) std::fprintf(stderr, "\r\033[K");
+  if (!quiet_ && terminal_) std::fprintf(stderr, "\r\033[K");
   std::fprintf(stderr, "%s\n", summary.c_str());
 }
 

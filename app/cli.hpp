@@ -46,7 +46,8 @@ void ensure_writable_dir(const std::string& dir);
 // Checks that `file` can be created (its directory is created); throws UsageError.
 void ensure_writable_file(const std::string& file);
 
-// Progress with ETA on stderr, at most a few times a second, one line rewritten in place.
+// Progress with ETA on stderr: on a terminal one line rewritten in place a few times a second;
+// otherwise plain lines every few seconds, without \r or escape codes.
 class Progress {
  public:
   Progress(std::string label, double total, bool quiet);
@@ -56,7 +57,7 @@ class Progress {
  private:
   std::string label_;
   double total_;
-  bool quiet_;
+  bool quiet_, terminal_;  // terminal: stderr is a tty (\r rewrites; otherwise plain lines)
   double start_, last_ = -1;
 };
 

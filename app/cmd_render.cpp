@@ -1,12 +1,14 @@
 // `apiclab render` and `apiclab compare`: headless PNG frames through EGL (OSMesa fallback).
 // render draws one simulation; compare advances several schemes in lockstep from the same
 // scene and draws them side by side, one diagnostics CSV per scheme.
+#include <algorithm>
 #include <fstream>
 #include <set>
 #include <sstream>
 
 #include "app/frame_loop.hpp"
 #include "app/render_session.hpp"
+#include "app/run_outputs.hpp"
 #include "app/video.hpp"
 #include "cli.hpp"
 #include "commands.hpp"
@@ -15,11 +17,41 @@
 namespace apiclab::cli {
 namespace {
 
-std::ofstream open_csv(const std::string& path) {
+// A diagnostics CSV with its settings sidecar (NAME.csv.json, app/run_outputs.hpp).
+std::ofstream open_csv(const std::string& path, const SceneDesc& scene, const RenderOptions& o) {
   ensure_writable_file(path);
   std::ofstream out(path);
   out << diagnostics_header() << '\n';
+  write_csv_sidecar(path, run_settings(scene, precision_of(o.run), o.run.sets));
   return out;
+}
+
+// The frame's time (the healthy panes share it; a pane that failed stopped earlier) and each
+// pane's step count.
+void add_frame(FrameIndex& index, int frame, const Lockstep& panes) {
+  std::vector<long> steps;
+  double t = 0;
+  for (std::size_t k = 0; k < panes.size(); ++k) {
+    steps.push_back(panes[k].steps());
+    t = std::max(t, panes[k].time());
+  }
+  index.add(frame, t, steps);
+}
+
+// A long implicit step shows its Newton and CG iterations on the progress line (`frame` is
+// the frame being computed).
+void show_solver_progress(Simulation& sim, Progress& progress, const int& frame, int frames) {
+  sim.on_solver_iteration([&sim, &progress, &frame, frames](int newton, int cg, double residual) {
+    std::ostringstream s;
+    s << "frame " << frame << "/" << frames << ", t=" << sim.time() << ": Newton " << newton
+      << ", CG " << cg << ", residual " << residual;
+    progress.update(frame, s.str());
+  });
+}
+
+void print_time_step_note(const SceneDesc& scene, bool quiet) {
+  if (const std::string note = time_step_note(scene); !note.empty() && !quiet)
+    std::fprintf(stderr, "apiclab: %s\n", note.c_str());
 }
 
 int render(const RenderOptions& o) {
@@ -27,8 +59,12 @@ int render(const RenderOptions& o) {
   const SceneDesc& scene = session.scene;
   const std::string scheme(key_of(scene.solver.scheme));
   const std::string csv_path = o.run.csv.empty() ? o.out + "/" + scheme + ".csv" : o.run.csv;
-  std::ofstream csv = open_csv(csv_path);
+  std::ofstream csv = open_csv(csv_path, scene, o);
   if (!o.run.dump.empty()) ensure_writable_dir(o.run.dump);
+  print_time_step_note(scene, o.run.quiet);
+  // The real time of every frame: PNGs in --out, particle dumps in --dump.
+  FrameIndex frame_times(o.out), dump_times;
+  if (!o.run.dump.empty() && o.run.dump != o.out) dump_times = FrameIndex(o.run.dump);
 
   auto sim = make_simulation(scene, precision_of(o.run));
   const bool noise = session.style.color == render::ColorMode::noise;
@@ -39,6 +75,8 @@ int render(const RenderOptions& o) {
   Progress progress(
       scene.name + " [" + scheme + ", " + std::to_string(particle_count(*sim)) + " particles]",
       times.frames + 1, o.run.quiet);
+  int computing = 1;  // the frame being computed, for the solver's progress
+  show_solver_progress(*sim, progress, computing, times.frames);
   int status = 0;
   Lockstep panes({sim.get()});
   const auto on_row = [&](std::size_t, const DiagnosticsRow& r) { write_diagnostics_row(csv, r); };
@@ -48,11 +86,14 @@ int render(const RenderOptions& o) {
       if (!sim->transfers())
         throw UsageError("--dump: solver method '" + scene.solver.method + "' has no particles");
       sim->transfers()->write_particles_csv(dump);
+      dump_times.add(f, sim->time(), {sim->steps()});
     }
+    frame_times.add(f, sim->time(), {sim->steps()});
     auto snapshot = sim->snapshot();
     if (noise && sim->transfers()) sim->transfers()->fill_velocity_noise(*snapshot);
     session.draw({snapshot.get()}, frame_path(o.out, f));
     progress.update(f + 1, "frame " + std::to_string(f) + "/" + std::to_string(times.frames));
+    computing = f + 1;
     if (sim->failure()) {
       session.flush();
       progress.finish("apiclab: " + sim->failure()->message + " (frames up to " +
@@ -108,7 +149,7 @@ int compare(const RenderOptions& o) {
     SceneDesc scene = session.scene;
     scene.solver.scheme = scheme;
     Pane p{std::string(key_of(scheme)), make_simulation(scene, precision_of(o.run)),
-           open_csv(o.out + "/" + std::string(key_of(scheme)) + ".csv")};
+           open_csv(o.out + "/" + std::string(key_of(scheme)) + ".csv", scene, o)};
     DiagnosticsRow first = p.sim->measure();
     first.dt = 0;
     write_diagnostics_row(p.csv, first);
@@ -118,11 +159,19 @@ int compare(const RenderOptions& o) {
   const SceneDesc& scene = session.scene;
   const bool noise = session.style.color == render::ColorMode::noise;
   const FrameTimes times(scene);
+  print_time_step_note(scene, o.run.quiet);
+  std::vector<std::string> keys;
+  for (const Pane& p : panes) keys.push_back(p.key);
+  FrameIndex frame_times(o.out, keys);  // panes step in lockstep: one time per frame
   Progress progress(
       scene.name + " [" + o.schemes + ", " + std::to_string(particles) + " particles]",
       times.frames + 1, o.run.quiet);
+  int computing = 1;
   std::vector<Simulation*> sims;
-  for (Pane& p : panes) sims.push_back(p.sim.get());
+  for (Pane& p : panes) {
+    sims.push_back(p.sim.get());
+    show_solver_progress(*p.sim, progress, computing, times.frames);
+  }
   Lockstep lockstep(std::move(sims));
   std::string failures;
   int failed = 0;
@@ -145,8 +194,10 @@ int compare(const RenderOptions& o) {
       views.push_back(snapshots.back().get());
     }
     session.draw(views, frame_path(o.out, f));
+    add_frame(frame_times, f, lockstep);
     progress.update(f + 1, "frame " + std::to_string(f) + "/" + std::to_string(times.frames));
-    return failed < int(panes.size());
+    computing = f + 1;
+    return failed < int(panes.size());  // a frozen pane still shows where it failed
   });
   session.sim_seconds = lockstep.stepping_seconds();
   session.flush();
@@ -157,8 +208,8 @@ int compare(const RenderOptions& o) {
   progress.finish(scene.name + ": " + session.timing() + "\nframes: " + frame_path(o.out, 0) +
                   " ...\ndiagnostics CSVs: " + csvs +
                   (o.video.empty() ? "" : "\nvideo: " + o.video) +
-                  (failures.empty() ? "" : "\nstopped early:" + failures));
-  return failed == int(panes.size()) ? 3 : 0;
+                  (failures.empty() ? "" : "\nblew up (frozen from then on):" + failures));
+  return failed > 0 ? 3 : 0;  // as run: any pane that blew up, after all frames and CSVs
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 
 #include "app/clock.hpp"
 #include "app/frame_loop.hpp"
+#include "app/run_outputs.hpp"
 #include "cli.hpp"
 #include "commands.hpp"
 #include "sim/diagnostics.hpp"
@@ -26,16 +27,31 @@ void write_dump(const Simulation& sim, const std::string& dir, int frame) {
   particles->write_particles_csv(out);
 }
 
-int run(const RunOptions& o) {
+// run's own options beyond the common ones.
+struct RunCommandOptions {
+  RunOptions run;
+  std::string summary;  // --summary FILE.json
+};
+
+std::string steps_text(long n) { return std::to_string(n) + (n == 1 ? " step" : " steps"); }
+
+int run(const RunCommandOptions& command) {
+  const RunOptions& o = command.run;
+  const double cpu_start = cpu_seconds();
   SceneDesc scene = load_scene_with_options(o);
   apply_threads(o.threads);
   std::string csv = o.csv.empty() ? "apiclab-out/" + scene.name + "-" +
                                         std::string(key_of(scene.solver.scheme)) + ".csv"
                                   : o.csv;
   ensure_writable_file(csv);
+  if (!command.summary.empty()) ensure_writable_file(command.summary);
   if (!o.dump.empty()) ensure_writable_dir(o.dump);
   std::ofstream out(csv);
   out << diagnostics_header() << '\n';
+  const nlohmann::json settings = run_settings(scene, precision_of(o), o.sets);
+  write_csv_sidecar(csv, settings);
+  if (const std::string note = time_step_note(scene); !note.empty() && !o.quiet)
+    std::fprintf(stderr, "apiclab: %s\n", note.c_str());
 
   auto sim = make_simulation(scene, precision_of(o));
   DiagnosticsRow first = sim->measure();
@@ -46,6 +62,19 @@ int run(const RunOptions& o) {
                       std::string(key_of(scene.solver.integrator)) + ", " +
                       std::to_string(particle_count(*sim)) + " particles]";
   Progress progress(label, scene.time.end, o.quiet);
+  progress.update(0, "starting");
+  // A long implicit step reports its Newton iterations, so the line never goes quiet.
+  sim->on_solver_iteration([&](int newton, int cg, double residual) {
+    std::ostringstream extra;
+    extra << "t=" << sim->time() << " step " << sim->steps() + 1 << ": Newton " << newton << ", CG "
+          << cg << ", residual " << residual;
+    progress.update(sim->time(), extra.str());
+  });
+  FrameIndex frames;
+  if (!o.dump.empty()) {
+    frames = FrameIndex(o.dump);
+    write_csv_sidecar((std::filesystem::path(o.dump) / "frames.csv").string(), settings);
+  }
   double start = now_seconds();
   long unconverged = 0;
   Lockstep panes({sim.get()});
@@ -64,27 +93,47 @@ int run(const RunOptions& o) {
   };
   run_frame_loop(FrameTimes(scene), panes, on_row, [&](int f) {
     if (sim->failure()) return false;
-    if (!o.dump.empty()) write_dump(*sim, o.dump, f);
+    if (!o.dump.empty()) {
+      write_dump(*sim, o.dump, f);
+      frames.add(f, sim->time(), {sim->steps()});  // the frame's real time
+    }
     return true;
   });
+  sim->on_solver_iteration(nullptr);
+  double wall = now_seconds() - start;
+  if (!command.summary.empty()) {
+    const RunCosts costs{wall, cpu_seconds() - cpu_start, particle_count(*sim)};
+    nlohmann::json j =
+        run_summary_json(scene, settings, summary, sim->time(), costs, sim->failure());
+    j["outputs"] = {{"csv", csv},
+                    {"dump", o.dump.empty() ? nlohmann::json() : nlohmann::json(o.dump)}};
+    std::ofstream json(command.summary);
+    json << j.dump(2) << '\n';
+    if (!json) throw UsageError("cannot write run summary '" + command.summary + "'");
+  }
   if (const auto& failure = sim->failure()) {
     out.flush();
     progress.finish("apiclab: " + failure->message + " (diagnostics so far in " + csv + ")");
     return 3;
   }
-  double wall = now_seconds() - start;
   std::ostringstream s;
   s.precision(4);
-  s << scene.name << ": t = " << sim->time() << " s in " << sim->steps() << " steps, " << wall
-    << " s wall, " << double(particle_count(*sim)) * double(sim->steps()) / std::max(wall, 1e-9)
-    << " particle-steps/s; dE/E = " << summary.energy_drift()
-    << ", dL/L = " << summary.angular_momentum_drift()
-    << (summary.angular_momentum_relative() ? "" : " (absolute; L0 = 0)")
-    << "\ndiagnostics CSV: " << csv;
+  s << scene.name << ": t = " << sim->time() << " s in " << steps_text(sim->steps()) << " ("
+    << dt_stats_text(summary.dt()) << "), " << wall << " s wall, "
+    << double(particle_count(*sim)) * double(sim->steps()) / std::max(wall, 1e-9)
+    << " particle-steps/s; dE/E = " << summary.energy_drift();
+  if (summary.angular_momentum_relative())
+    s << ", |dL|/|L0| = " << summary.angular_momentum_drift();
+  else
+    s << ", |dL| = " << summary.angular_momentum_drift() << " kg m^2/s (absolute: L0 is round-off)";
+  s << "\ndiagnostics CSV: " << csv << " (settings in " << csv << ".json)";
   if (unconverged)
-    s << "\nwarning: " << unconverged
-      << " steps ended with a non-converged implicit solve (see residual)";
-  if (!o.dump.empty()) s << "\nparticle dumps: " << o.dump << "/frame_0000.csv ...";
+    s << "\nwarning: " << steps_text(unconverged)
+      << " ended with a non-converged implicit solve (see residual)";
+  if (!o.dump.empty())
+    s << "\nparticle dumps: " << o.dump << "/frame_0000.csv ... (real frame times in " << o.dump
+      << "/frames.csv)";
+  if (!command.summary.empty()) s << "\nrun summary: " << command.summary;
   progress.finish(s.str());
   return 0;
 }
@@ -92,10 +141,13 @@ int run(const RunOptions& o) {
 }  // namespace
 
 void register_run(CLI::App& root, CommandTable& table) {
-  auto opts = std::make_shared<RunOptions>();
+  auto opts = std::make_shared<RunCommandOptions>();
   CLI::App* cmd =
       root.add_subcommand("run", "headless simulation; diagnostics CSV, progress on stderr");
-  add_run_options(cmd, *opts);
+  add_run_options(cmd, opts->run);
+  cmd->add_option("--summary", opts->summary,
+                  "write a JSON run summary (settings, steps, dt statistics, costs, drifts, "
+                  "failure) to this file [default: none]");
   table.push_back({cmd, [opts] { return run(*opts); }});
 }
 

@@ -83,7 +83,8 @@ void SimWorker::rewind_panes() {
     if (auto* t = p.sim->transfers()) t->set_scheme(p.config.scheme, p.config.flip_alpha);
     p.history = {};
     p.history.push(p.sim->measure());
-    p.drift = std::make_shared<const DriftRule>(p.history[0], p.sim->total_mass(),
+    p.total_mass = p.sim->total_mass();
+    p.drift = std::make_shared<const DriftRule>(p.history[0], p.total_mass,
                                                 DriftRule::domain_extent(*scene_));
   }
   link_lockstep();
@@ -254,6 +255,7 @@ void SimWorker::publish() {
     s.snapshot = snapshot;
     s.history = p.history;
     s.drift = p.drift;
+    s.total_mass = p.total_mass;
     s.failure = p.sim->failure();
     out->panes.push_back(std::move(s));
   }

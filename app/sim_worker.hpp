@@ -53,6 +53,7 @@ struct PaneState {
   std::shared_ptr<const Snapshot> snapshot;
   History history;                         // rows[0] is the initial state (step 0)
   std::shared_ptr<const DriftRule> drift;  // drift from rows[0], by run's rule
+  double total_mass = 0;                   // of the pane's particles [kg]
   std::optional<Failure> failure;
 };
 
@@ -95,6 +96,7 @@ class SimWorker {
     std::unique_ptr<Simulation> initial, sim;
     History history;
     std::shared_ptr<const DriftRule> drift;
+    double total_mass = 0;
   };
   void enqueue(std::function<void()> command);
   void run();

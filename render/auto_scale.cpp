@@ -33,8 +33,11 @@ void update_scales(ScaleState& state, const std::vector<const Snapshot*>& panes)
     noise = std::max(noise, noise_quantile(*p, kScaleQuantile));
   }
   state.speed = hold(state.hold, state.speed, nice_ceil(speed));
-  const float floor = kNoiseFloor * (state.speed > 0 ? state.speed : 1.0f);
-  state.noise = hold(state.hold, state.noise, std::max(nice_ceil(noise), floor));
+  // Noise is measured against motion: while nothing moves (a scene starting at rest) there is
+  // no scale for it, and round-off noise must not set one (it would be painted full range).
+  if (state.speed > 0)
+    state.noise =
+        hold(state.hold, state.noise, std::max(nice_ceil(noise), kNoiseFloor * state.speed));
 }
 
 float color_top(const ScaleState& state, ColorMode mode) {

@@ -146,21 +146,21 @@ void draw_figure(Renderer& r, int width, int height, const std::vector<const Sna
     pixels_per_unit =
         draw_pane_scene(r, s, frame_view(s.dim, framed, aspect, style.up_axis), rect, scene);
     // Labels line up with the domain box (2D) or the pane (3D).
-    float left = rect.x, top = rect.y, bottom = rect.y + rect.h;
+    float left = rect.x, top = rect.y;
     if (s.dim == 2) {
       const Vec3 size = framed.size();
       left = std::round(rect.x + rect.w / 2 - size.x * pixels_per_unit / 2);
       top = std::round(rect.y + rect.h / 2 - size.y * pixels_per_unit / 2);
-      bottom = std::round(rect.y + rect.h / 2 + size.y * pixels_per_unit / 2);
     }
-    if (panes.size() > 1) r.text(scheme_label(s), left, top - 0.45f * f, f, kText);
-    if (s.failure) {
-      const std::string what =
-          "stopped at t = " + format("%.4g", s.failure->t) + ": " + s.failure->quantity;
-      const float w = r.text_width(what, f);
-      r.fill_rect({left + 0.3f * f, bottom - 1.9f * f, w + 0.8f * f, 1.5f * f},
-                  {255, 255, 255, 215});
-      r.text(what, left + 0.7f * f, bottom - 0.85f * f, f, kFailure);
+    float label_end = left;
+    if (panes.size() > 1) label_end += r.text(scheme_label(s), left, top - 0.45f * f, f, kText);
+    if (s.failure) {  // once, on the label line above the domain, cut to the pane's width
+      const float room = rect.x + rect.w - label_end - 0.6f * f;
+      std::string what = (panes.size() > 1 ? "  " : "") + std::string("blew up at t = ") +
+                         format("%.4g", s.failure->t) + ": " + s.failure->quantity;
+      if (r.text_width(what, f) > room) what = what.substr(0, what.find(':'));
+      if (r.text_width(what, f) <= room || panes.size() == 1)
+        r.text(what, label_end, top - 0.45f * f, f, kFailure);
     }
   }
 

@@ -56,9 +56,9 @@ float draw_color_bar(Renderer& r, float x, float y, float f, float height, float
 std::string legend_title(ColorMode m) {
   switch (m) {
     case ColorMode::speed:
-      return "speed |v|";
+      return "speed |v| [m/s]";
     case ColorMode::noise:
-      return "noise |v \u2212 v_PIC|";
+      return "noise |v \u2212 v_PIC| [m/s]";
     case ColorMode::material:
       return "material";
     case ColorMode::object:
@@ -77,8 +77,10 @@ float legend_width(Renderer& r, float font, float pad, ColorMode color, bool vec
       content = std::max(content, 1.4f * font + r.text_width(name, font));
   } else {
     content = std::max(content, 1.4f * font + r.text_width("object 00", font));
+    for (const std::string& name : first.object_names)
+      content = std::max(content, 1.4f * font + r.text_width(name, font));
   }
-  if (vectors) content = std::max(content, r.text_width("|v| = 0.000", font));
+  if (vectors) content = std::max(content, r.text_width("|v| = 0.000 m/s", font));
   return std::round(content + 2 * pad);
 }
 
@@ -102,9 +104,12 @@ void draw_legend(Renderer& r, Rect area, float font, float pad, const SceneStyle
     for (int k = 0; k < n; ++k) {
       y += 0.3f * f;
       r.fill_rect({x, std::round(y), std::round(bar_w), std::round(bar_w)}, category_color(k));
+      // The scene's names; "material k" / "object k" only where the scene gives none.
+      const std::vector<std::string>& names =
+          s.color == ColorMode::material ? first.material_names : first.object_names;
       std::string name =
-          s.color == ColorMode::material && k < int(first.material_names.size())
-              ? first.material_names[k]
+          k < int(names.size()) && !names[k].empty()
+              ? names[k]
               : (s.color == ColorMode::material ? "material " : "object ") + std::to_string(k);
       r.text(name, x + 1.4f * f, y + 0.8f * f, f, kText);
       y += 1.2f * f;
@@ -126,7 +131,7 @@ void draw_legend(Renderer& r, Rect area, float font, float pad, const SceneStyle
     r.line({x, line_y}, {x + len, line_y}, std::max(1.0f, 0.9f * lw), {20, 20, 20, 235},
            std::max(4.0f, 3.5f * lw));
     y += 1.3f * f;
-    r.text("|v| = " + format_g(speed), x, y, f, kText);
+    r.text("|v| = " + format_g(speed) + " m/s", x, y, f, kText);
   }
 }
 

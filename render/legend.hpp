@@ -8,7 +8,7 @@
 
 namespace apiclab::render {
 
-// "speed |v|", "noise |v − v_PIC|", "material", "object".
+// "speed |v| [m/s]", "noise |v − v_PIC| [m/s]", "material", "object".
 std::string legend_title(ColorMode mode);
 
 // The legend's width in pixels for text of `font` pixels and padding `pad`.

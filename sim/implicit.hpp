@@ -16,6 +16,7 @@
 #include <Eigen/Eigenvalues>
 
 #include "mpm.hpp"
+#include "round_off_floor.hpp"
 
 namespace apiclab {
 
@@ -264,8 +265,13 @@ void MpmSimulation<T, D>::implicit_velocity_update(T dt) {
   } problem{*this};
   const double vref = std::max({imp_.velocity_ref, double(imp_.gravity.norm() * dt), 1e-12});
   const SolverDesc& sv = scene_.solver;
-  const NewtonCgOptions options{sv.newton_tolerance * vref, sv.newton_max_iterations,
-                                sv.cg_tolerance, sv.cg_max_iterations};
+  // Tolerances below the scalar type's round-off are raised to it (sim/round_off_floor.hpp).
+  const RoundOffFloor floor = implicit_round_off_floor<T>(vref, double(dt), scene_.domain.dx,
+                                                          max_wave_speed_, double(imp_.b));
+  NewtonCgOptions options{std::max(sv.newton_tolerance * vref, floor.newton),
+                          sv.newton_max_iterations, std::max(sv.cg_tolerance, floor.cg),
+                          sv.cg_max_iterations};
+  if (on_solver_iteration_) options.on_iteration = &on_solver_iteration_;
   last_solve_ = newton_cg_minimise<T, D>(problem, imp_.dv, imp_.grad, imp_.active, grid_.mass,
                                          imp_.mass_sum, options, imp_.cg, imp_.residuals);
   for_each_box_node([&](std::size_t i) { grid_.velocity_new[i] = grid_.velocity[i] + imp_.dv[i]; });

@@ -32,7 +32,9 @@ class MpmSimulation final : public Simulation, public TransferControls {
   explicit MpmSimulation(const SceneDesc& scene);
   MpmSimulation(const MpmSimulation&) = default;
   std::unique_ptr<Simulation> clone() const override {
-    return std::make_unique<MpmSimulation>(*this);
+    auto copy = std::make_unique<MpmSimulation>(*this);
+    copy->on_solver_iteration_ = nullptr;  // the observer belongs to this run's caller
+    return copy;
   }
 
   // Simulation.
@@ -53,6 +55,9 @@ class MpmSimulation final : public Simulation, public TransferControls {
   }
   const std::optional<Failure>& failure() const override { return failure_; }
   std::shared_ptr<Snapshot> snapshot() const override;
+  void on_solver_iteration(SolverIterationObserver observer) override {
+    on_solver_iteration_ = std::move(observer);
+  }
   TransferControls* transfers() override { return this; }
   const TransferControls* transfers() const override { return this; }
 
@@ -175,6 +180,7 @@ class MpmSimulation final : public Simulation, public TransferControls {
   std::vector<Stencil<T, D, CubicKernel>> stencils_cubic_;
   ImplicitSolveState<T, D> imp_;
   NewtonCgReport last_solve_;  // the last grid update's (zero iterations when explicit)
+  SolverIterationObserver on_solver_iteration_;
 };
 
 }  // namespace apiclab

@@ -81,6 +81,7 @@ std::shared_ptr<Snapshot> MpmSimulation<T, D>::snapshot() const {
   s->dx = scene_.domain.dx;
   s->colliders = scene_.colliders;
   for (auto& m : scene_.materials) s->material_names.push_back(m.name);
+  for (auto& o : scene_.objects) s->object_names.push_back(o.name);
   s->failure = failure_;
   return s;
 }

@@ -47,7 +47,12 @@ std::optional<Failure> MpmSimulation<T, D>::step(double t_limit, DiagnosticsRow*
   auto start = std::chrono::steady_clock::now();
   double dt = choose_dt(t_limit);
   step_fixed(dt);
-  if (t_limit - time_ < 1e-12 * std::max(1.0, std::abs(t_limit))) time_ = t_limit;  // exact landing
+  // Landing on t_limit (a sum of steps is off by round-off): within 1e-12 of the time scale for
+  // the landing rules; for an exact fixed step within 1e-6 of a step, which n·Δt accumulated in
+  // double misses only after ~1e9 steps, so a frame time that is a whole number of steps is met.
+  const double landing =
+      scene_.time.lands_on_frames() ? 1e-12 * std::max(1.0, std::abs(t_limit)) : 1e-6 * dt;
+  if (std::abs(t_limit - time_) < landing) time_ = t_limit;
   DiagnosticsRow r = measure();
   r.dt = dt;
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -61,7 +66,7 @@ std::optional<Failure> MpmSimulation<T, D>::step(double t_limit, DiagnosticsRow*
   if (!last_solve_.converged && scene_.solver.stop_on_nonconvergence) {
     std::ostringstream d;
     d << "did not converge in " << last_solve_.newton_iterations << " Newton iterations (residual "
-      << last_solve_.residual << ")";
+      << last_solve_.residual << ", tolerance " << last_solve_.tolerance << ")";
     fail("implicit solve", d.str());
   } else if (non_finite_ || !std::isfinite(r.total) || !std::isfinite(r.kinetic)) {
     fail("particle state", "became non-finite (NaN or Inf)");

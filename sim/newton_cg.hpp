@@ -6,6 +6,7 @@
 #pragma once
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "math.hpp"
@@ -22,11 +23,15 @@ struct NewtonCgOptions {
   int max_newton_iterations;
   double cg_tolerance;  // relative to the first CG residual
   int max_cg_iterations;
+  // Called at every Newton and every CG iteration with the Newton iteration, the CG iterations
+  // so far and the last Newton residual (the progress of a long solve).
+  const std::function<void(int newton_iteration, int cg_iterations, double residual)>*
+      on_iteration = nullptr;
 };
 
 struct NewtonCgReport {
   int newton_iterations = 0, cg_iterations = 0;
-  double residual = 0;
+  double residual = 0, tolerance = 0;  // the last residual and the tolerance it was held to
   bool converged = true;
 };
 
@@ -55,6 +60,8 @@ NewtonCgReport newton_cg_minimise(Problem& problem, std::vector<Vec<T, D>>& x,
     for (std::uint32_t i : active) r2 += double(grad[i].squaredNorm()) / double(mass[i]);
     report.residual = std::sqrt(r2 / std::max(mass_sum, 1e-300));
     residuals.push_back(report.residual);
+    if (options.on_iteration)
+      (*options.on_iteration)(report.newton_iterations, report.cg_iterations, report.residual);
     if (report.residual <= options.tolerance ||
         report.newton_iterations >= options.max_newton_iterations)
       break;
@@ -73,6 +80,8 @@ NewtonCgReport newton_cg_minimise(Problem& problem, std::vector<Vec<T, D>>& x,
       problem.project(v.product);
       double ps = dot_m(v.search, v.product);
       ++report.cg_iterations;
+      if (options.on_iteration)
+        (*options.on_iteration)(report.newton_iterations, report.cg_iterations, report.residual);
       if (!(ps > 0)) break;
       T alpha = T(gamma / ps);
       for (std::uint32_t i : active) {
@@ -102,6 +111,7 @@ NewtonCgReport newton_cg_minimise(Problem& problem, std::vector<Vec<T, D>>& x,
     for (std::uint32_t i : active) x[i] = v.trial[i];
     energy = problem.energy(x, true);
   }
+  report.tolerance = options.tolerance;
   report.converged = report.residual <= options.tolerance;
   return report;
 }

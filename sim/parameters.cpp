@@ -79,8 +79,9 @@ std::vector<NumericParameter> declare() {
        .unit = "s",
        .range = kPositive,
        .default_value = 1e30,
-       .help = "fixed rule: the step (required); other rules: an upper bound dt_max (default none; "
-               "two-step: 0.005, Sec 6.7)",
+       .help = "fixed rule: the step, taken exactly (required; a frame is the step at or just "
+               "past its time); other rules: an upper bound dt_max (default none; two-step: "
+               "0.005, Sec 6.7)",
        .get = [](const S& s, int) { return s.time.dt; },
        .set = [](S& s, int, double v) { s.time.dt = v; }},
       {.key = "time.dt.nu",

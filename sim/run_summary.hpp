@@ -56,12 +56,20 @@ class RunSummary {
     last_ = row;
     dts_.push_back(row.dt);
     step_wall_seconds_ += row.wall_seconds;
+    max_energy_drift_ = std::max(max_energy_drift_, std::abs(drift_.energy(row)));
+    max_angular_momentum_drift_ =
+        std::max(max_angular_momentum_drift_, drift_.angular_momentum(row));
+    unconverged_ += row.converged ? 0 : 1;
   }
 
   const DriftRule& drift() const { return drift_; }
   double energy_drift() const { return drift_.energy(last_); }
   double angular_momentum_drift() const { return drift_.angular_momentum(last_); }
   bool angular_momentum_relative() const { return drift_.angular_momentum_relative(); }
+  // The largest |dE/E| and dL over the steps so far (dL by the same rule as above).
+  double max_energy_drift() const { return max_energy_drift_; }
+  double max_angular_momentum_drift() const { return max_angular_momentum_drift_; }
+  long unconverged_steps() const { return unconverged_; }
   const DiagnosticsRow& last() const { return last_; }
   long steps() const { return long(dts_.size()); }
   // Seconds inside the steps (DiagnosticsRow::wall_seconds), without I/O around them.
@@ -83,7 +91,8 @@ class RunSummary {
   DriftRule drift_;
   DiagnosticsRow last_;
   std::vector<double> dts_;
-  double step_wall_seconds_ = 0;
+  double step_wall_seconds_ = 0, max_energy_drift_ = 0, max_angular_momentum_drift_ = 0;
+  long unconverged_ = 0;
 };
 
 }  // namespace apiclab

@@ -189,6 +189,7 @@ void read_time(Reader r, SceneDesc& s) {
     t.nu = d.number("nu", t.nu);
     t.dt_min = d.number("min", t.dt_min);
     t.v_tau = d.number("v_tau", t.v_tau);
+    t.land_on_frames = d.boolean("land_on_frames", t.land_on_frames);
   } else {
     t.dt = 1e30;
   }

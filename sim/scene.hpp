@@ -36,6 +36,11 @@ struct TimeDesc {
   double nu = 0.5;       // Courant number for cfl, elastic and two-step rules
   double dt_min = 1e-6;  // two-step rule (Sec 6.7)
   double v_tau = 0.01;   // two-step rule (Sec 6.7)
+  // Fixed rule: the step is honoured exactly and a frame is the step at or just past its time;
+  // land_on_frames shortens the steps that would pass a frame time instead. The adaptive rules
+  // always land on frame times.
+  bool land_on_frames = false;
+  bool lands_on_frames() const { return rule != DtRule::fixed || land_on_frames; }
 };
 
 struct SolverDesc {

@@ -41,6 +41,13 @@ class Simulation {
   virtual double total_mass() const = 0;
   virtual const std::optional<Failure>& failure() const = 0;
 
+  // Sees every iteration of an iterative solve inside a step (implicit: the Newton iteration,
+  // the CG iterations so far, the last Newton residual), so that a long step can show
+  // progress. Families without one ignore it.
+  using SolverIterationObserver =
+      std::function<void(int newton_iteration, int cg_iterations, double residual)>;
+  virtual void on_solver_iteration(SolverIterationObserver) {}
+
   // Immutable copy of the state for drawing.
   virtual std::shared_ptr<Snapshot> snapshot() const = 0;
 

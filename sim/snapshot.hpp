@@ -54,7 +54,8 @@ struct Snapshot {
   double dx = 0;
   std::vector<ColliderDesc> colliders;
   std::vector<std::string> material_names;
-  std::vector<GridLayer> grids;  // optional grid layers (none for the MPM solvers)
+  std::vector<std::string> object_names;  // the scene's, by object index ("" when unnamed)
+  std::vector<GridLayer> grids;           // optional grid layers (none for the MPM solvers)
   std::optional<Failure> failure;
   std::size_t count() const { return dim ? positions.size() / size_t(dim) : 0; }
 };

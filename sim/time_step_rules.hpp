@@ -1,4 +1,6 @@
 // Time-step rules (registry `dt_rule_choices`), then the Sec 6.7 landing rule on t_limit.
+// The fixed rule returns its step unchanged (no landing, no frame-time cap) unless the scene
+// asks for time.dt.land_on_frames; the adaptive rules are capped at the frame interval and land.
 //
 // The CFL rule of Sec 4.3: Δt ≤ ν Δx / max_p (|v_p| + 6√d/Δx ‖B_p‖_F). It bounds the grid
 // velocity of eq 24 through |D_p⁻¹ (x_i − x_p)|, which needs D_p = k Δx² I (quadratic k = 1/4,
@@ -16,6 +18,8 @@ namespace apiclab {
 template <class T, int D>
 double MpmSimulation<T, D>::choose_dt(double t_limit) const {
   const TimeDesc& tm = scene_.time;
+  // A fixed step is the step (issue 11): the frame is the step at or just past its time.
+  if (!tm.lands_on_frames()) return tm.dt;
   const double dx = scene_.domain.dx;
   double dt_star = tm.dt;
   if (tm.rule != DtRule::fixed) {

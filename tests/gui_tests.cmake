@@ -31,6 +31,18 @@ add_executable(test_app_core test_app_core.cpp)
 target_link_libraries(test_app_core PRIVATE apiclab_app_core GTest::gtest_main)
 target_compile_definitions(test_app_core PRIVATE APICLAB_SOURCE_DIR="${CMAKE_SOURCE_DIR}")
 gtest_discover_tests(test_app_core DISCOVERY_TIMEOUT 60 TEST_PREFIX "app." PROPERTIES LABELS "unit")
+# What a run hands a person: exact fixed steps, drift series, sidecars, run summary (issue 11).
+add_executable(test_outputs test_outputs.cpp)
+target_link_libraries(test_outputs PRIVATE apiclab_app_core GTest::gtest_main)
+target_compile_definitions(test_outputs PRIVATE APICLAB_SOURCE_DIR="${CMAKE_SOURCE_DIR}")
+gtest_discover_tests(test_outputs DISCOVERY_TIMEOUT 60 TEST_PREFIX "app." PROPERTIES LABELS "unit")
+
+# The plot widget headless: its legend never covers a curve (ImGui without a renderer).
+if(TARGET apiclab_charts)
+  add_executable(test_plot_legend test_plot_legend.cpp)
+  target_link_libraries(test_plot_legend PRIVATE apiclab_charts GTest::gtest_main)
+  gtest_discover_tests(test_plot_legend DISCOVERY_TIMEOUT 60 TEST_PREFIX "gui." PROPERTIES LABELS "unit")
+endif()
 
 if(NOT TARGET apiclab_imgui_glfw)
   return()

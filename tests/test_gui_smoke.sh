@@ -11,7 +11,7 @@ if ! command -v xvfb-run >/dev/null; then
 fi
 png="$out/gui-smoke.png"
 rm -f "$png"
-xvfb-run -a -s "-screen 0 1600x900x24" "$APICLAB" gui rotating-disk --schemes pic,flip,apic --vectors \
+APICLAB_PRINT_LAYOUT=1 xvfb-run -a -s "-screen 0 1600x900x24" "$APICLAB" gui rotating-disk --schemes pic,flip,apic --vectors \
   --screenshot "$png" --frames 60 --size 1600x900 >"$out/gui-smoke.log" 2>&1 || {
   cat "$out/gui-smoke.log"
   exit 1

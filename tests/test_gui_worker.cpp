@@ -139,7 +139,7 @@ TEST(GuiWorker, BlowUpFreezesOnlyItsPane) {
   loaded(w,
          {{Scheme::apic, 1.0, {}, Integrator::symplectic},
           {Scheme::apic, 1.0, {}, Integrator::backward}},
-         {R"(time.dt={"rule":"fixed","value":0.05})"});
+         {R"(time.dt={"rule":"fixed","value":0.05,"land_on_frames":true})"});
   const auto p = run_frames(w, 6);
   ASSERT_EQ(p->panes.size(), 2u);
   ASSERT_TRUE(p->panes[0].failure) << "symplectic Euler at dt = 0.05 did not blow up";

@@ -18,6 +18,7 @@
 #include "render/target.hpp"
 #include "render/text.hpp"
 #include "render_scenes.hpp"
+#include "sim/simulation.hpp"
 
 namespace {
 
@@ -322,6 +323,26 @@ TEST(RenderPaths, RoundOffNoiseIsNotPaintedAsFullRange) {
   EXPECT_GE(scales.noise, kNoiseFloor * scales.speed);
 }
 
+// A scene at rest (two-cubes' first frame): round-off noise sets no scale; the first motion
+// sets it, on the floor relative to the speed.
+TEST(AutoScale, RestSetsNoNoiseScale) {
+  Snapshot rest = synthetic::scene_2d(), moving = rest;
+  for (float& v : rest.velocities) v = 0;
+  for (float& n : rest.noise) n = 1e-16f;
+  for (float& n : moving.noise) n = 1e-16f;
+  for (ScaleHold how : {ScaleHold::grow, ScaleHold::first_frame}) {
+    ScaleState s;
+    s.hold = how;
+    update_scales(s, {&rest});
+    EXPECT_EQ(s.speed, 0);
+    EXPECT_EQ(s.noise, 0) << "round-off at rest set the noise scale";
+    EXPECT_EQ(color_top(s, ColorMode::noise), 1.0f);
+    update_scales(s, {&moving});
+    EXPECT_GT(s.speed, 0);
+    EXPECT_FLOAT_EQ(s.noise, kNoiseFloor * s.speed);
+  }
+}
+
 TEST(AutoScale, GrowsOrHoldsTheFirstFrame) {
   Snapshot slow = synthetic::scene_2d(), fast = slow;
   for (float& v : fast.velocities) v *= 10;
@@ -344,6 +365,41 @@ TEST(AutoScale, GrowsOrHoldsTheFirstFrame) {
   ScaleState shared;
   update_scales(shared, {&slow, &blown});
   EXPECT_EQ(shared.speed, initial);
+}
+
+// Issue 11 (`compare --color noise` went 1, 8e-16, 1.2e-15, 0.4 over a run): a real run's
+// scales, as render and compare hold them across frames, never shrink, are shared by the panes,
+// and APIC's velocity noise on a rigid rotation (round-off: APIC transfers rigid motion exactly)
+// sits on the floor relative to the speed scale instead of being stretched to full range.
+TEST(AutoScale, RealRunScalesNeverShrinkAndRoundOffNoiseStaysOnTheFloor) {
+  const SceneDesc scene =
+      load_scene(std::string(APICLAB_SOURCE_DIR) + "/assets/scenes/rotating-disk.json",
+                 {"time.end=0.25", "solver.integrator=\"midpoint\""});
+  SceneDesc flip = scene;
+  flip.solver.scheme = Scheme::flip;
+  auto apic = make_simulation(scene), noisy = make_simulation(flip);
+  ScaleState shared, apic_only;
+  float speed = 0, noise = 0;
+  for (int f = 0; f <= 6; ++f) {
+    if (f > 0)
+      for (auto* sim : {apic.get(), noisy.get()}) ASSERT_FALSE(sim->advance_to(f / 24.0));
+    auto a = apic->snapshot(), b = noisy->snapshot();
+    apic->transfers()->fill_velocity_noise(*a);
+    noisy->transfers()->fill_velocity_noise(*b);
+    update_scales(shared, {a.get(), b.get()});
+    update_scales(apic_only, {a.get()});
+    EXPECT_GE(shared.speed, speed) << "frame " << f;
+    EXPECT_GE(shared.noise, noise) << "frame " << f;
+    speed = shared.speed, noise = shared.noise;
+    EXPECT_GE(shared.noise, kNoiseFloor * shared.speed);
+    if (f == 0) {  // APIC's initial rigid rotation: noise is round-off, the scale the floor
+      float apic_noise = 0;
+      for (float n : a->noise) apic_noise = std::max(apic_noise, n);
+      EXPECT_LT(apic_noise, 1e-6f * apic_only.speed) << "not round-off";
+      EXPECT_FLOAT_EQ(apic_only.noise, kNoiseFloor * apic_only.speed);
+    }
+  }
+  EXPECT_GT(speed, 0);
 }
 
 TEST(Palette, OneColourPerSchemeAndCategory) {

@@ -32,8 +32,8 @@ bool wanted(const std::vector<std::string>& only, const std::string& id) {
 
 std::vector<TimeFigure> time_figures() {
   const std::vector<std::string> four{"pic", "flip", "apic", "rpic"};
-  const Quantity L{"Angular momentum", "angular momentum L", angular_momentum};
-  const Quantity E{"Total energy", "total energy E", total_energy};
+  const Quantity L{"Angular momentum", "angular momentum L [kg m^2/s]", angular_momentum};
+  const Quantity E{"Total energy", "total energy E [J]", total_energy};
   const Quantity K{"Kinetic energy", "kinetic energy", kinetic_energy};
   // cost: relative run time, so that the job pool starts the longest runs first.
   return {

@@ -90,8 +90,8 @@ void write_roundtrip_figure(ChartCanvas& canvas, const std::vector<int>& resolut
     const float top = heading(canvas, "Fig. 11 — Round-trip transfer error (Sec. 6.8)", W);
     gui::PlotOptions o;
     o.title = "G2P then P2G, Δt = 0, quadratic B-splines";
-    o.x_label = "grid spacing Δx";
-    o.y_label = "L² error of grid velocity";
+    o.x_label = "grid spacing Δx [m]";
+    o.y_label = "L² error of grid velocity [m/s]";
     o.log_x = o.log_y = true;
     o.minor_log_grid = true;
     o.interactive = false;

@@ -5,6 +5,7 @@
 
 #include "app/cli.hpp"
 #include "app/figures/chart_style.hpp"
+#include "app/run_outputs.hpp"
 #include "render/image.hpp"
 
 namespace apiclab::figures {
@@ -46,6 +47,15 @@ void write_time_figure(ChartCanvas& canvas, const TimeFigure& f, const std::stri
             << d.kinetic_grid << ',' << d.potential << ',' << d.total << ',' << d.L[2] << '\n';
     if (!csv) throw cli::UsageError("cannot write " + base.string() + ".csv");
   }
+  // The runs behind the CSV, as a sidecar (app/run_outputs.hpp): scene, scheme, overrides.
+  nlohmann::json runs = nlohmann::json::array();
+  for (const jobs::Run& r : f.runs)
+    runs.push_back({{"scene", r.scene},
+                    {"scheme", r.scheme},
+                    {"overrides", r.overrides},
+                    {"t_end", r.t_end > 0 ? nlohmann::json(r.t_end) : nlohmann::json("scene's")},
+                    {"failure", r.failure}});
+  write_csv_sidecar(base.string() + ".csv", {{"runs", runs}});
   render::Image image = canvas.draw(kChartW, kChartH, [&] {
     const float top = heading(canvas, f.heading, kChartW);
     const float w = (kChartW - 30) / 2.0f, h = kChartH - top - 6;

@@ -21,6 +21,14 @@ struct Range {
   }
 };
 
+// `text`, or as much of it as fits in `width` pixels followed by "...".
+std::string fit_text(const std::string& text, float width) {
+  if (ImGui::CalcTextSize(text.c_str()).x <= width) return text;
+  std::string cut = text;
+  while (!cut.empty() && ImGui::CalcTextSize((cut + "...").c_str()).x > width) cut.pop_back();
+  return cut + "...";
+}
+
 // A readable range around the data: padded, never empty (a constant series sits mid-plot).
 Range pad(Range r, bool log) {
   if (!r.valid()) return log ? Range{1e-16, 1} : Range{0, 1};
@@ -29,6 +37,7 @@ Range pad(Range r, bool log) {
     if (hi - lo < 1) lo = (lo + hi) / 2 - 0.5, hi = lo + 1;
     return {std::pow(10.0, lo - 0.05 * (hi - lo)), std::pow(10.0, hi + 0.05 * (hi - lo))};
   }
+  if (r.lo == 0 && r.hi == 0) return {-1, 1};  // all zero (round-off momenta): a plain 0 line
   double span = r.hi - r.lo;
   if (span <= 1e-12 * std::max(std::abs(r.lo), std::abs(r.hi)) || span == 0) {
     const double half = std::max(std::abs(r.lo) * 1e-3, 1e-12);
@@ -169,6 +178,17 @@ void plot(const char* id, ImVec2 size, const PlotOptions& o,
     if (xr.hi <= xr.lo) xr.hi = xr.lo + 1;
   }
   yr = pad(yr, o.log_y);
+  // The legend never covers a curve: the y range grows at the top by the legend's height, so
+  // the legend sits in a band that holds no data (issue 11).
+  const bool legend = o.legend && !series.empty();
+  const float legend_h = 4 + series.size() * (fh + 1), box_h = size.y - 3 * fh - 12;
+  if (legend && box_h > 0 && legend_h + 8 < 0.6f * box_h && yr.valid()) {
+    const double f = (legend_h + 8) / box_h, grow = f / (1 - f);
+    if (o.log_y)
+      yr.hi = std::pow(10.0, std::log10(yr.hi) + grow * (std::log10(yr.hi) - std::log10(yr.lo)));
+    else
+      yr.hi += grow * (yr.hi - yr.lo);
+  }
   auto fx = [&](double x) { return o.log_x ? std::log10(x) : x; };
   auto fy = [&](double y) { return o.log_y ? std::log10(y) : y; };
   const double xlo = fx(xr.lo), xhi = fx(xr.hi), ylo = fy(yr.lo), yhi = fy(yr.hi);
@@ -193,9 +213,11 @@ void plot(const char* id, ImVec2 size, const PlotOptions& o,
   auto sy = [&](double y) { return float(b.y - (fy(y) - ylo) / (yhi - ylo) * (b.y - a.y)); };
 
   dl->AddRectFilled(a, b, IM_COL32(255, 255, 255, 255));
-  const float title_w = ImGui::CalcTextSize(o.title.c_str()).x;
+  // Text never runs into the next plot: cut to the room it has, with "...".
+  const std::string title = fit_text(o.title, size.x - 8);
+  const float title_w = ImGui::CalcTextSize(title.c_str()).x;
   dl->AddText(ImVec2(o.interactive ? p0.x + 4 : (a.x + b.x - title_w) / 2, p0.y + 2), kText,
-              o.title.c_str());
+              title.c_str());
   // Minor grid lines of log axes: 2..9 times each decade.
   auto minor = [&](double lo, double hi, auto&& draw) {
     for (double d = std::pow(10.0, std::floor(std::log10(lo))); d <= hi; d *= 10)
@@ -277,21 +299,27 @@ void plot(const char* id, ImVec2 size, const PlotOptions& o,
   dl->PopClipRect();
   dl->AddRect(a, b, kFrame);
 
-  // Legend, in a corner inside the box.
-  if (o.legend && !series.empty()) {
+  // Legend, in a top corner inside the box: the band the y range left empty for it.
+  if (legend) {
+    std::vector<std::string> labels;  // cut so the legend stays inside the box
     float w = 0;
-    for (auto& s : series) w = std::max(w, ImGui::CalcTextSize(s.label.c_str()).x);
-    const float lw = w + 34, lh = 4 + series.size() * (fh + 1);
+    for (auto& s : series) {
+      labels.push_back(fit_text(s.label, b.x - a.x - 8 - 34));
+      w = std::max(w, ImGui::CalcTextSize(labels.back().c_str()).x);
+    }
+    const float lw = w + 34, lh = legend_h;
     using C = PlotOptions::Corner;
     auto box_at = [&](C c) {
       const bool right = c == C::top_right || c == C::bottom_right;
       const bool top = c == C::top_right || c == C::top_left;
       return ImVec2(right ? b.x - 4 - lw : a.x + 4, top ? a.y + 4 : b.y - 4 - lh);
     };
-    C corner = o.legend_corner;
-    if (corner == C::best) {  // the corner whose box covers the fewest samples
+    C corner = o.legend_corner == C::bottom_left    ? C::top_left
+               : o.legend_corner == C::bottom_right ? C::top_right
+                                                    : o.legend_corner;
+    if (corner == C::best) {  // the top corner whose box covers the fewest samples
       long fewest = -1;
-      for (C c : {C::top_right, C::top_left, C::bottom_right, C::bottom_left}) {
+      for (C c : {C::top_right, C::top_left}) {
         const ImVec2 p = box_at(c);
         long n = 0;
         for (auto& s : series)
@@ -318,7 +346,7 @@ void plot(const char* id, ImVec2 size, const PlotOptions& o,
       if (series[k].markers)
         dl->AddCircleFilled(ImVec2((l0.x + l1.x) / 2, l0.y), series[k].thickness + 2.0f,
                             series[k].color, 12);
-      dl->AddText(ImVec2(la.x + 28, y), kText, series[k].label.c_str());
+      dl->AddText(ImVec2(la.x + 28, y), kText, labels[k].c_str());
     }
   }
 

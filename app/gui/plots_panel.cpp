@@ -2,6 +2,7 @@
 // log axis. One pane: every component; several: one series per pane, component picked above.
 #include <cmath>
 
+#include "app/drift_series.hpp"
 #include "app/gui/plot.hpp"
 #include "app/gui/viewer_state.hpp"
 #include "render/palette.hpp"
@@ -23,6 +24,18 @@ PlotSeries series_of(const History& h, std::string label, ImU32 color,
   s.count = h.size();
   s.x = [&h](std::size_t i) { return h[i].t; };
   s.y = [&h, f = std::move(f)](std::size_t i) { return f(h[i]); };
+  return s;
+}
+
+// A series over a computed vector (the drift plot, app/drift_series.hpp).
+PlotSeries series_of(std::shared_ptr<const DriftPlot> d, const std::vector<double>& y,
+                     std::string label, ImU32 color) {
+  PlotSeries s;
+  s.label = std::move(label);
+  s.color = color;
+  s.count = y.size();
+  s.x = [d](std::size_t i) { return d->t[i]; };
+  s.y = [d, &y](std::size_t i) { return y[i]; };
   return s;
 }
 
@@ -56,30 +69,42 @@ void draw_plots(ViewerState& st, const Published& pub, ImVec2 pos, ImVec2 size) 
   const ImVec2 cell((avail.x - 3 * spacing) / 4, avail.y);
 
   std::vector<PlotSeries> energy, momentum, angular, drift;
+  std::string drift_title = "relative drift (log)";
   const char* ek[3] = {"kinetic", "potential", "total"};
   for (std::size_t k = 0; k < pub.panes.size(); ++k) {
     const History& h = pub.panes[k].history;
     if (h.empty()) continue;
     const std::string name = pane_label(pub.panes[k]);
-    const DriftRule drift_rule = *pub.panes[k].drift;  // run's rule (sim/run_summary.hpp)
-    const auto dE = [=](const DiagnosticsRow& r) { return std::abs(drift_rule.energy(r)); };
-    const auto dL = [=](const DiagnosticsRow& r) { return drift_rule.angular_momentum(r); };
-    const char* dL_label = drift_rule.angular_momentum_relative() ? "|dL|/|L0|" : "|dL| (L0 = 0)";
+    // Run's rule (sim/run_summary.hpp), round-off momenta as zero (app/drift_series.hpp).
+    const auto row = [&h](std::size_t i) -> const DiagnosticsRow& { return h[i]; };
+    const MomentumRoundOff round_off =
+        pub.scene ? momentum_round_off(row, h.size(), pub.panes[k].total_mass,
+                                       DriftRule::domain_extent(*pub.scene))
+                  : MomentumRoundOff{};
+    auto d = std::make_shared<const DriftPlot>(
+        drift_plot(*pub.panes[k].drift, row, h.size(), round_off.L));
+    drift_title = d->title;
     auto energy_of = [](const DiagnosticsRow& r, int c) {
       return c == 0 ? r.kinetic : c == 1 ? r.potential : r.total;
     };
+    const auto p_of = [p0 = round_off.p](const DiagnosticsRow& r, int c) {
+      return plotted_momentum(r.p[c], p0);
+    };
+    const auto L_of = [L0 = round_off.L](const DiagnosticsRow& r, int c) {
+      return plotted_momentum(r.L[c], L0);
+    };
     if (!multi) {
       for (int c = 0; c < 3; ++c)
-        energy.push_back(series_of(h, ek[c], kComponent[c],
+        energy.push_back(series_of(h, std::string(ek[c]) + " [J]", kComponent[c],
                                    [=](const DiagnosticsRow& r) { return energy_of(r, c); }));
       for (int c = 0; c < dim; ++c)
-        momentum.push_back(series_of(h, std::string("p_") + kAxes[c], kComponent[c],
-                                     [=](const DiagnosticsRow& r) { return r.p[c]; }));
+        momentum.push_back(series_of(h, std::string("p_") + kAxes[c] + " [kg m/s]", kComponent[c],
+                                     [=](const DiagnosticsRow& r) { return p_of(r, c); }));
       for (int c = dim == 2 ? 2 : 0; c < 3; ++c)
-        angular.push_back(series_of(h, std::string("L_") + kAxes[c], kComponent[c],
-                                    [=](const DiagnosticsRow& r) { return r.L[c]; }));
-      drift.push_back(series_of(h, "|dE|/|E0|", kComponent[0], dE));
-      drift.push_back(series_of(h, dL_label, kComponent[1], dL));
+        angular.push_back(series_of(h, std::string("L_") + kAxes[c] + " [kg m^2/s]", kComponent[c],
+                                    [=](const DiagnosticsRow& r) { return L_of(r, c); }));
+      drift.push_back(series_of(d, d->energy, d->energy_label, kComponent[0]));
+      drift.push_back(series_of(d, d->momentum, d->momentum_label, kComponent[1]));
       continue;
     }
     const ImU32 col = pane_color(k);
@@ -87,11 +112,13 @@ void draw_plots(ViewerState& st, const Published& pub, ImVec2 pos, ImVec2 size) 
               ac = st.angular_component;
     energy.push_back(
         series_of(h, name, col, [=](const DiagnosticsRow& r) { return energy_of(r, ec); }));
-    momentum.push_back(series_of(h, name, col, [=](const DiagnosticsRow& r) { return r.p[pc]; }));
-    angular.push_back(series_of(h, name, col, [=](const DiagnosticsRow& r) { return r.L[ac]; }));
-    drift.push_back(series_of(h, name + " E", col, dE));
-    PlotSeries l = series_of(h, name + " L", (col & 0x00FFFFFF) | (IM_COL32(0, 0, 0, 120)), dL);
-    l.thickness = 1.2f;
+    momentum.push_back(
+        series_of(h, name, col, [=](const DiagnosticsRow& r) { return p_of(r, pc); }));
+    angular.push_back(
+        series_of(h, name, col, [=](const DiagnosticsRow& r) { return L_of(r, ac); }));
+    drift.push_back(series_of(d, d->energy, name + " " + d->energy_label, col));
+    PlotSeries l = series_of(d, d->momentum, name + " " + d->momentum_label, col);
+    l.dashed = true;  // the second quantity in the pane's colour
     drift.push_back(std::move(l));
   }
   PlotOptions o;
@@ -108,7 +135,7 @@ void draw_plots(ViewerState& st, const Published& pub, ImVec2 pos, ImVec2 size) 
             " [kg m^2/s]";
   plot("angular", cell, o, angular);
   ImGui::SameLine();
-  o.title = "relative drift |dE|/|E0|, |dL|/|L0| (log)";
+  o.title = drift_title;
   o.log_y = true;
   plot("drift", cell, o, drift);
   ImGui::End();

@@ -204,24 +204,21 @@ std::vector<render::Rect> draw_scene_panes(render::Renderer& r, ViewerState& st,
     char buf[160];
     std::snprintf(buf, sizeof buf, "t = %.4g s   step %ld", s.time, s.step);
     std::string info = s.kernel + " / " + s.integrator + "   " + buf;
+    ImU32 info_color = IM_COL32(100, 100, 100, 255);
+    if (p.failure) {  // frozen: said once, in the title strip, never over the domain
+      std::snprintf(buf, sizeof buf, "blew up at step %ld, t = %.4g s", p.failure->step,
+                    p.failure->t);
+      info = std::string(buf) + ": " + p.failure->quantity;
+      info_color = IM_COL32(200, 30, 30, 255);
+    }
     if (ImGui::CalcTextSize(info.c_str()).x > room) info = buf;
-    dl->AddText(ImVec2(t1.x - 10 - ImGui::CalcTextSize(info.c_str()).x, t0.y + 5),
-                IM_COL32(100, 100, 100, 255), info.c_str());
+    dl->AddText(ImVec2(t1.x - 10 - ImGui::CalcTextSize(info.c_str()).x, t0.y + 5), info_color,
+                info.c_str());
+    if (p.failure && ImGui::IsMouseHoveringRect(t0, t1))
+      ImGui::SetTooltip("%s", p.failure->message.c_str());  // the whole message on demand
     if (k > 0)
       dl->AddLine(ImVec2(t0.x, t0.y), ImVec2(t0.x, sr.y + sr.h), IM_COL32(200, 200, 200, 255));
 
-    if (p.failure) {  // the pane is frozen: say where and why
-      const Failure& f = *p.failure;
-      std::snprintf(buf, sizeof buf, "BLEW UP at step %ld, t = %.5g s: %s", f.step, f.t,
-                    f.quantity.c_str());
-      const float wrap = sr.w - 32, fh = ImGui::GetFontSize();
-      const float msg_h = ImGui::CalcTextSize(f.message.c_str(), nullptr, false, wrap).y;
-      const ImVec2 b0(sr.x + 8, sr.y + 8), b1(sr.x + sr.w - 8, sr.y + 20 + fh + msg_h);
-      dl->AddRectFilled(b0, b1, IM_COL32(200, 30, 30, 230), 4);
-      dl->AddText(ImVec2(b0.x + 8, b0.y + 4), IM_COL32(255, 255, 255, 255), buf);
-      dl->AddText(nullptr, 0, ImVec2(b0.x + 8, b0.y + 6 + ImGui::GetFontSize()),
-                  IM_COL32(255, 230, 230, 255), f.message.c_str(), nullptr, wrap);
-    }
     if (inside(sr, mouse) && !ImGui::GetIO().WantCaptureMouse &&
         !ImGui::IsMouseDown(ImGuiMouseButton_Left)) {
       const long i = pick(s, cam, sr, mouse);

@@ -199,9 +199,12 @@ int run_viewer(const ViewerOptions& opt) {
       ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
       ++frame;
       if (!opt.screenshot.empty() && frame >= std::max(opt.frames, 1)) {
-        for (std::size_t k = 0; k < rects.size(); ++k)  // where each pane is, for the smoke test
-          std::printf("pane %zu: %.0f %.0f %.0f %.0f\n", k, rects[k].x, rects[k].y, rects[k].w,
-                      rects[k].h);
+        // Where each pane is, for the smoke test only (APICLAB_PRINT_LAYOUT=1): no debug lines
+        // on a user's stdout.
+        if (const char* e = std::getenv("APICLAB_PRINT_LAYOUT"); e && std::string(e) == "1")
+          for (std::size_t k = 0; k < rects.size(); ++k)
+            std::printf("pane %zu: %.0f %.0f %.0f %.0f\n", k, rects[k].x, rects[k].y, rects[k].w,
+                        rects[k].h);
         try {
           render::write_png(render::read_window_pixels(fw, fh), opt.screenshot);
           std::printf("screenshot: %s (%dx%d, %ld frames, t = %.4g s)\n", opt.screenshot.c_str(),

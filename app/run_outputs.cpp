@@ -1,0 +1,144 @@
+#include "app/run_outputs.hpp"
+
+#include <cmath>
+#include <ctime>
+#include <filesystem>
+#include <sstream>
+#include <stdexcept>
+
+#include "sim/parameters.hpp"
+
+namespace apiclab {
+
+std::string apiclab_version() {
+#ifdef APICLAB_VERSION
+  const std::string v = APICLAB_VERSION;
+  return v.empty() ? "unknown" : v;
+#else
+  return "unknown";
+#endif
+}
+
+nlohmann::json run_settings(const SceneDesc& scene, Precision precision,
+                            const std::vector<std::string>& overrides) {
+  nlohmann::json parameters = nlohmann::json::object();
+  for (const NumericParameter& p : numeric_parameters()) {
+    const int n = p.count ? p.count(scene) : 1;
+    for (int i = 0; i < n; ++i)
+      if (!p.is_set || p.is_set(scene, i)) {
+        const double v = p.get(scene, i);
+        // JSON has no infinity: "no bound" (dt's 1e30 default and the like) stays a number.
+        parameters[p.key_at(i)] = std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+      }
+  }
+  return {
+      {"scene", scene.name},
+      {"scene_file", scene.source},
+      {"dim", scene.dim},
+      {"precision", key_of(precision)},
+      {"solver",
+       {{"method", scene.solver.method},
+        {"scheme", key_of(scene.solver.scheme)},
+        {"kernel", key_of(scene.solver.kernel)},
+        {"integrator", key_of(scene.solver.integrator)}}},
+      {"time",
+       {{"dt_rule", key_of(scene.time.rule)}, {"lands_on_frames", scene.time.lands_on_frames()}}},
+      {"overrides", overrides},
+      {"parameters", parameters}};
+}
+
+void write_csv_sidecar(const std::string& csv_path, const nlohmann::json& settings) {
+  const std::string path = csv_path + ".json";
+  std::ofstream out(path);
+  out << nlohmann::json{{"csv", std::filesystem::path(csv_path).filename().string()},
+                        {"settings", settings}}
+             .dump(2)
+      << '\n';
+  if (!out) throw std::runtime_error("cannot write '" + path + "'");
+}
+
+FrameIndex::FrameIndex(const std::string& dir, const std::vector<std::string>& panes)
+    : out_(std::filesystem::path(dir) / "frames.csv") {
+  if (!out_) throw std::runtime_error("cannot write '" + dir + "/frames.csv'");
+  out_.precision(17);
+  out_ << "frame,t";
+  if (panes.empty()) out_ << ",step";
+  for (const std::string& p : panes) out_ << ",step_" << p;
+  out_ << '\n';
+}
+
+void FrameIndex::add(int frame, double t, const std::vector<long>& steps) {
+  if (!out_.is_open()) return;
+  out_ << frame << ',' << t;
+  for (long s : steps) out_ << ',' << s;
+  out_ << '\n' << std::flush;
+}
+
+std::string time_step_note(const SceneDesc& scene) {
+  const TimeDesc& tm = scene.time;
+  if (tm.lands_on_frames()) return "";
+  const double frame = 1 / tm.fps, steps_per_frame = frame / tm.dt;
+  std::ostringstream s;
+  s << "fixed dt = " << tm.dt << " s is taken exactly; ";
+  if (tm.dt > frame * (1 + 1e-9))
+    s << "it is longer than a frame (1/fps = " << frame
+      << " s), so frames repeat the step at or just past their time";
+  else if (std::abs(steps_per_frame - std::round(steps_per_frame)) > 1e-6 * steps_per_frame)
+    s << "frames are the step at or just past their time (1/fps = " << frame
+      << " s is not a whole number of steps)";
+  else
+    return "";
+  if (std::abs(tm.end / tm.dt - std::round(tm.end / tm.dt)) > 1e-6 * (tm.end / tm.dt))
+    s << ", and the run ends at the first step past time.end = " << tm.end << " s";
+  return s.str();
+}
+
+std::string dt_stats_text(const RunSummary::DtStats& dt) {
+  std::ostringstream s;
+  s.precision(4);
+  s << "dt min/median/max = " << dt.min << " / " << dt.median << " / " << dt.max << " s";
+  return s.str();
+}
+
+nlohmann::json run_summary_json(const SceneDesc& scene, const nlohmann::json& settings,
+                                const RunSummary& summary, double final_time, const RunCosts& c,
+                                const std::optional<Failure>& failure) {
+  const RunSummary::DtStats dt = summary.dt();
+  const bool relative = summary.angular_momentum_relative();
+  const double wall = std::max(c.wall_seconds, 1e-9);
+  nlohmann::json j = {
+      {"apiclab_version", apiclab_version()},
+      {"settings", settings},
+      {"steps", summary.steps()},
+      {"t_final", final_time},
+      {"t_end", scene.time.end},
+      {"dt", {{"min", dt.min}, {"median", dt.median}, {"max", dt.max}, {"unit", "s"}}},
+      {"wall_seconds", c.wall_seconds},
+      {"cpu_seconds", c.cpu_seconds},
+      {"step_wall_seconds", summary.step_wall_seconds()},
+      {"particles", c.particles},
+      {"particle_steps_per_second", double(c.particles) * double(summary.steps()) / wall},
+      {"energy_drift",
+       {{"kind", "relative"},
+        {"quantity", "(E - E0) / |E0|"},
+        {"final", summary.energy_drift()},
+        {"max_abs", summary.max_energy_drift()}}},
+      {"angular_momentum_drift",
+       {{"kind", relative ? "relative" : "absolute"},
+        {"quantity", relative ? "|L - L0| / |L0|" : "|L - L0| (L0 below round-off)"},
+        {"unit", relative ? "1" : "kg m^2/s"},
+        {"final", summary.angular_momentum_drift()},
+        {"max", summary.max_angular_momentum_drift()}}},
+      {"unconverged_implicit_steps", summary.unconverged_steps()},
+      {"failure", nullptr}};
+  if (failure)
+    j["failure"] = {{"step", failure->step},
+                    {"t", failure->t},
+                    {"quantity", failure->quantity},
+                    {"message", failure->message}};
+  return j;
+}
+
+double cpu_seconds() { return double(std::clock()) / CLOCKS_PER_SEC; }
+
+}  // namespace apiclab

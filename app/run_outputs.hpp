@@ -1,0 +1,66 @@
+// What a run leaves next to its numbers so that a person (or a script) can tell later what
+// produced them: the settings as a sidecar `NAME.csv.json` beside every diagnostics CSV (the
+// CSV itself stays plain, docs/architecture.md), the real time of every frame (a fixed --dt is
+// taken exactly, so frame f is the step at or just past f/fps), and `run --summary FILE.json`.
+#pragma once
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sim/run_summary.hpp"
+#include "sim/scene.hpp"
+#include "sim/snapshot.hpp"
+
+namespace apiclab {
+
+// The version string of this build ("unknown" when the build did not define one).
+std::string apiclab_version();
+
+// Every setting a run used: scene (name, file), solver choices, time-step rule, precision, the
+// --set overrides given, and every numeric scene parameter with its value (registry keys,
+// sim/parameters.hpp), so the run can be repeated from it.
+nlohmann::json run_settings(const SceneDesc& scene, Precision precision,
+                            const std::vector<std::string>& overrides);
+
+// Writes `csv_path`.json: {"csv": the CSV's file name, "settings": settings}. Throws
+// std::runtime_error naming the file when it cannot be written.
+void write_csv_sidecar(const std::string& csv_path, const nlohmann::json& settings);
+
+// DIR/frames.csv: `frame,t,step`, the real time of each written frame and the step count it
+// was reached at; with several panes (compare) one step column per pane, `step_<name>`.
+class FrameIndex {
+ public:
+  FrameIndex() = default;
+  explicit FrameIndex(const std::string& dir, const std::vector<std::string>& panes = {});
+  bool open() const { return out_.is_open(); }
+  void add(int frame, double t, const std::vector<long>& steps);
+
+ private:
+  std::ofstream out_;
+};
+
+// One line about how steps meet frames, for the start of a run ("" when nothing to say): a
+// fixed step longer than a frame repeats frames; a fixed step that does not divide the frame
+// interval puts frames just past their times; the adaptive rules land on frame times.
+std::string time_step_note(const SceneDesc& scene);
+
+// "dt min/median/max = a / b / c s" for the end-of-run line.
+std::string dt_stats_text(const RunSummary::DtStats& dt);
+
+struct RunCosts {
+  double wall_seconds = 0, cpu_seconds = 0;
+  std::size_t particles = 0;
+};
+
+// The JSON of `run --summary`: settings, steps, final time, dt statistics, costs, drifts
+// (|ΔL| relative or absolute, labelled) and the failure when there was one.
+nlohmann::json run_summary_json(const SceneDesc& scene, const nlohmann::json& settings,
+                                const RunSummary& summary, double final_time, const RunCosts& c,
+                                const std::optional<Failure>& failure);
+
+// Process CPU seconds, all threads.
+double cpu_seconds();
+
+}  // namespace apiclab

@@ -1,0 +1,42 @@
+// The smallest Newton and CG tolerances the implicit grid update (sim/implicit.hpp) can meet in
+// the scalar type T: a tolerance below them is raised to them, so that float does not spend its
+// Newton and CG caps chasing round-off (issue 11: torus-drop in float, 20 Newton and 2,268 CG
+// iterations on a free-fall step that double solves in one).
+//
+// Newton's residual is r = M⁻¹ P ∇E, a velocity (sim/newton_cg.hpp), with
+//   M⁻¹∇E_i = Δv_i − Δt g − (Δt / m_i) f_i(y),   f_i = −Σ_p V_p P(F_y) F_pᵀ ∇w_ip.
+// Each term is computed in T. The velocity terms carry round-off ε_T v (v: the step's velocity
+// scale, max of the grid's RMS speed and |g| Δt). The force term carries more: F_y = (I +
+// Δt Σ_i u_i ∇w_ipᵀ) F_p sums gradients of size 1/Δx that cancel (Σ_i ∇w_ip = 0), so F_y is
+// off by δF ≈ ε_T Δt v / Δx; the stress by (λ + 2μ) δF; and the force term, with V_p / m_i ≈
+// 1/ρ and one more ∇w of size 1/Δx, by
+//   (Δt / ρ) (λ + 2μ) δF / Δx = ε_T v (c Δt / Δx)²,   c = √((λ + 2μ)/ρ), the P-wave speed.
+// So the residual cannot be resolved below  ε_T v (1 + (c Δt / Δx)²).  The same factor bounds
+// the condition number of CG's operator M⁻¹H = I + b Δt² M⁻¹K (eigenvalues in [1, 1 + b (c Δt /
+// Δx)² k], k an O(1) stencil constant), and a relative CG residual below ε_T κ is round-off;
+// CG's floor is therefore  ε_T (1 + b (c Δt / Δx)²).  These are worst-case bounds (every
+// rounding error of the same sign): on torus-drop in float (v = g Δt = 0.196 m/s, c Δt / Δx =
+// 22.3) the old solve stalled at a residual of 2.2e-7, 0.02 of the bound 1.2e-5, so the bound
+// needs no further safety factor. In double the floors sit near 1e-11 v, far below any
+// tolerance in use; in float they decide.
+#pragma once
+#include <algorithm>
+#include <limits>
+
+namespace apiclab {
+
+struct RoundOffFloor {
+  double newton;  // on Newton's residual, a velocity (same units as v)
+  double cg;      // on CG's residual relative to its first
+};
+
+// v: the step's velocity scale; c: the largest P-wave speed of the materials; b: the force
+// position's weight on Δv (sim/implicit.hpp: ½·½ for midpoint, 1 for backward Euler).
+template <class T>
+RoundOffFloor implicit_round_off_floor(double v, double dt, double dx, double c, double b) {
+  const double eps = double(std::numeric_limits<T>::epsilon());
+  const double courant2 = (c * dt / dx) * (c * dt / dx);  // (c Δt / Δx)²
+  return {eps * v * (1 + courant2), eps * (1 + b * courant2)};
+}
+
+}  // namespace apiclab

@@ -1,0 +1,88 @@
+// The plot widget's legend never covers a curve (issue 11): the y range leaves a band at the
+// top for it. Drawn headless (ImGui with its font atlas built and no renderer); the test reads
+// the draw list: no vertex of a curve lies inside the legend's box.
+#include <gtest/gtest.h>
+#include <imgui.h>
+
+#include "app/gui/plot.hpp"
+
+namespace {
+
+using apiclab::gui::PlotOptions;
+using apiclab::gui::PlotSeries;
+
+struct Box {
+  float x0, y0, x1, y1;
+  bool holds(ImVec2 p) const { return p.x > x0 && p.x < x1 && p.y > y0 && p.y < y1; }
+};
+
+// Draws the series in a plot and returns how many curve vertices (full-alpha, the curves'
+// colours, drawn before the legend) fall inside the legend box; -1 when no legend was found.
+long covered_vertices(const std::vector<PlotSeries>& series, PlotOptions o) {
+  ImGui::CreateContext();
+  ImGuiIO& io = ImGui::GetIO();
+  io.IniFilename = nullptr;  // no imgui.ini in the working directory
+  unsigned char* pixels = nullptr;
+  int w = 0, h = 0;
+  io.Fonts->GetTexDataAsRGBA32(&pixels, &w, &h);
+  io.DisplaySize = ImVec2(800, 600);
+  io.DeltaTime = 1 / 60.0f;
+  ImGui::NewFrame();
+  ImGui::SetNextWindowPos(ImVec2(0, 0));
+  ImGui::SetNextWindowSize(ImVec2(420, 260));
+  ImGui::Begin("plot test");
+  o.interactive = false;
+  apiclab::gui::plot("p", ImVec2(400, 240), o, series);
+  const ImDrawList* dl = ImGui::GetWindowDrawList();
+  const ImU32 kLegendFill = IM_COL32(255, 255, 255, 215);
+  long legend_start = -1;
+  Box box{1e9f, 1e9f, -1e9f, -1e9f};
+  for (int i = 0; i < dl->VtxBuffer.Size; ++i) {
+    const ImDrawVert& v = dl->VtxBuffer[i];
+    if (v.col != kLegendFill) continue;
+    if (legend_start < 0) legend_start = i;
+    box = {std::min(box.x0, v.pos.x), std::min(box.y0, v.pos.y), std::max(box.x1, v.pos.x),
+           std::max(box.y1, v.pos.y)};
+  }
+  long covered = legend_start < 0 ? -1 : 0;
+  for (long i = 0; i < legend_start; ++i) {
+    const ImDrawVert& v = dl->VtxBuffer[int(i)];
+    for (const PlotSeries& s : series)
+      if (v.col == s.color && box.holds(v.pos)) ++covered;
+  }
+  ImGui::End();
+  ImGui::EndFrame();
+  ImGui::DestroyContext();
+  return covered;
+}
+
+PlotSeries line(ImU32 color, double (*f)(double), std::size_t n = 200) {
+  PlotSeries s;
+  s.label = "a series with a long label [kg m/s]";
+  s.color = color;
+  s.count = n;
+  s.x = [n](std::size_t i) { return double(i) / double(n - 1); };
+  s.y = [n, f](std::size_t i) { return f(double(i) / double(n - 1)); };
+  return s;
+}
+
+TEST(PlotLegend, NeverCoversACurveInAnyCorner) {
+  // Rising and falling lines reach both top corners: no corner inside the data is free.
+  const std::vector<PlotSeries> both = {
+      line(IM_COL32(200, 0, 0, 255), [](double x) { return x; }),
+      line(IM_COL32(0, 0, 200, 255), [](double x) { return 1 - x; })};
+  using C = PlotOptions::Corner;
+  for (C corner : {C::top_right, C::top_left, C::bottom_right, C::bottom_left, C::best})
+    for (bool log_y : {false, true}) {
+      PlotOptions o;
+      o.legend_corner = corner;
+      o.log_y = log_y;
+      std::vector<PlotSeries> s = both;
+      if (log_y)  // positive data on a log axis
+        s = {line(IM_COL32(200, 0, 0, 255), [](double x) { return 1e-16 + x; }),
+             line(IM_COL32(0, 0, 200, 255), [](double x) { return 1.000001 - x; })};
+      EXPECT_EQ(covered_vertices(s, o), 0) << "corner " << int(corner) << ", log " << log_y;
+    }
+}
+
+}  // namespace
