@@ -5,6 +5,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "app/cli_checks.hpp"
 #include "app/clock.hpp"
 #include "app/frame_loop.hpp"
 #include "cli.hpp"
@@ -28,6 +29,7 @@ void write_dump(const Simulation& sim, const std::string& dir, int frame) {
 
 int run(const RunOptions& o) {
   SceneDesc scene = load_scene_with_options(o);
+  check_flip_alpha(o, {scene.solver.scheme});
   apply_threads(o.threads);
   std::string csv = o.csv.empty() ? "apiclab-out/" + scene.name + "-" +
                                         std::string(key_of(scene.solver.scheme)) + ".csv"

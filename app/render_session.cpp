@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "app/cli_checks.hpp"
 #include "app/clock.hpp"
 #include "app/particle_frame.hpp"
 #include "app/video.hpp"
@@ -21,10 +22,21 @@ std::pair<int, int> parse_size(const std::string& s) {
   return {w, h};
 }
 
+// compare's --schemes, or render's scene scheme (unknown names are compare's to report).
+std::vector<Scheme> pane_schemes(const std::string& list, const SceneDesc& scene) {
+  std::vector<Scheme> out;
+  std::istringstream in(list);
+  for (std::string key; std::getline(in, key, ',');)
+    for (const auto& c : scheme_choices())
+      if (c.key == key) out.push_back(c.value);
+  if (list.empty()) out.push_back(scene.solver.scheme);
+  return out;
+}
+
 }  // namespace
 
-void add_render_options(CLI::App* cmd, RenderOptions& o) {
-  add_run_options(cmd, o.run);
+void add_render_options(CLI::App* cmd, RenderOptions& o, RunOptionSet which) {
+  add_run_options(cmd, o.run, which);
   cmd->add_option("--out", o.out, "output directory for frame_0000.png, ... and the CSVs")
       ->required();
   cmd->add_option("--size", o.size, "image size WxH in pixels (default 1280x720)");
@@ -77,6 +89,7 @@ RenderSession::RenderSession(const RenderOptions& o) {
     throw UsageError("unknown --fit '" + o.fit + "' (expected domain|particles)");
   fit_particles = o.fit == "particles";
   scene = load_scene_with_options(o.run);
+  check_flip_alpha(o.run, pane_schemes(o.schemes, scene));
   style.time_step = 1 / scene.time.fps;
   style.up_axis = render::up_axis_from_gravity(scene.gravity, scene.dim);
   apply_threads(o.run.threads);

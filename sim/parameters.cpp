@@ -167,6 +167,17 @@ std::vector<NumericParameter> declare() {
        .help = "a run fails when kinetic + elastic energy exceeds this multiple of its reference",
        .get = [](const S& s, int) { return s.solver.blowup_energy_factor; },
        .set = [](S& s, int, double v) { s.solver.blowup_energy_factor = v; }},
+      {.key = "solver.max_memory_gb",
+       .label = "memory cap",
+       .unit = "GB",
+       .range = kPositive,
+       .default_value = 1e30,  // unused: unset means the available memory (unset_default)
+       .help = "refuse a scene whose estimated grid and particle memory exceeds this (1 GB = 1e9 "
+               "bytes; --max-memory overrides it)",
+       .get = [](const S& s, int) { return s.solver.max_memory_gb.value_or(0); },
+       .set = [](S& s, int, double v) { s.solver.max_memory_gb = v; },
+       .is_set = [](const S& s, int) { return s.solver.max_memory_gb.has_value(); },
+       .unset_default = "the available memory"},
       // Materials.
       {.key = "materials.*.E",
        .label = "Young's modulus E",
@@ -214,7 +225,8 @@ void validate_domain(const SceneDesc& s) {
     if (!(d.max[a] > d.min[a])) fail(s, "domain.max", "must exceed min on every axis");
   for (int a = 0; a < s.dim; ++a) {
     const double cells = (d.max[a] - d.min[a]) / d.dx;
-    if (cells > 1e5) fail(s, "domain.dx", "domain has more than 1e5 cells along an axis");
+    // Node indices are ints; the memory guard (sim/memory_estimate.hpp) refuses far less.
+    if (cells > 1e9) fail(s, "domain.dx", "domain has more than 1e9 cells along an axis");
     if (d.periodic(a) && std::abs(cells - std::round(cells)) > 1e-6 * cells)
       fail(s, "domain.dx", "a periodic axis must be a whole number of cells long");
   }
@@ -254,7 +266,7 @@ std::string NumericParameter::unit_for(int dim) const {
 
 std::string NumericParameter::default_text() const {
   if (required) return "required";
-  if (is_set) return "from the integrator";
+  if (is_set) return unset_default.empty() ? "from the integrator" : std::string(unset_default);
   if (default_value >= 1e30) return "none";
   return format_value(default_value);
 }

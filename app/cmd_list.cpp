@@ -1,0 +1,53 @@
+// `apiclab list`: the shipped scenes with the first sentence of their description.
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+
+#include "cli.hpp"
+#include "commands.hpp"
+
+namespace apiclab::cli {
+namespace {
+
+// Up to the first ". " that ends a sentence (the next word starts with a capital letter).
+std::string first_sentence(const std::string& text) {
+  for (std::size_t i = text.find(". "); i != std::string::npos; i = text.find(". ", i + 1))
+    if (i + 2 < text.size() && std::isupper(static_cast<unsigned char>(text[i + 2])))
+      return text.substr(0, i + 1);
+  return text;
+}
+
+int list_scenes() {
+  namespace fs = std::filesystem;
+  const std::string dir = scenes_directory();
+  std::vector<fs::path> files;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec))
+    if (e.path().extension() == ".json") files.push_back(e.path());
+  if (ec || files.empty()) throw UsageError("no shipped scenes found in '" + dir + "'");
+  std::sort(files.begin(), files.end());
+  std::size_t width = 0;
+  for (const auto& f : files) width = std::max(width, f.stem().string().size());
+  std::printf("Shipped scenes (%s); run one with: apiclab run NAME\n", dir.c_str());
+  for (const auto& f : files) {
+    std::string line;
+    try {
+      const SceneDesc s = load_scene(f.string());
+      line = std::to_string(s.dim) + "D  " +
+             (s.description.empty() ? "(no description)" : first_sentence(s.description));
+    } catch (const SceneError& e) {
+      line = std::string("(does not load: ") + e.what() + ")";
+    }
+    std::printf("  %-*s  %s\n", int(width), f.stem().string().c_str(), line.c_str());
+  }
+  return 0;
+}
+
+}  // namespace
+
+void register_list(CLI::App& root, CommandTable& table) {
+  CLI::App* cmd = root.add_subcommand("list", "the shipped scenes, one line each");
+  table.push_back({cmd, [] { return list_scenes(); }});
+}
+
+}  // namespace apiclab::cli
