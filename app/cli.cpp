@@ -48,8 +48,7 @@ void add_run_options(CLI::App* cmd, RunOptions& o, RunOptionSet which) {
                                 "scene file, or the name of a shipped scene (apiclab list shows "
                                 "them)");
   if (which.scene_required) scene->required();
-  if (which.scheme)
-    cmd->add_option("--scheme", o.scheme, choice_help("transfer scheme", scheme_choices()));
+  cmd->add_option("--scheme", o.scheme, choice_help("transfer scheme", scheme_choices()));
   add_parameter_option(cmd, "--flip-alpha", o.flip_alpha, "solver.flip_alpha", ", FLIP only");
   cmd->add_option("--kernel", o.kernel, choice_help("interpolation kernel", kernel_choices()));
   cmd->add_option("--integrator", o.integrator, choice_help("grid update", integrator_choices()));

@@ -32,11 +32,9 @@ struct RunOptions {
   std::string max_memory;  // BYTES|auto|none; empty: auto
 };
 
-// Which of the common options a subcommand takes (compare --help lists only what compare
-// accepts).
+// Which of the common options a subcommand takes (gui has its own --frames and no outputs).
 struct RunOptionSet {
   bool scene_required = true;
-  bool scheme = true;   // --scheme (compare and gui take --schemes instead or as well)
   bool frames = true;   // --frames (gui has its own)
   bool outputs = true;  // --csv, --dump
   bool quiet = true;

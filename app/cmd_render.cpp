@@ -174,7 +174,9 @@ void register_render(CLI::App& root, CommandTable& table) {
   CLI::App* cmp = root.add_subcommand(
       "compare",
       "schemes side by side from the same initial particles: PNG frames, one CSV per scheme");
-  add_render_options(cmp, *c, {.scheme = false, .outputs = false});
+  add_render_options(cmp, *c);
+  // Refused by compare with a message of its own; left out of compare --help.
+  for (const char* name : {"--scheme", "--csv", "--dump"}) cmp->get_option(name)->group("");
   cmp->add_option("--schemes", c->schemes, "comma-separated schemes, e.g. pic,flip,apic")
       ->required();
   table.push_back({cmp, [c] { return compare(*c); }});

@@ -47,7 +47,10 @@ int main(int argc, char** argv) {
     return root.exit(e);
   } catch (const CLI::ParseError& e) {
     // Documented exit code 2 and one line, whatever CLI11's own code (104-109).
-    std::fprintf(stderr, "apiclab: %s (see apiclab --help)\n", one_line(e.what()).c_str());
+    std::string help = "apiclab --help";
+    for (const CLI::App* sub : root.get_subcommands())
+      help = "apiclab " + sub->get_name() + " --help";
+    std::fprintf(stderr, "apiclab: %s (see %s)\n", one_line(e.what()).c_str(), help.c_str());
     return 2;
   }
   try {

@@ -1,6 +1,7 @@
 #include "memory_estimate.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 
@@ -146,11 +147,11 @@ std::string format_bytes(double b) {
 }
 
 std::string MemoryEstimate::text() const {
-  std::ostringstream s;
-  s.precision(2);
-  s << "about " << format_bytes(bytes()) << " (" << grid_nodes << " grid nodes x " << bytes_per_node
-    << " B + " << particles << " particles x " << bytes_per_particle << " B)";
-  return s.str();
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "about %s (%.3g grid nodes x %.0f B + %.3g particles x %.0f B)",
+                format_bytes(bytes()).c_str(), grid_nodes, bytes_per_node, particles,
+                bytes_per_particle);
+  return buf;
 }
 
 MemoryEstimate estimate_memory(const SceneDesc& scene, Precision precision) {

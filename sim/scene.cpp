@@ -325,9 +325,9 @@ ObjectDesc read_object(Reader r, const SceneDesc& s, int index) {
   if (!r.has("material")) r.fail("material", "missing");
   const json& m = r.raw("material");
   if (m.is_number_integer()) {
-    o.material = m.get<int>();
-    if (o.material < 0 || o.material >= int(s.materials.size()))
+    if (m < json(0) || m >= json(s.materials.size()))  // compared as JSON: no int wrap-around
       r.fail("material", "no material with index " + m.dump());
+    o.material = m.get<int>();
   } else if (m.is_string()) {
     o.material = -1;
     for (size_t i = 0; i < s.materials.size(); ++i)
@@ -501,7 +501,10 @@ SceneDesc parse_with_overrides(json j, const std::string& file,
   } catch (const SceneError&) {
     throw;
   } catch (const std::exception& e) {
-    throw SceneError(file + ": " + e.what());
+    // Not expected (every read above checks the kind first); never shows the library's tag.
+    std::string what = e.what();
+    if (what.rfind("[json.exception.", 0) == 0) what = what.substr(what.find(']') + 2);
+    throw SceneError(file + ": " + what);
   }
 }
 

@@ -232,7 +232,7 @@ expect_error "unknown option" "--bogus" -- run "$DISK" --bogus
 expect_error "fractional --frames" "--frames" -- run "$DISK" --frames 2.5
 expect_error "unknown subcommand" "nosuch" -- nosuch
 expect_error "bench --dim 4" "--dim" -- bench --dim 4
-expect_error "compare --help lists no --scheme: --scheme refused" "--scheme" -- compare "$DISK" --out "$TMP/cmp" --schemes pic,apic --scheme apic
+expect_error "compare --scheme refused" "not --scheme" -- compare "$DISK" --out "$TMP/cmp" --schemes pic,apic --scheme apic
 
 # Conflicting or meaningless options.
 expect_error "--frames with --t-end" "--frames" "--t-end" -- run "$DISK" --frames 3 --t-end 0.1
@@ -276,6 +276,17 @@ if [ "$RC" -eq 0 ] && grep -q "^  rotating-disk  *2D  Jiang et al. 2017, Sec 6.1
   ok "list: every shipped scene with its description"
 else
   nok "list" "exit $RC" "$(cat "$OUT")" "$(cat "$ERR")"
+fi
+# Sweeps beside the scenes are listed too (a scenes folder of our own through $APICLAB_SCENES).
+mkdir -p "$TMP/assets/scenes" "$TMP/assets/sweeps"
+cp "$DISK" "$TMP/assets/scenes/"
+printf '{"description": "Which transfer is cheapest. More words."}' >"$TMP/assets/sweeps/cost.json"
+OUT="$TMP/stdout" ERR="$TMP/stderr"
+(cd "$TMP/cwd" && APICLAB_SCENES="$TMP/assets/scenes" exec "$APICLAB" list) >"$OUT" 2>"$ERR"
+if grep -q "^  rotating-disk  " "$OUT" && grep -q "^  cost  *Which transfer is cheapest\.$" "$OUT"; then
+  ok "list: sweeps with their descriptions"
+else
+  nok "list with a sweep" "$(cat "$OUT" "$ERR")"
 fi
 run_cli --version
 if [ "$RC" -eq 0 ] && grep -qE "^apiclab [0-9]+\.[0-9]+\.[0-9]+" "$OUT"; then ok "--version: $(cat "$OUT")"; else nok "--version" "exit $RC" "$(cat "$OUT")"; fi

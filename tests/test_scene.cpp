@@ -236,6 +236,7 @@ TEST(SceneInput, WrongKindsAreRefused) {
   bad("/objects/0/sampling/ppc", 4.5, "objects.0.sampling.ppc");
   bad("/objects/0/velocity", {"fast", 0}, "objects.0.velocity");
   bad("/solver/cg_max_iterations", 2.5, "solver.cg_max_iterations");
+  bad("/objects/0/material", 4294967296LL, "objects.0.material");  // would wrap to 0 as an int
   bad("/objects/0/sampling", {{"type", "poisson"}, {"radius", 0.02}, {"seed", -1}},
       "objects.0.sampling.seed");
 }
