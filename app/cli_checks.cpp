@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <regex>
 
+#include "sim/memory_estimate.hpp"
 #include "sim/object_overlap.hpp"
 #include "sim/parameters.hpp"
 
@@ -61,6 +62,14 @@ std::optional<double> max_memory_gb(const std::string& text) {
   if (!(v > 0) || !std::isfinite(v))
     throw UsageError("--max-memory '" + text + "': must be a positive number of bytes");
   return v / 1e9;
+}
+
+void check_memory_for(const SceneDesc& scene, Precision precision, int copies) {
+  MemoryEstimate e = estimate_memory(scene, precision);
+  e.grid_nodes *= copies;
+  e.particles *= copies;
+  check_memory(e, memory_cap_bytes(scene),
+               scene.source + " (" + std::to_string(copies) + " simulations at once)");
 }
 
 void warn_about_overlaps(const SceneDesc& scene) {

@@ -26,6 +26,10 @@ void check_flip_alpha(const RunOptions& o, const std::vector<Scheme>& schemes);
 // an optional k, M, G, T suffix (powers of 1000) or Ki, Mi, Gi, Ti (powers of 1024).
 std::optional<double> max_memory_gb(const std::string& text);
 
+// The memory guard for `copies` simulations of the scene held at once (compare's panes; the
+// GUI also keeps each pane's initial state): one line with the estimate, exit 2.
+void check_memory_for(const SceneDesc& scene, Precision precision, int copies);
+
 // Prints "apiclab: warning: ..." for each pair of objects that overlap (sim/object_overlap.hpp).
 void warn_about_overlaps(const SceneDesc& scene);
 

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "app/cli_checks.hpp"
 #include "cli.hpp"
 #include "commands.hpp"
 #include "gui/viewer.hpp"
@@ -83,6 +84,8 @@ void register_gui(CLI::App& root, CommandTable& table) {
          check.scene = o->scene;
          SceneDesc scene = load_scene_with_options(check);
          if (panes.empty()) panes.push_back(scene.solver.scheme);
+         // Each pane keeps its initial state for resets (app/sim_worker.cpp).
+         check_memory_for(scene, precision_of(*run), 2 * int(panes.size()));
          if (run->flip_alpha && std::find(panes.begin(), panes.end(), Scheme::flip) == panes.end())
            std::fprintf(stderr,
                         "apiclab: warning: --flip-alpha only affects FLIP panes and "

@@ -89,7 +89,9 @@ RenderSession::RenderSession(const RenderOptions& o) {
     throw UsageError("unknown --fit '" + o.fit + "' (expected domain|particles)");
   fit_particles = o.fit == "particles";
   scene = load_scene_with_options(o.run);
-  check_flip_alpha(o.run, pane_schemes(o.schemes, scene));
+  const std::vector<Scheme> panes = pane_schemes(o.schemes, scene);
+  check_flip_alpha(o.run, panes);
+  check_memory_for(scene, precision_of(o.run), int(panes.size()));  // compare: one per scheme
   style.time_step = 1 / scene.time.fps;
   style.up_axis = render::up_axis_from_gravity(scene.gravity, scene.dim);
   apply_threads(o.run.threads);
