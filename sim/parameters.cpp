@@ -232,6 +232,15 @@ void validate_domain(const SceneDesc& s) {
   }
 }
 
+// Frame numbers are ints (app/frame_loop.hpp); a billion frames is far past any real run.
+void validate_time(const SceneDesc& s) {
+  const double frames = s.time.end * s.time.fps;
+  if (frames > 1e9)
+    fail(s, "time.end",
+         "end time x fps = " + format_value(frames) +
+             " frames, more than 1e9 (lower time.end or time.fps)");
+}
+
 }  // namespace
 
 bool Range::contains(double v) const {
@@ -326,6 +335,7 @@ void validate(const SceneDesc& s) {
     }
   }
   validate_domain(s);
+  validate_time(s);
 }
 
 void apply_parameter(SceneDesc& scene, std::string_view key, double value) {

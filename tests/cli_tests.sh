@@ -235,6 +235,7 @@ expect_error "bench --dim 4" "--dim" -- bench --dim 4
 expect_error "compare --scheme refused" "not --scheme" -- compare "$DISK" --out "$TMP/cmp" --schemes pic,apic --scheme apic
 
 # Conflicting or meaningless options.
+expect_error "--t-end 1e300: more frames than an int holds" "'time.end'" "frames" -- run "$DISK" --t-end 1e300
 expect_error "--frames with --t-end" "--frames" "--t-end" -- run "$DISK" --frames 3 --t-end 0.1
 expect_error "--flip-alpha with APIC" "--flip-alpha" "apic" -- run "$DISK" --flip-alpha 0.5 --t-end 0.01
 expect_error "--threads 0" "--threads" -- run "$DISK" --threads 0
