@@ -57,10 +57,11 @@ int list_scenes() {
   for (const auto& f : sweeps) {
     // Only the description is read here; `apiclab sweep` checks the rest of the spec.
     nlohmann::json spec;
-    std::string error, line = "(no description)";
+    JsonError error;
+    std::string line = "(no description)";
     try {
       if (!parse_json_strict(read_input_file(f.string(), "sweep file"), spec, error))
-        line = "(does not parse: " + error + ")";
+        line = "(does not parse: " + error.text() + ")";
       else if (spec.is_object() && spec.contains("description") && spec["description"].is_string())
         line = first_sentence(spec["description"].get<std::string>());
     } catch (const SceneError& e) {

@@ -452,10 +452,14 @@ void apply_override(json& j, const std::string& assignment, const std::string& f
   std::string key = assignment.substr(0, eq), text = assignment.substr(eq + 1);
   const std::string where = file + ": --set " + assignment;
   json value;
-  std::string error;
+  JsonError error;
   if (!parse_json_strict(text, value, error)) {
+    // Within a one-line value the position is a column; the key path would be the value's own.
+    std::string at = error.position;
+    if (at.rfind("line 1, ", 0) == 0) at = at.substr(8);
     if (!bare_word(text))
-      throw SceneError(where + ": the value '" + text + "' is not valid JSON (" + error + ")");
+      throw SceneError(where + ": the value '" + text + "' is not valid JSON (" + error.cause +
+                       (at.empty() ? "" : ", at " + at) + ")");
     value = text;  // a bare word is a string
   }
   json* node = &j;
@@ -513,8 +517,8 @@ SceneDesc parse_with_overrides(json j, const std::string& file,
 SceneDesc parse_scene_text(const std::string& text, const std::string& source,
                            const std::vector<std::string>& overrides) {
   json j;
-  std::string error;
-  if (!parse_json_strict(text, j, error)) throw SceneError(source + ": " + error);
+  JsonError error;
+  if (!parse_json_strict(text, j, error)) throw SceneError(source + ": " + error.text());
   return parse_with_overrides(std::move(j), source, overrides);
 }
 

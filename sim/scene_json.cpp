@@ -56,7 +56,7 @@ class StrictSax {
     Frame& f = frames_.back();
     f.key = k;
     if (!f.keys.insert(k).second) {
-      error_ = "key '" + path() + "' appears twice (JSON would keep only the last; remove one)";
+      error_ = {"appears twice (JSON would keep only the last; remove one)", path(), ""};
       return false;
     }
     return dom_.key(k);
@@ -78,17 +78,12 @@ class StrictSax {
                    const nlohmann::detail::exception& ex) {
     // The failing value was not counted yet: in an array it is the next element.
     if (!frames_.empty() && !frames_.back().object) ++frames_.back().index;
-    const std::string where = path();
-    const std::string at = position_text(text_, position);
-    if (ex.id == 406)  // out_of_range.406: number overflow
-      error_ = (where.empty() ? "" : "key '" + where + "': ") + "number " + token +
-               " is out of range for a double (" + at + ")";
-    else
-      error_ = "malformed JSON at " + at + (where.empty() ? "" : " (in key '" + where + "')") +
-               ": " + reason_of(ex.what());
+    const bool overflow = ex.id == 406;  // out_of_range.406: number overflow
+    error_ = {overflow ? "number " + token + " is out of range for a double" : reason_of(ex.what()),
+              path(), position_text(text_, position)};
     return false;
   }
-  const std::string& error() const { return error_; }
+  const JsonError& error() const { return error_; }
 
  private:
   struct Frame {
@@ -115,17 +110,25 @@ class StrictSax {
   nlohmann::detail::json_sax_dom_parser<json> dom_;
   const std::string& text_;
   std::vector<Frame> frames_;
-  std::string error_;
+  JsonError error_;
 };
 
 }  // namespace
 
-bool parse_json_strict(const std::string& text, json& out, std::string& error) {
+std::string JsonError::text() const {
+  if (position.empty()) return "key '" + path + "' " + cause;  // a duplicate key
+  if (cause.rfind("number ", 0) == 0 && !path.empty())
+    return "key '" + path + "': " + cause + " (" + position + ")";
+  return "malformed JSON at " + position + (path.empty() ? "" : " (near key '" + path + "')") +
+         ": " + cause;
+}
+
+bool parse_json_strict(const std::string& text, json& out, JsonError& error) {
   out = json();
   StrictSax sax(out, text);
-  const bool ok = json::sax_parse(text, &sax);
-  if (ok) return true;
-  error = sax.error().empty() ? "malformed JSON" : sax.error();
+  if (json::sax_parse(text, &sax)) return true;
+  error = sax.error();
+  if (error.cause.empty()) error.cause = "malformed JSON";
   out = json();
   return false;
 }

@@ -8,9 +8,17 @@
 
 namespace apiclab {
 
-// Parses `text` into `out`. On failure returns false and sets `error` to one line without the
-// file name, e.g. "key 'materials.0.E' appears twice (line 7, column 31)" or "line 3, column 5:
-// syntax error ...".
-bool parse_json_strict(const std::string& text, nlohmann::json& out, std::string& error);
+// Why a text is not strict JSON: the cause, the key path of the value at fault (empty at the
+// top level) and "line L, column C" (empty for a duplicate key, which has no position).
+struct JsonError {
+  std::string cause, path, position;
+  // One line: "key 'materials.0.E' appears twice ...", "key 'domain.dx': number 1e400 is out of
+  // range for a double (line 3, column 9)", "malformed JSON at line 2, column 5 (near key
+  // 'domain'): syntax error ...".
+  std::string text() const;
+};
+
+// Parses `text` into `out`. On failure returns false and fills `error`.
+bool parse_json_strict(const std::string& text, nlohmann::json& out, JsonError& error);
 
 }  // namespace apiclab
