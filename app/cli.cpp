@@ -134,7 +134,12 @@ std::vector<std::string> option_overrides(const RunOptions& o) {
 
 SceneDesc load_scene_with_options(const RunOptions& o) {
   const std::vector<std::string> sets = option_overrides(o);
-  SceneDesc scene = load_scene(resolve_scene_path(o.scene), sets);
+  const std::string path = resolve_scene_path(o.scene);
+  if (!o.scene.empty() && o.scene.find('/') == std::string::npos && !std::filesystem::exists(path))
+    throw UsageError(
+        "'" + o.scene +
+        "': no such scene file or shipped scene (apiclab list shows the shipped ones)");
+  SceneDesc scene = load_scene(path, sets);
   scene.asset_dirs.push_back(assets_directory());
   if (o.frames) apply_parameter(scene, "time.end", *o.frames / scene.time.fps);
   check_memory(scene, precision_of(o));  // before the overlap check samples anything

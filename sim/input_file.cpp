@@ -12,6 +12,7 @@ namespace apiclab {
 
 std::string input_file_problem(const std::string& path, const std::string& what) {
   namespace fs = std::filesystem;
+  if (path.empty()) return "no " + what + " given (an empty path)";
   std::error_code ec;
   const fs::file_status st = fs::status(path, ec);
   if (!fs::exists(st)) return "no such " + what;
@@ -31,7 +32,7 @@ std::string input_file_problem(const std::string& path, const std::string& what)
 
 std::string read_input_file(const std::string& path, const std::string& what) {
   if (std::string problem = input_file_problem(path, what); !problem.empty())
-    throw SceneError(path + ": " + problem);
+    throw SceneError(path.empty() ? problem : path + ": " + problem);
   std::ifstream in(path);
   std::stringstream buf;
   buf << in.rdbuf();

@@ -73,7 +73,8 @@ variant() {
 
 # ---- bad input: files ----------------------------------------------------------------------
 expect_error "missing scene file" "$TMP/nope.json" -- run "$TMP/nope.json" --t-end 0.01
-expect_error "missing shipped scene name" "no-such-scene" -- run no-such-scene --t-end 0.01
+expect_error "missing shipped scene name" "no-such-scene" "apiclab list" -- run no-such-scene --t-end 0.01
+expect_error "empty scene path" "no scene file given" -- run ""
 
 printf '{"dim": 2,\n "domain": {"min": [0, 0],' >"$TMP/truncated.json"
 expect_error "malformed JSON (truncated)" "$TMP/truncated.json" "JSON" -- run "$TMP/truncated.json"
