@@ -41,27 +41,16 @@ double shape_volume(const SceneDesc& scene, int object_index) {
   return 0;
 }
 
-// Bounding box volume of a non-mesh shape (Poisson disk sampling fills the box, then keeps the
-// samples inside).
+// Poisson disk sampling fills the shape's bounding box, then keeps the samples inside
+// (sim/sampling.cpp): its transient count goes with the box.
 double box_volume(const SceneDesc& scene, int object_index, double shape_vol) {
   const ShapeDesc& s = scene.objects[size_t(object_index)].shape;
-  const int dim = scene.dim;
-  double e = 0;
-  switch (s.type) {
-    case ShapeType::box:
-    case ShapeType::mesh:
-      return shape_vol;
-    case ShapeType::ball:
-      e = s.radius;
-      break;
-    case ShapeType::annulus:
-      e = dim == 3 ? std::max(s.outer, 0.5 * s.length) : s.outer;
-      break;
-    case ShapeType::torus:
-      e = s.outer;
-      break;
-  }
-  return std::pow(2 * e, dim);
+  if (s.type == ShapeType::mesh) return shape_vol;  // a lower bound: the mesh's own volume
+  Vec3d lo, hi;
+  shape_bounds(s, scene.dim, lo, hi);
+  double v = 1;
+  for (int a = 0; a < scene.dim; ++a) v *= hi[a] - lo[a];
+  return v;
 }
 
 double particle_count(const SceneDesc& scene) {
