@@ -11,6 +11,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "app/cli_checks.hpp"
+#include "sim/memory_estimate.hpp"
 #include "sim/parameters.hpp"
 
 namespace apiclab::cli {
@@ -43,32 +45,44 @@ std::string parameter_table() {
 
 }  // namespace
 
-void add_run_options(CLI::App* cmd, RunOptions& o, bool scene_required) {
+void add_run_options(CLI::App* cmd, RunOptions& o, RunOptionSet which) {
   auto* scene = cmd->add_option("scene", o.scene,
-                                "scene file, or the name of a shipped scene (e.g. rotating-disk)");
-  if (scene_required) scene->required();
+                                "scene file, or the name of a shipped scene (apiclab list shows "
+                                "them)");
+  if (which.scene_required) scene->required();
   cmd->add_option("--scheme", o.scheme, choice_help("transfer scheme", scheme_choices()));
-  add_parameter_option(cmd, "--flip-alpha", o.flip_alpha, "solver.flip_alpha");
+  add_parameter_option(cmd, "--flip-alpha", o.flip_alpha, "solver.flip_alpha", ", FLIP only");
   cmd->add_option("--kernel", o.kernel, choice_help("interpolation kernel", kernel_choices()));
   cmd->add_option("--integrator", o.integrator, choice_help("grid update", integrator_choices()));
   add_parameter_option(cmd, "--lambda", o.lambda, "solver.lambda", ", overrides the integrator's");
   add_parameter_option(cmd, "--t-end", o.t_end, "time.end");
-  cmd->add_option("--frames", o.frames,
-                  "number of frames (end time = frames / fps) [allowed: integer >= 1]");
+  if (which.frames)
+    cmd->add_option("--frames", o.frames,
+                    "number of frames (end time = frames / fps; not with --t-end) [allowed: "
+                    "integer >= 1; default: the scene's time.end]");
   add_parameter_option(cmd, "--fps", o.fps, "time.fps");
   add_parameter_option(cmd, "--dt", o.dt, "time.dt.value", ", with the fixed rule");
-  cmd->add_option("--csv", o.csv, "diagnostics CSV, one row per step [default: none]");
-  cmd->add_option("--dump", o.dump,
-                  "directory for particle state per frame (frame_0000.csv, ...) [default: none]");
+  if (which.outputs) {
+    cmd->add_option("--csv", o.csv,
+                    "diagnostics CSV, one row per step [default: apiclab-out/SCENE-SCHEME.csv]");
+    cmd->add_option("--dump", o.dump,
+                    "directory for particle state per frame (frame_0000.csv, ...) [default: none]");
+  }
   cmd->add_option(
          "--set", o.sets,
-         "override a scene value by JSON path, e.g. --set materials.0.E=2000; numeric keys are "
-         "checked against their allowed range (apiclab run --help lists them)")
+         "override a scene value by JSON path, e.g. --set materials.0.E=2000; the value is JSON "
+         "(a bare word is a string); numeric keys are checked against their allowed range "
+         "(listed below)")
       ->take_all();
-  cmd->add_option("--threads", o.threads, "OpenMP threads [default: all cores]");
+  cmd->add_option("--threads", o.threads, "OpenMP threads [allowed: 1-4096; default: all cores]")
+      ->check(CLI::Range(1, 4096));
   cmd->add_option("--precision", o.precision,
                   "scalar type: " + choice_keys(precision_choices()) + " [default: double]");
-  cmd->add_flag("--quiet", o.quiet, "no progress line");
+  cmd->add_option("--max-memory", o.max_memory,
+                  "refuse a scene whose estimated memory exceeds this: BYTES (e.g. 8G, 512M), "
+                  "auto or none [default: the scene's solver.max_memory_gb, else auto = the "
+                  "available memory]");
+  if (which.quiet) cmd->add_flag("--quiet", o.quiet, "no progress line [default: off]");
   cmd->footer(parameter_table());
 }
 
@@ -87,7 +101,8 @@ static std::string number(double d) {
   return s.str();
 }
 
-SceneDesc load_scene_with_options(const RunOptions& o) {
+std::vector<std::string> option_overrides(const RunOptions& o) {
+  check_run_options(o);
   std::vector<std::string> sets;
   auto check = [](const auto& choices, const std::string& key, const char* what) {
     try {
@@ -113,11 +128,20 @@ SceneDesc load_scene_with_options(const RunOptions& o) {
   if (o.fps) sets.push_back("time.fps=" + number(*o.fps));
   if (o.t_end) sets.push_back("time.end=" + number(*o.t_end));
   if (o.dt) sets.push_back("time.dt={\"rule\":\"fixed\",\"value\":" + number(*o.dt) + "}");
-  if (o.frames && *o.frames < 1) throw UsageError("--frames must be at least 1");
-  if (o.threads < 0) throw UsageError("--threads must be positive");
+  if (auto gb = max_memory_gb(o.max_memory)) sets.push_back("solver.max_memory_gb=" + number(*gb));
   precision_of(o);
   for (auto& s : o.sets) sets.push_back(s);
-  SceneDesc scene = load_scene(resolve_scene_path(o.scene), sets);
+  return sets;
+}
+
+SceneDesc load_scene_with_options(const RunOptions& o) {
+  const std::vector<std::string> sets = option_overrides(o);
+  const std::string path = resolve_scene_path(o.scene);
+  if (!o.scene.empty() && o.scene.find('/') == std::string::npos && !std::filesystem::exists(path))
+    throw UsageError(
+        "'" + o.scene +
+        "': no such scene file or shipped scene (apiclab list shows the shipped ones)");
+  SceneDesc scene = load_scene(path, sets);
   scene.asset_dirs.push_back(assets_directory());
   if (o.frames) {
     const double end = *o.frames / scene.time.fps;
@@ -128,6 +152,8 @@ SceneDesc load_scene_with_options(const RunOptions& o) {
                    *o.frames, end, scene.time.end);
     apply_parameter(scene, "time.end", end);
   }
+  check_memory(scene, precision_of(o));  // before the overlap check samples anything
+  warn_about_overlaps(scene);
   return scene;
 }
 

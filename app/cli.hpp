@@ -29,14 +29,27 @@ struct RunOptions {
   std::vector<std::string> sets;
   int threads = 0;  // 0: OpenMP default
   bool quiet = false;
+  std::string max_memory;  // BYTES|auto|none; empty: auto
+};
+
+// Which of the common options a subcommand takes (gui has its own --frames and no outputs).
+struct RunOptionSet {
+  bool scene_required = true;
+  bool frames = true;   // --frames (gui has its own)
+  bool outputs = true;  // --csv, --dump
+  bool quiet = true;
 };
 
 // Registers the common options on a subcommand; the numeric ones take their help, unit,
 // allowed range and default from the parameter registry (sim/parameters.hpp).
-void add_run_options(CLI::App* cmd, RunOptions& o, bool scene_required = true);
+void add_run_options(CLI::App* cmd, RunOptions& o, RunOptionSet which = {});
 
-// Loads the scene and applies the options as `--set` overrides, so that every option is
-// validated by the same strict scene parser. Throws SceneError / UsageError.
+// The options as `--set` overrides, after checking each (app/cli_checks.hpp), so that the same
+// strict scene parser validates them: the scene's own `--set`s come last.
+std::vector<std::string> option_overrides(const RunOptions& o);
+
+// Loads the scene and applies the options as `--set` overrides. Throws SceneError /
+// UsageError; warns about overlapping objects.
 SceneDesc load_scene_with_options(const RunOptions& o);
 Precision precision_of(const RunOptions& o);
 void apply_threads(int threads);

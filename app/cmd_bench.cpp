@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "app/cli_checks.hpp"
 #include "cli.hpp"
 #include "commands.hpp"
 
@@ -17,6 +18,7 @@ struct BenchOptions {
   int steps = 0;       // default: 200 (2D), 50 (3D)
   std::string precision = "float", scheme = "apic", kernel = "quadratic", integrator = "symplectic";
   int threads = 0;
+  std::string max_memory;
 };
 
 // A block of fixed-corotated material, spinning and falling, filling a quarter of the domain
@@ -58,8 +60,6 @@ int bench(BenchOptions o) {
   if (o.dim != 2 && o.dim != 3) throw UsageError("--dim must be 2 or 3");
   if (o.particles == 0) o.particles = o.dim == 2 ? 262144 : 110592;
   if (o.steps == 0) o.steps = o.dim == 2 ? 200 : 50;
-  if (o.particles < 16 || o.steps < 1)
-    throw UsageError("--particles must be at least 16 and --steps at least 1");
   Precision precision;
   try {
     precision = parse_choice(precision_choices(), o.precision, "precision");
@@ -68,7 +68,10 @@ int bench(BenchOptions o) {
   }
   apply_threads(o.threads);
   double dx = 0;
-  SceneDesc scene = parse_scene_text(bench_scene(o, dx), "bench scene");
+  std::vector<std::string> sets;
+  if (auto gb = max_memory_gb(o.max_memory))
+    sets.push_back("solver.max_memory_gb=" + std::to_string(*gb));
+  SceneDesc scene = parse_scene_text(bench_scene(o, dx), "bench scene", sets);
   auto sim = make_simulation(scene, precision);
   const double dt = scene.time.dt;
   for (int s = 0; s < 3; ++s) sim->step_fixed(dt);  // warm up: first sort, page faults
@@ -100,14 +103,27 @@ void register_bench(CLI::App& root, CommandTable& table) {
   auto o = std::make_shared<BenchOptions>();
   CLI::App* cmd =
       root.add_subcommand("bench", "explicit-step throughput; last line 'particle-steps/s: N'");
-  cmd->add_option("--dim", o->dim, "2 or 3");
-  cmd->add_option("--particles", o->particles, "particle count (approximate)");
-  cmd->add_option("--steps", o->steps, "timed steps");
-  cmd->add_option("--precision", o->precision, "float|double");
-  cmd->add_option("--threads", o->threads, "OpenMP threads");
-  cmd->add_option("--scheme", o->scheme, "transfer scheme");
-  cmd->add_option("--kernel", o->kernel, "kernel");
-  cmd->add_option("--integrator", o->integrator, "integrator");
+  cmd->add_option("--dim", o->dim, "dimension [allowed: 2, 3; default: 2]")
+      ->check(CLI::IsMember({2, 3}));
+  cmd->add_option("--particles", o->particles,
+                  "particle count, approximate [allowed: 16 or more; default: 262144 (2D), "
+                  "110592 (3D)]")
+      ->check(CLI::Range(16L, 2000000000L));
+  cmd->add_option("--steps", o->steps,
+                  "timed steps [allowed: 1 or more; default: 200 (2D), 50 (3D)]")
+      ->check(CLI::Range(1, 100000000));
+  cmd->add_option("--precision", o->precision, "float|double [default: float]");
+  cmd->add_option("--threads", o->threads, "OpenMP threads [allowed: 1-4096; default: all cores]")
+      ->check(CLI::Range(1, 4096));
+  cmd->add_option("--scheme", o->scheme,
+                  "transfer scheme: " + choice_keys(scheme_choices()) + " [default: apic]");
+  cmd->add_option("--kernel", o->kernel,
+                  "kernel: " + choice_keys(kernel_choices()) + " [default: quadratic]");
+  cmd->add_option("--integrator", o->integrator,
+                  "integrator: " + choice_keys(integrator_choices()) + " [default: symplectic]");
+  cmd->add_option("--max-memory", o->max_memory,
+                  "refuse a block whose estimated memory exceeds this: BYTES (e.g. 8G), auto or "
+                  "none [default: auto = the available memory]");
   table.push_back({cmd, [o] { return bench(*o); }});
 }
 

@@ -118,12 +118,14 @@ void register_figures(CLI::App& root, CommandTable& table) {
   CLI::App* cmd = root.add_subcommand(
       "figures",
       "the paper's figures (Jiang et al. 2017, Sec 6) as PNG charts and frames, with their CSV");
-  cmd->add_option("--out", o->out, "output directory")->required();
+  cmd->add_option("--out", o->out, "output directory [required]")->required();
   cmd->add_flag("--quick", o->quick,
-                "coarser and shorter runs (CI): end times cut, round trip to 64");
+                "coarser and shorter runs (CI): end times cut, round trip to 64 [default: off]");
   cmd->add_option("--only", o->only, "figure numbers to make, e.g. 3,11 (default: all)")
       ->delimiter(',');
-  cmd->add_option("--threads", o->threads, "simulations run at once (default: all cores)");
+  cmd->add_option("--threads", o->threads,
+                  "simulations run at once [allowed: 1-4096; default: all cores]")
+      ->check(CLI::Range(1, 4096));
   table.push_back({cmd, [o] {
                      figures::check_figure_ids(o->only);
                      return run_figures(*o);

@@ -1,9 +1,11 @@
 // `apiclab gui [SCENE] [--schemes a,b,c] [--screenshot FILE --frames N]`: the viewer.
 // Compiled only with the GUI (app/app_extra.cmake defines APICLAB_HAVE_GUI).
 #ifdef APICLAB_HAVE_GUI
+#include <algorithm>
 #include <cstdio>
 #include <sstream>
 
+#include "app/cli_checks.hpp"
 #include "cli.hpp"
 #include "commands.hpp"
 #include "gui/viewer.hpp"
@@ -24,43 +26,73 @@ std::vector<std::string> split_commas(const std::string& s) {
 
 void register_gui(CLI::App& root, CommandTable& table) {
   auto o = std::make_shared<gui::ViewerOptions>();
+  auto run = std::make_shared<RunOptions>();
   auto schemes = std::make_shared<std::string>();
   auto size = std::make_shared<std::string>();
   auto fast = std::make_shared<bool>(false);
-  auto threads = std::make_shared<int>(0);
+  auto frames = std::make_shared<std::optional<int>>();
   CLI::App* cmd = root.add_subcommand(
       "gui", "Interactive viewer: live scheme switching, vectors, plots, side-by-side panes");
-  cmd->add_option("scene", o->scene, "Scene file or shipped scene name (default rotating-disk)");
+  // The common options of run (scene, scheme, kernel, integrator, dt, t-end, flip-alpha, ...).
+  add_run_options(cmd, *run,
+                  {.scene_required = false, .frames = false, .outputs = false, .quiet = false});
   cmd->add_option("--schemes", *schemes,
-                  "One pane per scheme, side by side, e.g. pic,flip,apic (1-4)");
-  cmd->add_option("--set", o->overrides, "Override a scene value by JSON path, KEY=VALUE");
-  cmd->add_option("--precision", o->precision, "double|float");
+                  "One pane per scheme, side by side, e.g. pic,flip,apic (1-4) [default: one pane, "
+                  "the scene's scheme]");
   cmd->add_option("--color", o->color, choice_keys(color_mode_choices()) + " [default: speed]");
-  cmd->add_flag("--vectors", o->vectors, "Show velocity vectors");
-  cmd->add_flag("--fast", *fast, "Run as fast as possible instead of real time");
-  cmd->add_flag("--paused", o->paused, "Start paused");
-  cmd->add_option("--size", *size, "Window size WxH (default 1600x900)");
+  cmd->add_flag("--vectors", o->vectors, "Show velocity vectors [default: off]");
+  cmd->add_flag("--fast", *fast, "Run as fast as possible instead of real time [default: off]");
+  cmd->add_flag("--paused", o->paused, "Start paused [default: off]");
+  cmd->add_option("--size", *size, "Window size WxH [default: 1600x900]");
   cmd->add_option("--screenshot", o->screenshot,
-                  "Save the window as PNG after --frames frames and exit");
-  cmd->add_option("--frames", o->frames,
+                  "Save the window as PNG after --frames frames and exit [default: none]");
+  cmd->add_option("--frames", *frames,
                   "Frames before the screenshot (each one simulated frame); alone: run live N "
-                  "frames, print fps, exit");
-  cmd->add_option("--threads", *threads, "Solver threads (OpenMP)");
-  table.push_back({cmd, [o, schemes, size, fast, threads] {
-                     o->realtime = !*fast;
-                     o->schemes = split_commas(*schemes);
-                     if (o->schemes.size() > 4) throw UsageError("--schemes: at most 4 panes");
-                     for (auto& s : o->schemes) parse_choice(scheme_choices(), s, "scheme");
-                     parse_choice(precision_choices(), o->precision, "precision");
-                     render::parse_color_mode(o->color);
-                     if (!size->empty() &&
-                         std::sscanf(size->c_str(), "%dx%d", &o->width, &o->height) != 2)
-                       throw UsageError("--size: expected WxH, e.g. 1600x900");
-                     if (!o->screenshot.empty()) ensure_writable_file(o->screenshot);
-                     if (!o->screenshot.empty() && o->frames <= 0) o->frames = 60;
-                     apply_threads(*threads);
-                     return gui::run_viewer(*o);
-                   }});
+                  "frames, print fps, exit [allowed: 1 or more; default: 60 with --screenshot, "
+                  "else run until closed]");
+  table.push_back(
+      {cmd, [o, run, schemes, size, fast, frames] {
+         o->realtime = !*fast;
+         o->schemes = split_commas(*schemes);
+         if (o->schemes.size() > 4) throw UsageError("--schemes: at most 4 panes");
+         if (!o->schemes.empty() && !run->scheme.empty())
+           throw UsageError("--scheme and --schemes both pick the scheme; give one");
+         std::vector<Scheme> panes;
+         for (auto& s : o->schemes) {
+           try {
+             panes.push_back(parse_choice(scheme_choices(), s, "scheme"));
+           } catch (const std::invalid_argument& e) {
+             throw UsageError(e.what());
+           }
+         }
+         if (*frames && **frames < 1) throw UsageError("--frames must be at least 1");
+         if (*frames) o->frames = **frames;
+         if (!run->scene.empty()) o->scene = run->scene;
+         o->overrides = option_overrides(*run);
+         o->precision = run->precision;
+         try {
+           render::parse_color_mode(o->color);
+         } catch (const std::invalid_argument& e) {
+           throw UsageError(e.what());
+         }
+         if (!size->empty() && std::sscanf(size->c_str(), "%dx%d", &o->width, &o->height) != 2)
+           throw UsageError("--size: expected WxH, e.g. 1600x900");
+         if (!o->screenshot.empty()) ensure_writable_file(o->screenshot);
+         if (!o->screenshot.empty() && o->frames <= 0) o->frames = 60;
+         // The scene as the viewer will load it: bad input fails here with exit 2.
+         RunOptions check = *run;
+         check.scene = o->scene;
+         SceneDesc scene = load_scene_with_options(check);
+         if (panes.empty()) panes.push_back(scene.solver.scheme);
+         // Each pane keeps its initial state for resets (app/sim_worker.cpp).
+         check_memory_for(scene, precision_of(*run), 2 * int(panes.size()));
+         if (run->flip_alpha && std::find(panes.begin(), panes.end(), Scheme::flip) == panes.end())
+           std::fprintf(stderr,
+                        "apiclab: warning: --flip-alpha only affects FLIP panes and "
+                        "none is FLIP yet (a pane can switch to FLIP in the window)\n");
+         apply_threads(run->threads);
+         return gui::run_viewer(*o);
+       }});
 }
 
 bool gui_available() { return gui::display_available(); }

@@ -226,7 +226,11 @@ void register_render(CLI::App& root, CommandTable& table) {
       "compare",
       "schemes side by side from the same initial particles: PNG frames, one CSV per scheme");
   add_render_options(cmp, *c);
-  cmp->add_option("--schemes", c->schemes, "comma-separated schemes, e.g. pic,flip,apic")
+  // Refused by compare with a message of its own; left out of compare --help.
+  for (const char* name : {"--scheme", "--csv", "--dump"}) cmp->get_option(name)->group("");
+  cmp->add_option("--schemes", c->schemes,
+                  "comma-separated schemes, e.g. pic,flip,apic [required; allowed: " +
+                      choice_keys(scheme_choices()) + "]")
       ->required();
   table.push_back({cmp, [c] { return compare(*c); }});
 }

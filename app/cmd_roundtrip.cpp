@@ -2,41 +2,62 @@
 #include <cstdio>
 #include <sstream>
 
+#include "app/cli_checks.hpp"
 #include "cli.hpp"
 #include "commands.hpp"
+#include "sim/memory_estimate.hpp"
 #include "sim/roundtrip.hpp"
 
 namespace apiclab::cli {
 
 void register_roundtrip(CLI::App& root, CommandTable& table) {
   struct Options {
-    std::string kernel = "quadratic", scheme = "apic";
+    std::string kernel = "quadratic", scheme = "apic", max_memory;
     std::vector<int> res{16, 32, 64, 128, 256};
     int seed = 1;
   };
   auto o = std::make_shared<Options>();
   CLI::App* cmd = root.add_subcommand(
       "roundtrip", "Sec 6.8 round-trip transfer error: CSV resolution,dx,l2_error");
-  cmd->add_option("--kernel", o->kernel, "kernel: " + choice_keys(kernel_choices()));
-  cmd->add_option("--scheme", o->scheme, "scheme: pic|apic|rpic");
-  cmd->add_option("--res", o->res, "grid cells per axis, comma separated")->delimiter(',');
-  cmd->add_option("--seed", o->seed, "Poisson disk seed");
-  table.push_back({cmd, [o] {
-                     KernelType k;
-                     Scheme s;
-                     try {
-                       k = parse_choice(kernel_choices(), o->kernel, "kernel");
-                       s = parse_choice(scheme_choices(), o->scheme, "scheme");
-                       std::printf("resolution,dx,l2_error\n");
-                       for (int n : o->res) {
-                         RoundTripResult r = roundtrip_error(k, s, n, std::uint64_t(o->seed));
-                         std::printf("%d,%.17g,%.17g\n", r.resolution, r.dx, r.l2_error);
-                       }
-                     } catch (const std::invalid_argument& e) {
-                       throw UsageError(e.what());
-                     }
-                     return 0;
-                   }});
+  cmd->add_option("--kernel", o->kernel,
+                  "kernel: " + choice_keys(kernel_choices()) + " [default: quadratic]");
+  cmd->add_option("--scheme", o->scheme, "scheme: pic|apic|rpic [default: apic]");
+  cmd->add_option("--res", o->res,
+                  "grid cells per axis, comma separated [allowed: 4 or more; default: "
+                  "16,32,64,128,256]")
+      ->delimiter(',')
+      ->check(CLI::Range(4, 1 << 30));
+  cmd->add_option("--seed", o->seed, "Poisson disk seed [allowed: 0 or more; default: 1]")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--max-memory", o->max_memory,
+                  "refuse a resolution whose estimated memory exceeds this: BYTES (e.g. 8G), auto "
+                  "or none [default: auto = the available memory]");
+  table.push_back(
+      {cmd, [o] {
+         KernelType k;
+         Scheme s;
+         try {
+           k = parse_choice(kernel_choices(), o->kernel, "kernel");
+           s = parse_choice(scheme_choices(), o->scheme, "scheme");
+         } catch (const std::invalid_argument& e) {
+           throw UsageError(e.what());
+         }
+         // Every resolution is checked before the first runs.
+         const auto gb = max_memory_gb(o->max_memory);
+         const auto cap = gb ? std::optional<double>(*gb * 1e9) : available_memory_bytes();
+         for (int n : o->res)
+           check_memory(estimate_roundtrip_memory(n), cap, "roundtrip --res " + std::to_string(n));
+         std::printf("resolution,dx,l2_error\n");
+         try {
+           for (int n : o->res) {
+             RoundTripResult r = roundtrip_error(k, s, n, std::uint64_t(o->seed));
+             std::printf("%d,%.17g,%.17g\n", r.resolution, r.dx, r.l2_error);
+           }
+         } catch (const std::invalid_argument& e) {
+           throw UsageError(e.what());
+         }
+         return 0;
+       }});
 }
 
 }  // namespace apiclab::cli

@@ -5,6 +5,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "app/cli_checks.hpp"
 #include "app/clock.hpp"
 #include "app/frame_loop.hpp"
 #include "app/run_outputs.hpp"
@@ -39,6 +40,7 @@ int run(const RunCommandOptions& command) {
   const RunOptions& o = command.run;
   const double cpu_start = cpu_seconds();
   SceneDesc scene = load_scene_with_options(o);
+  check_flip_alpha(o, {scene.solver.scheme});
   apply_threads(o.threads);
   std::string csv = o.csv.empty() ? "apiclab-out/" + scene.name + "-" +
                                         std::string(key_of(scene.solver.scheme)) + ".csv"

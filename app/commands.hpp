@@ -2,6 +2,7 @@
 #pragma once
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <string>
 #include <vector>
 
 namespace apiclab::cli {
@@ -15,6 +16,8 @@ using CommandTable = std::vector<Command>;
 void register_run(CLI::App& root, CommandTable& table);
 void register_roundtrip(CLI::App& root, CommandTable& table);
 void register_bench(CLI::App& root, CommandTable& table);
+void register_list(CLI::App& root, CommandTable& table);
+std::string version_text();  // "apiclab 0.1.0 (git 1fbbf76-dirty)"
 #ifdef APICLAB_HAVE_RENDER
 void register_render(CLI::App& root, CommandTable& table);  // render and compare
 #endif

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "app/cli_checks.hpp"
 #include "app/clock.hpp"
 #include "app/particle_frame.hpp"
 #include "app/video.hpp"
@@ -21,31 +22,46 @@ std::pair<int, int> parse_size(const std::string& s) {
   return {w, h};
 }
 
+// compare's --schemes, or render's scene scheme (unknown names are compare's to report).
+std::vector<Scheme> pane_schemes(const std::string& list, const SceneDesc& scene) {
+  std::vector<Scheme> out;
+  std::istringstream in(list);
+  for (std::string key; std::getline(in, key, ',');)
+    for (const auto& c : scheme_choices())
+      if (c.key == key) out.push_back(c.value);
+  if (list.empty()) out.push_back(scene.solver.scheme);
+  return out;
+}
+
 }  // namespace
 
-void add_render_options(CLI::App* cmd, RenderOptions& o) {
-  add_run_options(cmd, o.run);
-  cmd->add_option("--out", o.out, "output directory for frame_0000.png, ... and the CSVs")
+void add_render_options(CLI::App* cmd, RenderOptions& o, RunOptionSet which) {
+  add_run_options(cmd, o.run, which);
+  cmd->add_option("--out", o.out,
+                  "output directory for frame_0000.png, ... and the CSVs [required]")
       ->required();
   cmd->add_option("--size", o.size, "image size WxH in pixels (default 1280x720)");
   cmd->add_option("--color", o.color,
                   std::string("particle colour: ") + choice_keys(color_mode_choices()) +
                       " (noise: |v_p - PIC velocity|) [default: speed]");
-  cmd->add_flag("--vectors", o.vectors, "draw velocity arrows");
+  cmd->add_flag("--vectors", o.vectors, "draw velocity arrows [default: off]");
   cmd->add_option("--vector-scale", o.vector_scale,
                   "arrow length per unit speed (default: automatic)");
   cmd->add_option("--vector-every", o.vector_every,
                   "draw one arrow per N particles (default: automatic)");
   cmd->add_option("--color-max", o.color_max,
                   "speed/noise at the top of the colour scale (default: automatic)");
-  cmd->add_option("--particle-scale", o.particle_scale, "multiply the drawn particle radius");
-  cmd->add_flag("--grid", o.grid, "draw the grid lines");
+  cmd->add_option("--particle-scale", o.particle_scale,
+                  "multiply the drawn particle radius [allowed: > 0; default: 1]");
+  cmd->add_flag("--grid", o.grid, "draw the grid lines [default: off]");
   cmd->add_option("--fit", o.fit,
                   "frame the whole domain, or the particles of the first frame (with room "
-                  "around them): domain|particles");
-  cmd->add_flag("--no-legend", o.no_legend, "leave out the colour and arrow legend");
-  cmd->add_option("--backend", o.backend, "offscreen OpenGL: auto|egl|osmesa");
-  cmd->add_option("--video", o.video, "also encode the frames into this MP4 file (needs ffmpeg)");
+                  "around them): domain|particles [default: domain]");
+  cmd->add_flag("--no-legend", o.no_legend,
+                "leave out the colour and arrow legend [default: legend shown]");
+  cmd->add_option("--backend", o.backend, "offscreen OpenGL: auto|egl|osmesa [default: auto]");
+  cmd->add_option("--video", o.video,
+                  "also encode the frames into this MP4 file (needs ffmpeg) [default: none]");
 }
 
 std::string frame_path(const std::string& dir, int frame, const char* extension) {
@@ -77,6 +93,9 @@ RenderSession::RenderSession(const RenderOptions& o) {
     throw UsageError("unknown --fit '" + o.fit + "' (expected domain|particles)");
   fit_particles = o.fit == "particles";
   scene = load_scene_with_options(o.run);
+  const std::vector<Scheme> panes = pane_schemes(o.schemes, scene);
+  check_flip_alpha(o.run, panes);
+  check_memory_for(scene, precision_of(o.run), int(panes.size()));  // compare: one per scheme
   style.time_step = 1 / scene.time.fps;
   style.up_axis = render::up_axis_from_gravity(scene.gravity, scene.dim);
   apply_threads(o.run.threads);

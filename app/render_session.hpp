@@ -23,7 +23,7 @@ struct RenderOptions {
   int vector_every = 0;
 };
 
-void add_render_options(CLI::App* cmd, RenderOptions& o);
+void add_render_options(CLI::App* cmd, RenderOptions& o, RunOptionSet which = {});
 
 // DIR/frame_0007.png (or .csv).
 std::string frame_path(const std::string& dir, int frame, const char* extension = "png");

@@ -1,5 +1,6 @@
 // The MPM solver family as a registered method: its constructor (dimension × precision) and
 // the validation of its keys in the scene's `solver` section.
+#include "memory_estimate.hpp"
 #include "method_registry.hpp"
 #include "mpm.hpp"
 
@@ -7,6 +8,7 @@ namespace apiclab {
 namespace {
 
 std::unique_ptr<Simulation> make_mpm(const SceneDesc& scene, Precision precision) {
+  check_memory(scene, precision);  // before the grid and the particles are allocated
   const bool single = precision == Precision::single;
   if (scene.dim == 2)
     return single ? std::unique_ptr<Simulation>(new MpmSimulation<float, 2>(scene))
@@ -34,6 +36,7 @@ void validate_mpm(SceneSection& r, SceneDesc& s) {
   v.cg_max_iterations = r.integer("cg_max_iterations", v.cg_max_iterations);
   v.stop_on_nonconvergence = r.boolean("stop_on_nonconvergence", v.stop_on_nonconvergence);
   v.blowup_energy_factor = r.number("blowup_energy_factor", v.blowup_energy_factor);
+  if (r.has("max_memory_gb")) v.max_memory_gb = r.number("max_memory_gb", 0);
 }
 
 }  // namespace

@@ -168,6 +168,17 @@ std::vector<NumericParameter> declare() {
        .help = "a run fails when kinetic + elastic energy exceeds this multiple of its reference",
        .get = [](const S& s, int) { return s.solver.blowup_energy_factor; },
        .set = [](S& s, int, double v) { s.solver.blowup_energy_factor = v; }},
+      {.key = "solver.max_memory_gb",
+       .label = "memory cap",
+       .unit = "GB",
+       .range = kPositive,
+       .default_value = 1e30,  // unused: unset means the available memory (unset_default)
+       .help = "refuse a scene whose estimated grid and particle memory exceeds this (1 GB = 1e9 "
+               "bytes; --max-memory overrides it)",
+       .get = [](const S& s, int) { return s.solver.max_memory_gb.value_or(0); },
+       .set = [](S& s, int, double v) { s.solver.max_memory_gb = v; },
+       .is_set = [](const S& s, int) { return s.solver.max_memory_gb.has_value(); },
+       .unset_default = "the available memory"},
       // Materials.
       {.key = "materials.*.E",
        .label = "Young's modulus E",
@@ -215,10 +226,20 @@ void validate_domain(const SceneDesc& s) {
     if (!(d.max[a] > d.min[a])) fail(s, "domain.max", "must exceed min on every axis");
   for (int a = 0; a < s.dim; ++a) {
     const double cells = (d.max[a] - d.min[a]) / d.dx;
-    if (cells > 1e5) fail(s, "domain.dx", "domain has more than 1e5 cells along an axis");
+    // Node indices are ints; the memory guard (sim/memory_estimate.hpp) refuses far less.
+    if (cells > 1e9) fail(s, "domain.dx", "domain has more than 1e9 cells along an axis");
     if (d.periodic(a) && std::abs(cells - std::round(cells)) > 1e-6 * cells)
       fail(s, "domain.dx", "a periodic axis must be a whole number of cells long");
   }
+}
+
+// Frame numbers are ints (app/frame_loop.hpp); a billion frames is far past any real run.
+void validate_time(const SceneDesc& s) {
+  const double frames = s.time.end * s.time.fps;
+  if (frames > 1e9)
+    fail(s, "time.end",
+         "end time x fps = " + format_value(frames) +
+             " frames, more than 1e9 (lower time.end or time.fps)");
 }
 
 }  // namespace
@@ -255,7 +276,7 @@ std::string NumericParameter::unit_for(int dim) const {
 
 std::string NumericParameter::default_text() const {
   if (required) return "required";
-  if (is_set) return "from the integrator";
+  if (is_set) return unset_default.empty() ? "from the integrator" : std::string(unset_default);
   if (default_value >= 1e30) return "none";
   return format_value(default_value);
 }
@@ -315,6 +336,7 @@ void validate(const SceneDesc& s) {
     }
   }
   validate_domain(s);
+  validate_time(s);
 }
 
 void apply_parameter(SceneDesc& scene, std::string_view key, double value) {

@@ -37,6 +37,8 @@ struct NumericParameter {
   int (*count)(const SceneDesc&) = nullptr;
   // Whether the scene gives a value at all (solver.lambda is optional); null: always.
   bool (*is_set)(const SceneDesc&, int index) = nullptr;
+  // What the default is when is_set says the key is unset; empty: "from the integrator".
+  std::string_view unset_default = {};
 
   std::string key_at(int index) const;  // "materials.*.E", 0 -> "materials.0.E"
   std::string unit_for(int dim) const;  // unit in a scene of this dimension

@@ -1,12 +1,13 @@
 #include "sampling.hpp"
 
-#include <tiny_obj_loader.h>
-
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <random>
+
+#include "input_file.hpp"
+#include "obj_mesh.hpp"
 
 namespace apiclab {
 namespace {
@@ -32,7 +33,8 @@ void axial(const Eigen::Vector3d& p, const Vec3d& axis_in, double& radial, doubl
   radial = (p - along * a).norm();
 }
 
-// Bounding box of a shape (world coordinates, before rotation: a sphere around the center).
+}  // namespace
+
 void shape_bounds(const ShapeDesc& s, int dim, Vec3d& lo, Vec3d& hi) {
   if (s.type == ShapeType::box && s.rotation_degrees == 0) {
     lo = s.min;
@@ -55,8 +57,6 @@ void shape_bounds(const ShapeDesc& s, int dim, Vec3d& lo, Vec3d& hi) {
     hi[a] = a < dim ? s.center[a] + r : 0;
   }
 }
-
-}  // namespace
 
 bool inside_shape(const ShapeDesc& s, const Vec3d& x, int dim) {
   Eigen::Vector3d p = local_point(s, x);
@@ -92,34 +92,24 @@ bool inside_shape(const ShapeDesc& s, const Vec3d& x, int dim) {
 }
 
 MeshSolid::MeshSolid(const std::string& path, const ShapeDesc& shape) {
-  tinyobj::ObjReader reader;
-  tinyobj::ObjReaderConfig config;
-  config.triangulate = true;
-  if (!reader.ParseFromFile(path, config))
-    throw SceneError(
-        path + ": cannot read mesh: " + (reader.Error().empty() ? "no such file" : reader.Error()));
-  const auto& verts = reader.GetAttrib().vertices;
+  const ObjMesh obj = load_obj_mesh(path);  // checked: indices, closed surface, volume
   Eigen::Matrix3d R = rotation_of(shape);
-  auto vertex = [&](int i) {
-    Eigen::Vector3d v(verts[3 * i], verts[3 * i + 1], verts[3 * i + 2]);
+  auto vertex = [&](std::uint32_t i) {
+    const auto& p = obj.vertices[i];
+    Eigen::Vector3d v(p[0], p[1], p[2]);
     return from_eigen(R * (shape.scale * v) + to_eigen(shape.translate));
   };
   lo_ = {1e300, 1e300, 1e300};
   hi_ = {-1e300, -1e300, -1e300};
-  for (const auto& sh : reader.GetShapes()) {
-    const auto& idx = sh.mesh.indices;
-    for (size_t f = 0; f + 2 < idx.size(); f += 3) {
-      Tri t{vertex(idx[f].vertex_index), vertex(idx[f + 1].vertex_index),
-            vertex(idx[f + 2].vertex_index)};
-      for (const Vec3d* v : {&t.a, &t.b, &t.c})
-        for (int a = 0; a < 3; ++a) {
-          lo_[a] = std::min(lo_[a], (*v)[a]);
-          hi_[a] = std::max(hi_[a], (*v)[a]);
-        }
-      tris_.push_back(t);
-    }
+  for (const auto& tri : obj.triangles) {
+    Tri t{vertex(tri[0]), vertex(tri[1]), vertex(tri[2])};
+    for (const Vec3d* v : {&t.a, &t.b, &t.c})
+      for (int a = 0; a < 3; ++a) {
+        lo_[a] = std::min(lo_[a], (*v)[a]);
+        hi_[a] = std::max(hi_[a], (*v)[a]);
+      }
+    tris_.push_back(t);
   }
-  if (tris_.empty()) throw SceneError(path + ": mesh has no triangles");
   // Bucket triangles by their xy bounding box so a +z ray only meets nearby triangles.
   int n = std::max(1, int(std::sqrt(double(tris_.size()) / 4.0)));
   nx_ = ny_ = n;
@@ -264,6 +254,32 @@ std::vector<Vec3d> poisson_disk(const Vec3d& lo, const Vec3d& hi, double r, int 
   return samples;
 }
 
+std::string resolve_mesh_file(const SceneDesc& scene, int object_index) {
+  namespace fs = std::filesystem;
+  const ShapeDesc& shape = scene.objects[size_t(object_index)].shape;
+  const std::string key = "objects." + std::to_string(object_index);
+  fs::path file = shape.file;
+  if (file.is_relative()) {
+    // Beside the scene, in the folder above it (assets/scenes/x.json -> assets/meshes/),
+    // then in the folders the app names.
+    const fs::path folder = fs::path(scene.source).parent_path();
+    std::vector<fs::path> candidates{folder / file, folder.parent_path() / file};
+    for (const auto& dir : scene.asset_dirs) candidates.push_back(fs::path(dir) / file);
+    for (const auto& c : candidates)
+      if (fs::exists(c)) {
+        file = c;
+        break;
+      }
+  }
+  if (!fs::exists(file))
+    throw SceneError(scene.source + ": key '" + key + ".shape.file': mesh file '" + shape.file +
+                     "' not found");
+  if (std::string problem = input_file_problem(file.string(), "mesh file"); !problem.empty())
+    throw SceneError(scene.source + ": key '" + key + ".shape.file': '" + file.string() + "' " +
+                     problem);
+  return file.string();
+}
+
 SampledParticles sample_object(const SceneDesc& scene, int object_index) {
   const ObjectDesc& obj = scene.objects[size_t(object_index)];
   const ShapeDesc& shape = obj.shape;
@@ -272,24 +288,7 @@ SampledParticles sample_object(const SceneDesc& scene, int object_index) {
   std::unique_ptr<MeshSolid> mesh;
   Vec3d lo{0, 0, 0}, hi{0, 0, 0};
   if (shape.type == ShapeType::mesh) {
-    namespace fs = std::filesystem;
-    fs::path file = shape.file;
-    if (file.is_relative()) {
-      // Beside the scene, in the folder above it (assets/scenes/x.json -> assets/meshes/),
-      // then in the folders the app names.
-      const fs::path folder = fs::path(scene.source).parent_path();
-      std::vector<fs::path> candidates{folder / file, folder.parent_path() / file};
-      for (const auto& dir : scene.asset_dirs) candidates.push_back(fs::path(dir) / file);
-      for (const auto& c : candidates)
-        if (fs::exists(c)) {
-          file = c;
-          break;
-        }
-    }
-    if (!fs::exists(file))
-      throw SceneError(scene.source + ": key '" + key + ".shape.file': mesh file '" + shape.file +
-                       "' not found");
-    mesh = std::make_unique<MeshSolid>(file.string(), shape);
+    mesh = std::make_unique<MeshSolid>(resolve_mesh_file(scene, object_index), shape);
     lo = mesh->lower();
     hi = mesh->upper();
     for (int a = 0; a < dim; ++a)

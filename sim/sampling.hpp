@@ -19,6 +19,14 @@ struct SampledParticles {
 // Samples one object of a scene. Throws SceneError (e.g. unreadable mesh, no particle inside).
 SampledParticles sample_object(const SceneDesc& scene, int object_index);
 
+// The mesh file of a mesh object: beside the scene, in its parent folder, then in
+// scene.asset_dirs. Throws SceneError naming the key when missing or not a regular file.
+std::string resolve_mesh_file(const SceneDesc& scene, int object_index);
+
+// Bounding box of a non-mesh shape in world coordinates (rotated shapes: the box of the sphere
+// around the center that holds them).
+void shape_bounds(const ShapeDesc& shape, int dim, Vec3d& lo, Vec3d& hi);
+
 // Inside test for a shape in world coordinates (meshes need a MeshSolid, below).
 bool inside_shape(const ShapeDesc& shape, const Vec3d& x, int dim);
 

@@ -1,14 +1,17 @@
 #include "scene.hpp"
 
+#include <climits>
 #include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <random>
+#include <regex>
 #include <set>
 #include <sstream>
 
+#include "input_file.hpp"
 #include "method_registry.hpp"
 #include "parameters.hpp"
+#include "scene_json.hpp"
 
 namespace apiclab {
 namespace {
@@ -36,12 +39,13 @@ class Reader {
   }
   bool has(const std::string& key) const { return j_.contains(key); }
   const json& raw(const std::string& key) {
+    if (!has(key)) fail(key, "required key is missing");
     used_.insert(key);
     return j_.at(key);
   }
   double number(const std::string& key, double fallback, bool required = false) {
     if (!has(key)) {
-      if (required) fail(key, "missing");
+      if (required) fail(key, "required key is missing");
       return fallback;
     }
     const json& v = raw(key);
@@ -58,7 +62,8 @@ class Reader {
   int integer(const std::string& key, int fallback) {
     if (!has(key)) return fallback;
     const json& v = raw(key);
-    if (!v.is_number_integer()) fail(key, "expected an integer, got " + v.dump());
+    if (!v.is_number_integer() || v < json(INT_MIN) || v > json(INT_MAX))
+      fail(key, "expected an integer, got " + v.dump());
     return v.get<int>();
   }
   bool boolean(const std::string& key, bool fallback) {
@@ -69,7 +74,7 @@ class Reader {
   }
   std::string string(const std::string& key, const std::string& fallback, bool required = false) {
     if (!has(key)) {
-      if (required) fail(key, "missing");
+      if (required) fail(key, "required key is missing");
       return fallback;
     }
     const json& v = raw(key);
@@ -79,7 +84,7 @@ class Reader {
   // A vector of `dim` numbers (missing trailing components stay as in fallback).
   Vec3d vec(const std::string& key, Vec3d fallback, int dim, bool required = false) {
     if (!has(key)) {
-      if (required) fail(key, "missing");
+      if (required) fail(key, "required key is missing");
       return fallback;
     }
     const json& v = raw(key);
@@ -89,6 +94,7 @@ class Reader {
     for (int i = 0; i < dim; ++i) {
       if (!v[i].is_number()) fail(key, "expected numbers, got " + v.dump());
       out[i] = v[i].get<double>();
+      if (!std::isfinite(out[i])) fail(key, "not finite");
     }
     return out;
   }
@@ -225,6 +231,8 @@ double random_rotation_degrees(std::uint64_t seed) {
   return 360.0 * double(rng() >> 11) * 0x1.0p-53;
 }
 
+double norm(const Vec3d& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+
 ShapeDesc read_shape(Reader r, int dim) {
   ShapeDesc sh;
   std::string type = r.string("type", "", true);
@@ -253,6 +261,7 @@ ShapeDesc read_shape(Reader r, int dim) {
       if (!(sh.outer > sh.inner)) r.fail("outer", "must exceed inner");
       if (dim == 3) {
         sh.axis = r.vec("axis", {0, 0, 1}, 3);
+        if (!(norm(sh.axis) > 0)) r.fail("axis", "the axis has zero length; give a direction");
         if (sh.type == ShapeType::annulus) sh.length = r.positive("length", 0, true);
       }
       if (sh.type == ShapeType::torus && dim != 3)
@@ -268,6 +277,8 @@ ShapeDesc read_shape(Reader r, int dim) {
   if (r.has("rotation")) {
     Reader rot = r.child("rotation");
     sh.rotation_axis = rot.vec("axis", {0, 0, 1}, 3);
+    if (!(norm(sh.rotation_axis) > 0))
+      rot.fail("axis", "the rotation axis has zero length; give a direction");
     if (rot.has("random_seed")) {
       if (rot.has("degrees"))
         rot.fail("random_seed", "give either degrees or random_seed, not both");
@@ -293,10 +304,17 @@ SamplingDesc read_sampling(Reader r) {
   }
   if (s.type == SamplingType::lattice || s.type == SamplingType::triangulated)
     s.spacing = r.positive("spacing", 0, true);
-  if (s.type == SamplingType::ppc) s.ppc = r.positive("ppc", 4);
+  if (s.type == SamplingType::ppc) {
+    // A count: particles per cell.
+    s.ppc = r.positive("ppc", 4);
+    if (s.ppc != std::floor(s.ppc) || s.ppc > 1e6)
+      r.fail("ppc", "particles per cell must be a whole number from 1 to 1e6, got " + r.fmt(s.ppc));
+  }
   if (s.type == SamplingType::poisson) {
     s.radius = r.positive("radius", 0, true);
-    s.seed = std::uint64_t(r.integer("seed", 1));
+    const int seed = r.integer("seed", 1);
+    if (seed < 0) r.fail("seed", "expected a non-negative integer, got " + std::to_string(seed));
+    s.seed = std::uint64_t(seed);
   }
   return s;
 }
@@ -308,9 +326,9 @@ ObjectDesc read_object(Reader r, const SceneDesc& s, int index) {
   if (!r.has("material")) r.fail("material", "missing");
   const json& m = r.raw("material");
   if (m.is_number_integer()) {
-    o.material = m.get<int>();
-    if (o.material < 0 || o.material >= int(s.materials.size()))
+    if (m < json(0) || m >= json(s.materials.size()))  // compared as JSON: no int wrap-around
       r.fail("material", "no material with index " + m.dump());
+    o.material = m.get<int>();
   } else if (m.is_string()) {
     o.material = -1;
     for (size_t i = 0; i < s.materials.size(); ++i)
@@ -416,20 +434,42 @@ SceneDesc parse_json(const json& j, const std::string& file) {
   return s;
 }
 
-// `--set a.b.0.c=VALUE`: walks existing objects/arrays; the last key may be new (the strict
-// parser then rejects it if the scene format does not know it).
+// A `--set` value that is not JSON is taken as a string when it is a bare word
+// (solver.scheme=flip); anything else (1e400, nan, [1,) is refused as invalid JSON.
+bool bare_word(const std::string& text) {
+  static const std::regex word("[A-Za-z_][A-Za-z0-9_+-]*");
+  static const std::regex not_a_number("[+-]?(nan|inf|infinity)", std::regex::icase);
+  return std::regex_match(text, word) && !std::regex_match(text, not_a_number);
+}
+
+// `--set a.b.0.c=VALUE`: walks objects and existing array elements; missing keys are added (the
+// strict parser then rejects them if the scene format does not know them). Numeric keys are checked
+// here to be numbers, so the message names the --set that gave the value.
 void apply_override(json& j, const std::string& assignment, const std::string& file) {
   auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
-    throw SceneError(file + ": --set '" + assignment + "': expected KEY=VALUE");
+    throw SceneError(file + ": --set '" + assignment +
+                     "': expected KEY=VALUE with a JSON value, e.g. materials.0.E=2000");
   std::string key = assignment.substr(0, eq), text = assignment.substr(eq + 1);
-  json value = json::parse(text, nullptr, false);
-  if (value.is_discarded()) value = text;  // a bare word is a string
+  const std::string where = file + ": --set " + assignment;
+  json value;
+  JsonError error;
+  if (!parse_json_strict(text, value, error)) {
+    // Within a one-line value the position is a column; the key path would be the value's own.
+    std::string at = error.position;
+    if (at.rfind("line 1, ", 0) == 0) at = at.substr(8);
+    if (!bare_word(text))
+      throw SceneError(where + ": the value '" + text + "' is not valid JSON (" + error.cause +
+                       (at.empty() ? "" : ", at " + at) + ")");
+    value = text;  // a bare word is a string
+  }
   json* node = &j;
   std::string walked;
   std::stringstream ss(key);
   std::vector<std::string> parts;
   for (std::string part; std::getline(ss, part, '.');) parts.push_back(part);
+  if (parts.empty() || key.back() == '.')
+    throw SceneError(where + ": '" + key + "' is not a key path like materials.0.E");
   for (size_t i = 0; i < parts.size(); ++i) {
     const std::string& p = parts[i];
     bool last = i + 1 == parts.size();
@@ -441,12 +481,19 @@ void apply_override(json& j, const std::string& assignment, const std::string& f
         throw SceneError(file + ": --set key '" + walked + "' does not exist");
       node = &(*node)[size_t(idx)];
     } else if (node->is_object()) {
-      if (!node->contains(p) && !last)
-        throw SceneError(file + ": --set key '" + walked + "' does not exist");
+      // A missing section is created (the strict reader rejects it if the format has no such
+      // key): --scheme works on a scene without a solver section.
+      if (!node->contains(p) && !last) (*node)[p] = json::object();
       node = &(*node)[p];
     } else {
       throw SceneError(file + ": --set key '" + walked + "' does not exist");
     }
+  }
+  // The range is the reader's to check (one message for every path, sim/parameters.hpp).
+  if (const NumericParameter* p = find_parameter(key)) {
+    if (!value.is_number())
+      throw SceneError(where + ": " + std::string(p->label) + " must be a number, got " +
+                       value.dump());
   }
   *node = value;
 }
@@ -459,7 +506,10 @@ SceneDesc parse_with_overrides(json j, const std::string& file,
   } catch (const SceneError&) {
     throw;
   } catch (const std::exception& e) {
-    throw SceneError(file + ": " + e.what());
+    // Not expected (every read above checks the kind first); never shows the library's tag.
+    std::string what = e.what();
+    if (what.rfind("[json.exception.", 0) == 0) what = what.substr(what.find(']') + 2);
+    throw SceneError(file + ": " + what);
   }
 }
 
@@ -467,25 +517,14 @@ SceneDesc parse_with_overrides(json j, const std::string& file,
 
 SceneDesc parse_scene_text(const std::string& text, const std::string& source,
                            const std::vector<std::string>& overrides) {
-  json j = json::parse(text, nullptr, false);
-  if (j.is_discarded()) {
-    // Parse again with exceptions to get the position of the error.
-    try {
-      (void)json::parse(text);
-    } catch (const json::parse_error& e) {
-      throw SceneError(source + ": malformed JSON: " + e.what());
-    }
-    throw SceneError(source + ": malformed JSON");
-  }
+  json j;
+  JsonError error;
+  if (!parse_json_strict(text, j, error)) throw SceneError(source + ": " + error.text());
   return parse_with_overrides(std::move(j), source, overrides);
 }
 
 SceneDesc load_scene(const std::string& path, const std::vector<std::string>& overrides) {
-  std::ifstream in(path);
-  if (!in) throw SceneError(path + ": cannot open scene file");
-  std::stringstream buf;
-  buf << in.rdbuf();
-  return parse_scene_text(buf.str(), path, overrides);
+  return parse_scene_text(read_input_file(path, "scene file"), path, overrides);
 }
 
 }  // namespace apiclab

@@ -57,6 +57,9 @@ struct SolverDesc {
   int cg_max_iterations = 200;
   bool stop_on_nonconvergence = false;
   double blowup_energy_factor = 10.0;
+  // solver.max_memory_gb: cap on the estimated memory (sim/memory_estimate.hpp); empty: the
+  // machine's available memory (--max-memory none sets it to 1e300).
+  std::optional<double> max_memory_gb;
   // Scenes with fewer particles run their loops on one thread (an OpenMP region costs more
   // than it saves there). Not a scene key: tests set it to 0 to exercise the parallel paths.
   std::size_t parallel_min_particles = 20000;

@@ -25,11 +25,12 @@ nok() {
 # run_cli ARGS...: runs apiclab in $TMP/cwd; sets RC, OUT and ERR (files).
 run_cli() {
   OUT="$TMP/stdout" ERR="$TMP/stderr"
-  (cd "$TMP/cwd" && exec "$APICLAB" "$@") >"$OUT" 2>"$ERR"
+  (cd "$TMP/cwd" && exec timeout 120 "$APICLAB" "$@") >"$OUT" 2>"$ERR"
   RC=$?
 }
 
-# expect_error NAME NEEDLE... -- ARGS...: exit 2, one stderr line holding every needle.
+# expect_error NAME NEEDLE... -- ARGS...: exit 2, one stderr line holding every needle (a needle
+# "!TEXT" must not appear), never the JSON library's raw exception text.
 expect_error() {
   local name=$1
   shift
@@ -43,8 +44,14 @@ expect_error() {
   elif [ "$RC" -ne 2 ]; then problems+=("exit code $RC, expected 2"); fi
   [ "$lines" -eq 1 ] || problems+=("stderr has $lines lines, expected 1")
   if grep -q $'\r' "$ERR"; then problems+=("stderr contains carriage returns"); fi
+  if grep -qF "json.exception" "$ERR"; then problems+=("stderr shows the JSON library's raw text"); fi
   local n
-  for n in "${needles[@]}"; do grep -qF -- "$n" "$ERR" || problems+=("stderr lacks '$n'"); done
+  for n in "${needles[@]}"; do
+    case "$n" in
+      !*) if grep -qF -- "${n#!}" "$ERR"; then problems+=("stderr names '${n#!}'"); fi ;;
+      *) grep -qF -- "$n" "$ERR" || problems+=("stderr lacks '$n'") ;;
+    esac
+  done
   if [ ${#problems[@]} -eq 0 ]; then
     ok "$name"
   else
@@ -66,7 +73,8 @@ variant() {
 
 # ---- bad input: files ----------------------------------------------------------------------
 expect_error "missing scene file" "$TMP/nope.json" -- run "$TMP/nope.json" --t-end 0.01
-expect_error "missing shipped scene name" "no-such-scene" -- run no-such-scene --t-end 0.01
+expect_error "missing shipped scene name" "no-such-scene" "apiclab list" -- run no-such-scene --t-end 0.01
+expect_error "empty scene path" "no scene file given" -- run ""
 
 printf '{"dim": 2,\n "domain": {"min": [0, 0],' >"$TMP/truncated.json"
 expect_error "malformed JSON (truncated)" "$TMP/truncated.json" "JSON" -- run "$TMP/truncated.json"
@@ -116,8 +124,9 @@ expect_error "--set on a missing index (materials.5.E)" "$DISK" "materials.5" --
 expect_error "--set of an unknown key (materials.0.Ee)" "$DISK" "'materials.0.Ee'" -- run "$DISK" --set materials.0.Ee=5
 expect_error "--set of an invalid value (materials.0.nu=0.7)" "$DISK" "'materials.0.nu'" -- run "$DISK" --set materials.0.nu=0.7
 # Flags go through --set, so the registry's range and message apply (sim/parameters.hpp).
-expect_error "--dt 0 (fixed step)" "$DISK" "'time.dt.value'" "(0, inf)" -- run "$DISK" --dt 0
-expect_error "--flip-alpha 1.5" "$DISK" "'solver.flip_alpha'" "1.5" "[0, 1]" -- run "$DISK" --flip-alpha 1.5
+# The message names the option (issue 11), and the scene key it sets, never the scene file.
+expect_error "--dt 0 (fixed step)" "--dt 0" "'time.dt.value'" "(0, inf)" "!$DISK" -- run "$DISK" --dt 0
+expect_error "--flip-alpha 1.5" "--flip-alpha 1.5" "'solver.flip_alpha'" "[0, 1]" "!$DISK" -- run "$DISK" --flip-alpha 1.5
 expect_error "--set of a fractional CG cap" "'solver.cg_max_iterations'" -- run "$DISK" --set solver.cg_max_iterations=2.5
 expect_error "--scheme unknown" "apicc" -- run "$DISK" --scheme apicc
 expect_error "--kernel unknown" "quintic" -- run "$DISK" --kernel quintic
@@ -125,6 +134,184 @@ expect_error "unwritable --csv" "/proc/nope" -- run "$DISK" --t-end 0.01 --csv /
 expect_error "unwritable --dump" "/proc/nope" -- run "$DISK" --t-end 0.01 --csv "$TMP/d.csv" --dump /proc/nope/dir
 expect_error "roundtrip --scheme flip" "FLIP" -- roundtrip --scheme flip --res 16
 expect_error "roundtrip --kernel unknown" "quintic" -- roundtrip --kernel quintic --res 16
+
+# ---- bad input, issue 11: each class with one line naming the real cause -------------------
+# Paths that are not regular files (a fifo would block a plain open).
+expect_error "scene path is a directory" "$TMP" "is a directory" -- run "$TMP"
+mkfifo "$TMP/fifo.json"
+expect_error "scene path is a fifo" "$TMP/fifo.json" "fifo" -- run "$TMP/fifo.json"
+expect_error "scene path is a character device" "/dev/null" "character device" -- run /dev/null
+: >"$TMP/empty.json"
+expect_error "empty scene file" "$TMP/empty.json" "malformed JSON" "line 1" -- run "$TMP/empty.json"
+if [ "$(id -u)" -ne 0 ]; then
+  cp "$DISK" "$TMP/unreadable.json" && chmod 000 "$TMP/unreadable.json"
+  expect_error "unreadable scene file" "$TMP/unreadable.json" "cannot read" -- run "$TMP/unreadable.json"
+fi
+
+# Degenerate geometry.
+variant rot-axis-zero 's/"radius": 0.3/"radius": 0.3, "rotation": {"axis": [0, 0, 0], "degrees": 30}/'
+expect_error "zero-length rotation axis" "$f" "'objects.0.shape.rotation.axis'" "zero length" -- run "$f"
+cat >"$TMP/torus.json" <<'EOF'
+{"name": "torus", "dim": 3,
+ "domain": {"min": [0, 0, 0], "max": [1, 1, 1], "dx": 0.05},
+ "materials": [{"E": 1000, "nu": 0.3, "rho": 1}],
+ "objects": [{"name": "ring", "shape": {"type": "torus", "center": [0.5, 0.5, 0.5], "inner": 0.1, "outer": 0.2, "axis": [0, 0, 0]}, "material": 0}]}
+EOF
+expect_error "zero-length torus axis" "$TMP/torus.json" "'objects.0.shape.axis'" "zero length" -- run "$TMP/torus.json"
+sed -e 's/"type": "torus"/"type": "annulus", "length": 0.2/' "$TMP/torus.json" >"$TMP/annulus.json"
+expect_error "zero-length annulus axis" "$TMP/annulus.json" "'objects.0.shape.axis'" "zero length" -- run "$TMP/annulus.json"
+expect_error "NaN through --set" "--set" "nan" "not valid JSON" -- run "$DISK" --set objects.0.velocity=[nan,0]
+
+# Meshes: a scene around one OBJ file.
+mesh_scene() {  # mesh_scene OBJ: $f = a 3D scene sampling that mesh
+  f="$TMP/mesh-$(basename "$1" .obj).json"
+  cat >"$f" <<EOF
+{"name": "mesh", "dim": 3, "domain": {"min": [-1, -1, -1], "max": [2, 2, 2], "dx": 0.1},
+ "materials": [{"E": 1000, "nu": 0.3, "rho": 1}],
+ "objects": [{"name": "solid", "shape": {"type": "mesh", "file": "$1"}, "material": 0}]}
+EOF
+}
+tetra_vertices=$'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n'
+printf '%sf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 9\n' "$tetra_vertices" >"$TMP/badindex.obj"
+mesh_scene "$TMP/badindex.obj"
+expect_error "mesh face index past the vertex count" "badindex.obj" "face 4" "vertex 9" "4 vertices" "!outside the domain" -- run "$f"
+printf '%sf 1 3 2\nf 1 2 4\nf 1 4 3\n' "$tetra_vertices" >"$TMP/open.obj"
+mesh_scene "$TMP/open.obj"
+expect_error "open (non-manifold) mesh" "open.obj" "not a closed manifold" -- run "$f"
+printf '%s' "$tetra_vertices" >"$TMP/nofaces.obj"
+mesh_scene "$TMP/nofaces.obj"
+expect_error "mesh without faces" "nofaces.obj" "no faces" -- run "$f"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 3 2\n' >"$TMP/flat.obj"  # closed, but flat
+mesh_scene "$TMP/flat.obj"
+expect_error "flat mesh (zero volume)" "flat.obj" "no volume" -- run "$f"
+mesh_scene "$TMP"
+expect_error "mesh path is a directory" "'objects.0.shape.file'" "is a directory" -- run "$f"
+
+# Values of the wrong kind.
+variant dim-fraction 's/"dim": 2/"dim": 2.5/'
+expect_error "fractional dim" "'dim'" "integer" -- run "$f"
+variant dim-huge 's/"dim": 2/"dim": 4294967298/'
+expect_error "dim past the int range" "'dim'" "integer" -- run "$f"
+variant ppc-fraction 's/"ppc": 4/"ppc": 4.5/'
+expect_error "fractional particles per cell" "'objects.0.sampling.ppc'" "whole number" -- run "$f"
+variant E-string 's/"E": 1000/"E": "1000"/'
+expect_error "string where a number goes" "'materials.0.E'" "expected a number" -- run "$f"
+variant E-bool 's/"E": 1000/"E": true/'
+expect_error "bool where a number goes" "'materials.0.E'" "expected a number" -- run "$f"
+variant cg-fraction 's/"scheme": "apic"/"scheme": "apic", "cg_max_iterations": 2.5/'
+expect_error "fractional iteration cap" "'solver.cg_max_iterations'" -- run "$f"
+variant velocity-string 's/"angular_velocity": 0.4/"angular_velocity": "fast"/'
+expect_error "string angular velocity" "'objects.0.angular_velocity'" "expected a number" -- run "$f"
+
+# Required keys, named in the scene's terms.
+variant no-E 's/"E": 1000, //'
+expect_error "missing materials.0.E" "'materials.0.E'" "missing" -- run "$f"
+variant no-shape 's/"shape": {"type": "ball", "center": \[0.5, 0.5\], "radius": 0.3},//'
+expect_error "missing objects.0.shape" "'objects.0.shape'" "missing" -- run "$f"
+
+# Numbers beyond a double.
+variant E-overflow 's/"E": 1000/"E": 1e400/'
+expect_error "1e400 in the scene" "'materials.0.E'" "1e400" "out of range" "line" -- run "$f"
+expect_error "1e400 through --set" "--set materials.0.E=1e400" "not valid JSON" -- run "$DISK" --set materials.0.E=1e400
+
+# Duplicate keys (JSON would keep the last silently).
+variant E-twice 's/"E": 1000/"E": 1000, "E": 2000/'
+expect_error "duplicate key" "'materials.0.E'" "twice" -- run "$f"
+
+# Options are named as options, not as the scene's keys.
+expect_error "--t-end nan" "--t-end" "!rotating-disk.json" -- run "$DISK" --t-end nan
+expect_error "--fps -24" "--fps" "!rotating-disk.json" -- run "$DISK" --fps -24
+expect_error "--dt inf" "--dt" "!rotating-disk.json" -- run "$DISK" --dt inf
+expect_error "--set value that is not a number" "--set materials.0.E=abc" "must be a number" -- run "$DISK" --set materials.0.E=abc
+expect_error "--set value that is not JSON" "--set" "'[1,'" "not valid JSON" -- run "$DISK" "--set" "objects.0.velocity=[1,"
+expect_error "--set without =" "--set" "KEY=VALUE" -- run "$DISK" --set materials.0.E
+expect_error "--set on a path through a number" "'materials.0.E.x'" -- run "$DISK" --set materials.0.E.x=1
+
+# Argument-parser errors: exit 2 and one line, not CLI11's 104-109.
+expect_error "run without a scene" "scene" -- run
+expect_error "unknown option" "--bogus" -- run "$DISK" --bogus
+expect_error "fractional --frames" "--frames" -- run "$DISK" --frames 2.5
+expect_error "unknown subcommand" "nosuch" -- nosuch
+expect_error "bench --dim 4" "--dim" -- bench --dim 4
+expect_error "compare --scheme refused" "not --scheme" -- compare "$DISK" --out "$TMP/cmp" --schemes pic,apic --scheme apic
+
+# Conflicting or meaningless options.
+expect_error "--t-end 1e300: more frames than an int holds" "'time.end'" "frames" -- run "$DISK" --t-end 1e300
+expect_error "--frames with --t-end" "--frames" "--t-end" -- run "$DISK" --frames 3 --t-end 0.1
+expect_error "--flip-alpha with APIC" "--flip-alpha" "apic" -- run "$DISK" --flip-alpha 0.5 --t-end 0.01
+expect_error "--threads 0" "--threads" -- run "$DISK" --threads 0
+expect_error "bench --particles 0" "--particles" -- bench --particles 0
+expect_error "bench --steps 0" "--steps" -- bench --steps 0
+if "$APICLAB" gui --help >/dev/null 2>&1; then
+  expect_error "gui --frames 0" "--frames" -- gui "$DISK" --frames 0
+  expect_error "gui --scheme with --schemes" "--schemes" -- gui "$DISK" --scheme pic --schemes pic,apic
+fi
+
+# Memory: a typo dx is refused at once with the estimate and the available memory.
+start=$(date +%s%N)
+expect_error "typo dx 1e-6" "needs about" "grid nodes" "available memory" "--max-memory" -- run "$DISK" --set domain.dx=1e-6
+ms=$(( ($(date +%s%N) - start) / 1000000 ))
+if [ "$ms" -lt 1000 ]; then ok "typo dx refused in $ms ms"; else nok "typo dx refused quickly" "took $ms ms"; fi
+expect_error "--max-memory below the estimate" "needs about" "cap of 1 MB" -- run "$DISK" --max-memory 1M
+expect_error "--max-memory malformed" "--max-memory" "BYTES" -- run "$DISK" --max-memory lots
+expect_error "roundtrip --res past memory" "roundtrip --res 2000000" "needs about" -- roundtrip --res 16,2000000
+expect_error "bench past --max-memory" "needs about" -- bench --particles 100000 --max-memory 1k
+# compare holds one simulation per scheme: the estimate counts them all. The disk needs about
+# 1.1 MB alone: a 3 MB cap passes one copy and refuses four.
+expect_error "compare counts every pane" "4 simulations at once" "needs about" -- compare "$DISK" --out "$TMP/cmp4" --schemes pic,flip,apic,rpic --max-memory 3M
+run_cli run "$DISK" --t-end 0.01 --max-memory none --csv "$TMP/none.csv" --quiet
+if [ "$RC" -eq 0 ]; then ok "--max-memory none runs"; else nok "--max-memory none" "exit $RC" "$(cat "$ERR")"; fi
+
+# Overlapping objects: a warning naming both and the overlap; the run goes on.
+sed -e 's/"objects": \[/"objects": [{"name": "intruder", "shape": {"type": "ball", "center": [0.7, 0.5], "radius": 0.1}, "material": "disk"}, /' "$DISK" >"$TMP/overlap.json"
+run_cli run "$TMP/overlap.json" --t-end 0.01 --csv "$TMP/overlap.csv" --quiet
+if [ "$RC" -eq 0 ] && grep -q "warning: .*'intruder' and '.*' overlap: [1-9][0-9]* of intruder's [0-9]* particles lie inside" "$ERR"; then
+  ok "overlapping objects warned: $(grep -o "overlap: .*" "$ERR" | head -c 120)"
+else
+  nok "overlapping objects warning" "exit $RC" "$(cat "$ERR")"
+fi
+run_cli run "$DISK" --t-end 0.01 --csv "$TMP/plain.csv" --quiet
+if grep -q "overlap" "$ERR"; then nok "no overlap warning on the shipped disk" "$(cat "$ERR")"; else ok "no overlap warning on the shipped disk"; fi
+
+# What a person expects: list and --version.
+run_cli list
+if [ "$RC" -eq 0 ] && grep -q "^  rotating-disk  *2D  Jiang et al. 2017, Sec 6.1" "$OUT" &&
+  [ "$(grep -c '^  [a-z0-9-]*  *[23]D  ' "$OUT")" -eq "$(ls "$SRC"/assets/scenes/*.json | wc -l)" ] &&
+  ! grep -q "does not load\|no description" "$OUT"; then
+  ok "list: every shipped scene with its description"
+else
+  nok "list" "exit $RC" "$(cat "$OUT")" "$(cat "$ERR")"
+fi
+# Sweeps beside the scenes are listed too (a scenes folder of our own through $APICLAB_SCENES).
+mkdir -p "$TMP/assets/scenes" "$TMP/assets/sweeps"
+cp "$DISK" "$TMP/assets/scenes/"
+printf '{"description": "Which transfer is cheapest. More words."}' >"$TMP/assets/sweeps/cost.json"
+OUT="$TMP/stdout" ERR="$TMP/stderr"
+(cd "$TMP/cwd" && APICLAB_SCENES="$TMP/assets/scenes" exec "$APICLAB" list) >"$OUT" 2>"$ERR"
+if grep -q "^  rotating-disk  " "$OUT" && grep -q "^  cost  *Which transfer is cheapest\.$" "$OUT"; then
+  ok "list: sweeps with their descriptions"
+else
+  nok "list with a sweep" "$(cat "$OUT" "$ERR")"
+fi
+run_cli --version
+if [ "$RC" -eq 0 ] && grep -qE "^apiclab [0-9]+\.[0-9]+\.[0-9]+" "$OUT"; then ok "--version: $(cat "$OUT")"; else nok "--version" "exit $RC" "$(cat "$OUT")"; fi
+
+# Every --help shows defaults and allowed values; compare --help lists only what compare takes.
+for sub in run roundtrip bench list render compare gui figures; do
+  "$APICLAB" $sub --help >/dev/null 2>&1 || continue  # render, compare, gui, figures: optional builds
+  run_cli $sub --help
+  # One line per option: CLI11 continues a long description on indented lines.
+  missing=$(awk '/^  +-/ { if (o) print o; o = $0; next } /^      +[^ -]/ { o = o " " $0; next } { if (o) print o; o = "" } END { if (o) print o }' "$OUT" |
+    grep -vE 'default|allowed|REQUIRED|--help|--set' || true)
+  if [ "$RC" -eq 0 ] && [ -z "$missing" ]; then ok "$sub --help: every option shows a default"; else nok "$sub --help" "$missing"; fi
+done
+if "$APICLAB" compare --help >"$TMP/cmp-help" 2>&1; then
+  if grep -qE -- '--scheme[ ,]|--csv|--dump' "$TMP/cmp-help"; then
+    nok "compare --help lists options compare refuses" "$(grep -E -- '--scheme[ ,]|--csv|--dump' "$TMP/cmp-help")"
+  else
+    ok "compare --help lists only what compare accepts"
+  fi
+fi
 
 # ---- --help: every numeric option shows its unit, allowed range and default ------------------
 run_cli run --help

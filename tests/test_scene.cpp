@@ -2,6 +2,7 @@
 // file and the offending key (docs/architecture.md, Scenes and Command line); the numeric-parameter
 // registry and the GUI's edit path, which must refuse what the reader refuses.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -14,6 +15,8 @@
 #include <vector>
 
 #include "sim/mpm.hpp"
+#include "sim/obj_mesh.hpp"
+#include "sim/object_overlap.hpp"
 #include "sim/parameters.hpp"
 #include "sim/scene.hpp"
 #include "sim/simulation.hpp"
@@ -185,6 +188,154 @@ TEST(Scene, SetOnMissingKey) {
                      {"good.json", "'materials.0.E'"}, "--set negative E");
   expect_scene_error([] { parse_scene_text(kGood, "good.json", {"noequals"}); },
                      {"good.json", "noequals"}, "--set without =");
+}
+
+// Issue 11: each class of bad input gives one line that names the real cause.
+TEST(SceneInput, DuplicateKeysAreRefusedWithTheirPath) {
+  const std::string dup =
+      std::string(kGood).replace(kGood.find("\"E\": 1000"), 9, "\"E\": 1000, \"E\": 2000");
+  expect_scene_error([&] { parse_scene_text(dup, "dup.json"); },
+                     {"dup.json", "'materials.0.E'", "twice"}, "duplicate E");
+  // Nested in an array of objects: the index is part of the path.
+  const std::string dup_top =
+      std::string(kGood).replace(kGood.find("\"dim\": 2"), 8, "\"dim\": 2, \"dim\": 3");
+  expect_scene_error([&] { parse_scene_text(dup_top, "dup.json"); }, {"'dim'", "twice"},
+                     "duplicate dim");
+}
+
+TEST(SceneInput, NumbersBeyondADoubleNameTheKeyAndLine) {
+  const std::string big =
+      std::string(kGood).replace(kGood.find("\"dx\": 0.05"), 10, "\"dx\": 1e400");
+  expect_scene_error([&] { parse_scene_text(big, "big.json"); },
+                     {"big.json", "'domain.dx'", "1e400", "out of range for a double", "line 3"},
+                     "1e400");
+  const std::string in_array =
+      std::string(kGood).replace(kGood.find("[0, -9.8]"), 9, "[0, -1e999]");
+  expect_scene_error([&] { parse_scene_text(in_array, "big.json"); },
+                     {"'gravity.1'", "-1e999", "out of range"}, "-1e999 in an array");
+}
+
+TEST(SceneInput, MissingRequiredKeysAreNamedInTheScenesTerms) {
+  for (const auto& [pointer, key] : std::vector<std::pair<std::string, std::string>>{
+           {"/materials/0/E", "materials.0.E"},
+           {"/objects/0/shape", "objects.0.shape"},
+           {"/objects/0/shape/radius", "objects.0.shape.radius"},
+           {"/domain/dx", "domain.dx"},
+           {"/objects/0/material", "objects.0.material"}}) {
+    expect_scene_error([&] { parse_scene_text(edited(pointer, nullptr, true), "m.json"); },
+                       {"m.json", "'" + key + "'", "missing"}, "without " + key);
+  }
+}
+
+TEST(SceneInput, WrongKindsAreRefused) {
+  bad("/dim", 2.5, "dim");
+  bad("/dim", 4294967298LL, "dim");  // would wrap to 2 as an int
+  bad("/dim", "2", "dim");
+  bad("/materials/0/E", "1000", "materials.0.E");
+  bad("/materials/0/E", true, "materials.0.E");
+  bad("/objects/0/sampling/ppc", 4.5, "objects.0.sampling.ppc");
+  bad("/objects/0/velocity", {"fast", 0}, "objects.0.velocity");
+  bad("/solver/cg_max_iterations", 2.5, "solver.cg_max_iterations");
+  bad("/objects/0/material", 4294967296LL, "objects.0.material");  // would wrap to 0 as an int
+  bad("/objects/0/sampling", {{"type", "poisson"}, {"radius", 0.02}, {"seed", -1}},
+      "objects.0.sampling.seed");
+}
+
+TEST(SceneInput, DegenerateAxesAreRefused) {
+  bad("/objects/0/shape/rotation", {{"axis", {0, 0, 0}}, {"degrees", 30}},
+      "objects.0.shape.rotation.axis");
+  nlohmann::json j = nlohmann::json::parse(kGood);
+  j["dim"] = 3;
+  j["domain"] = {{"min", {0, 0, 0}}, {"max", {1, 1, 1}}, {"dx", 0.05}};
+  j["gravity"] = {0, 0, 0};
+  j["objects"][0]["velocity"] = {0, 0, 0};
+  for (const std::string type : {"torus", "annulus"}) {
+    j["objects"][0]["shape"] = {{"type", type},
+                                {"center", {0.5, 0.5, 0.5}},
+                                {"inner", 0.1},
+                                {"outer", 0.2},
+                                {"axis", {0, 0, 0}}};
+    if (type == "annulus") j["objects"][0]["shape"]["length"] = 0.2;
+    expect_scene_error([&] { parse_scene_text(j.dump(), "axis.json"); },
+                       {"axis.json", "'objects.0.shape.axis'", "zero length"}, type);
+  }
+}
+
+TEST(SceneInput, SetValuesThatAreNotJsonAreShown) {
+  for (const std::string value : {"nan", "inf", "-Infinity", "1e400", "[1,", "{\"a\":}"})
+    expect_scene_error(
+        [&] { parse_scene_text(kGood, "good.json", {"objects.0.velocity=" + value}); },
+        {"good.json", "--set objects.0.velocity=" + value, "'" + value + "'", "not valid JSON"},
+        value);
+  expect_scene_error([] { parse_scene_text(kGood, "good.json", {"materials.0.E=abc"}); },
+                     {"--set materials.0.E=abc", "must be a number", "\"abc\""}, "bare word");
+  // A bare word is still a string where a string goes.
+  EXPECT_EQ(parse_scene_text(kGood, "good.json", {"solver.scheme=flip"}).solver.scheme,
+            Scheme::flip);
+}
+
+TEST(SceneInput, ScenePathsThatAreNotRegularFiles) {
+  const std::string dir = ::testing::TempDir() + "apiclab-scene-dir";
+  std::filesystem::create_directories(dir);
+  expect_scene_error([&] { load_scene(dir); }, {dir, "is a directory"}, "directory");
+  const std::string fifo = ::testing::TempDir() + "apiclab-scene.fifo";
+  std::filesystem::remove(fifo);
+  ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
+  expect_scene_error([&] { load_scene(fifo); }, {fifo, "fifo"}, "fifo");  // must not block
+  std::filesystem::remove(fifo);
+  expect_scene_error([] { load_scene("/dev/null"); }, {"/dev/null", "character device"}, "device");
+}
+
+// A 3D scene that samples the OBJ text `obj`.
+void expect_mesh_error(const std::string& obj, const std::vector<std::string>& needles,
+                       const std::string& what) {
+  const std::string path = ::testing::TempDir() + "apiclab-" + what + ".obj";
+  std::ofstream(path) << obj;
+  const std::string scene = R"({"dim": 3, "domain": {"min": [-1, -1, -1], "max": [2, 2, 2],
+    "dx": 0.1}, "materials": [{"E": 1000, "nu": 0.3, "rho": 1}],
+    "objects": [{"shape": {"type": "mesh", "file": ")" +
+                            path + R"("}, "material": 0}]})";
+  std::vector<std::string> all = needles;
+  all.push_back(path);
+  expect_scene_error([&] { make_simulation(parse_scene_text(scene, "mesh.json")); }, all, what);
+}
+
+TEST(SceneInput, InvalidMeshesAreReportedAsSuch) {
+  const std::string v = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n";
+  expect_mesh_error(v + "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 9\n",
+                    {"face 4", "vertex 9", "4 vertices"}, "index");
+  expect_mesh_error(v + "f 1 3 2\nf 1 2 4\nf 1 4 3\n", {"not a closed manifold"}, "open");
+  expect_mesh_error(v + "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\nf 2 3 4\n", {"not a closed manifold"},
+                    "nonmanifold");
+  expect_mesh_error(v, {"no faces"}, "empty");
+  expect_mesh_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 3 2\n", {"no volume"}, "flat");
+  // The closed tetrahedron itself is fine.
+  const std::string path = ::testing::TempDir() + "apiclab-tetra.obj";
+  std::ofstream(path) << v + "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+  const ObjMesh tetra = load_obj_mesh(path);
+  EXPECT_NEAR(tetra.volume(), 1.0 / 6.0, 1e-15);
+}
+
+TEST(SceneInput, OverlappingObjectsAreReportedWithTheirParticleCounts) {
+  nlohmann::json j = nlohmann::json::parse(kGood);
+  // A second disk of radius 0.2 centred 0.2 away: the lens between them is inside both.
+  nlohmann::json second = j["objects"][0];
+  second["name"] = "other";
+  second["shape"]["center"] = {0.7, 0.5};
+  j["objects"].push_back(second);
+  const SceneDesc s = parse_scene_text(j.dump(), "overlap.json");
+  const auto warnings = object_overlaps(s);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("'disk' and 'other' overlap"), std::string::npos) << warnings[0];
+  // Lens area of two unit-distance-0.2 circles of radius 0.2: 2r^2 acos(d/2r) - (d/2)
+  // sqrt(4r^2 - d^2) = 0.0491; at 4 particles per cell of 0.05^2, about 79 particles.
+  const auto count = std::stoi(warnings[0].substr(warnings[0].find("overlap: ") + 9));
+  EXPECT_NEAR(count, 79, 10) << warnings[0];
+  // Apart: nothing to report.
+  j["objects"][1]["shape"]["center"] = {0.5, 0.5};
+  j["objects"][0]["shape"]["radius"] = 0.05;
+  j["objects"][0]["shape"]["center"] = {0.1, 0.1};
+  EXPECT_TRUE(object_overlaps(parse_scene_text(j.dump(), "apart.json")).empty());
 }
 
 TEST(Scene, LoadSceneFromFileNamesFile) {

@@ -77,6 +77,8 @@ void load_scene_file(ViewerState& st, SimWorker& worker, const std::string& path
     st.notice.clear();
     if (st.panes.empty())
       st.panes.push_back({st.scene.solver.scheme, st.scene.solver.flip_alpha, {}, {}});
+    for (auto& p : st.panes)  // --schemes panes take the scene's (or --flip-alpha's) blend
+      if (p.flip_alpha < 0) p.flip_alpha = st.scene.solver.flip_alpha;
     restart(st, worker);
     worker.play(true);
   } catch (const std::exception& e) {  // the window stays up and shows why
@@ -159,7 +161,7 @@ int run_viewer(const ViewerOptions& opt) {
     st.color = render::parse_color_mode(opt.color);
     st.precision = parse_choice(precision_choices(), opt.precision, "precision");
     for (auto& s : opt.schemes)
-      st.panes.push_back({parse_choice(scheme_choices(), s, "scheme"), 1.0, {}, {}});
+      st.panes.push_back({parse_choice(scheme_choices(), s, "scheme"), -1.0, {}, {}});
     std::error_code ec;
     for (auto& e : std::filesystem::directory_iterator(scenes_directory(), ec))
       if (e.path().extension() == ".json") st.scene_files.push_back(e.path().string());

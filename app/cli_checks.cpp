@@ -1,0 +1,80 @@
+#include "app/cli_checks.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <regex>
+
+#include "sim/memory_estimate.hpp"
+#include "sim/object_overlap.hpp"
+#include "sim/parameters.hpp"
+
+namespace apiclab::cli {
+
+void check_numeric_option(const std::string& flag, std::string_view key, double value) {
+  int index = 0;
+  const NumericParameter* p = find_parameter(key, &index);
+  if (!p) throw std::logic_error("no numeric parameter " + std::string(key));
+  if (!parameter_error(*p, index, value, "")) return;
+  throw UsageError(flag + " " + format_value(value) + ": " + std::string(p->label) +
+                   " is outside the allowed range " + p->range.text() + " (scene key '" +
+                   std::string(key) + "')");
+}
+
+void check_run_options(const RunOptions& o) {
+  if (o.flip_alpha) check_numeric_option("--flip-alpha", "solver.flip_alpha", *o.flip_alpha);
+  if (o.lambda) check_numeric_option("--lambda", "solver.lambda", *o.lambda);
+  if (o.t_end) check_numeric_option("--t-end", "time.end", *o.t_end);
+  if (o.fps) check_numeric_option("--fps", "time.fps", *o.fps);
+  if (o.dt) check_numeric_option("--dt", "time.dt.value", *o.dt);
+  if (o.frames && o.t_end)
+    throw UsageError("--frames and --t-end both set the end time (frames / fps); give one of them");
+  if (o.frames && *o.frames < 1) throw UsageError("--frames must be at least 1");
+  max_memory_gb(o.max_memory);
+}
+
+void check_flip_alpha(const RunOptions& o, const std::vector<Scheme>& schemes) {
+  if (!o.flip_alpha) return;
+  std::string names;
+  for (Scheme s : schemes) {
+    if (s == Scheme::flip) return;
+    names += (names.empty() ? "" : ", ") + std::string(key_of(s));
+  }
+  throw UsageError("--flip-alpha has no effect: it blends FLIP with PIC, and the scheme is " +
+                   names + " (add --scheme flip, or leave --flip-alpha out)");
+}
+
+std::optional<double> max_memory_gb(const std::string& text) {
+  if (text.empty() || text == "auto") return std::nullopt;
+  if (text == "none") return 1e300;  // no cap: larger than any estimate
+  static const std::regex bytes(R"(([0-9]*\.?[0-9]+([eE][+-]?[0-9]+)?)\s*([kKMGT]i?)?[bB]?)");
+  std::smatch m;
+  if (!std::regex_match(text, m, bytes))
+    throw UsageError("--max-memory '" + text +
+                     "': expected BYTES (e.g. 8G, 512M, 2.5e9), auto (the available memory) or "
+                     "none");
+  double v = std::stod(m[1].str());
+  const std::string unit = m[3].str();
+  if (!unit.empty()) {
+    const double base = unit.size() == 2 ? 1024.0 : 1000.0;
+    const int power = std::string("kMGT").find(char(unit[0] == 'K' ? 'k' : unit[0])) + 1;
+    v *= std::pow(base, power);
+  }
+  if (!(v > 0) || !std::isfinite(v))
+    throw UsageError("--max-memory '" + text + "': must be a positive number of bytes");
+  return v / 1e9;
+}
+
+void check_memory_for(const SceneDesc& scene, Precision precision, int copies) {
+  MemoryEstimate e = estimate_memory(scene, precision);
+  e.grid_nodes *= copies;
+  e.particles *= copies;
+  check_memory(e, memory_cap_bytes(scene),
+               scene.source + " (" + std::to_string(copies) + " simulations at once)");
+}
+
+void warn_about_overlaps(const SceneDesc& scene) {
+  for (const std::string& w : object_overlaps(scene))
+    std::fprintf(stderr, "apiclab: warning: %s: %s\n", scene.source.c_str(), w.c_str());
+}
+
+}  // namespace apiclab::cli

@@ -1,0 +1,36 @@
+// Option values and combinations, checked before a scene is loaded or a run starts. The rule
+// (README, Command line): an option that contradicts another or cannot do anything is an error
+// (exit 2, one line naming the option); a scene that runs but is probably not what was meant
+// (overlapping objects) is a warning on stderr.
+#pragma once
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "app/cli.hpp"
+
+namespace apiclab::cli {
+
+// A numeric option against its scene key's range in the parameter registry; the message names
+// the option: "--t-end nan: end time is outside the allowed range (0, inf) (scene key
+// 'time.end')".
+void check_numeric_option(const std::string& flag, std::string_view key, double value);
+
+// Each numeric option of `o`, and --frames with --t-end.
+void check_run_options(const RunOptions& o);
+
+// --flip-alpha when none of the schemes that will run is FLIP: an error.
+void check_flip_alpha(const RunOptions& o, const std::vector<Scheme>& schemes);
+
+// --max-memory BYTES|auto|none as a solver.max_memory_gb value; empty for auto. BYTES takes
+// an optional k, M, G, T suffix (powers of 1000) or Ki, Mi, Gi, Ti (powers of 1024).
+std::optional<double> max_memory_gb(const std::string& text);
+
+// The memory guard for `copies` simulations of the scene held at once (compare's panes; the
+// GUI also keeps each pane's initial state): one line with the estimate, exit 2.
+void check_memory_for(const SceneDesc& scene, Precision precision, int copies);
+
+// Prints "apiclab: warning: ..." for each pair of objects that overlap (sim/object_overlap.hpp).
+void warn_about_overlaps(const SceneDesc& scene);
+
+}  // namespace apiclab::cli

@@ -1,0 +1,21 @@
+// `apiclab --version`: CMake's project() version and `git describe` at configure time
+// (app/CMakeLists.txt passes both to this file alone, so a new commit recompiles only it).
+#include <string>
+
+#include "commands.hpp"
+
+#ifndef APICLAB_VERSION
+#define APICLAB_VERSION "unknown"
+#endif
+#ifndef APICLAB_GIT_DESCRIBE
+#define APICLAB_GIT_DESCRIBE ""
+#endif
+
+namespace apiclab::cli {
+
+std::string version_text() {
+  const std::string git = APICLAB_GIT_DESCRIBE;
+  return std::string("apiclab ") + APICLAB_VERSION + (git.empty() ? "" : " (git " + git + ")");
+}
+
+}  // namespace apiclab::cli

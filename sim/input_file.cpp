@@ -1,0 +1,43 @@
+#include "input_file.hpp"
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "scene.hpp"
+
+namespace apiclab {
+
+std::string input_file_problem(const std::string& path, const std::string& what) {
+  namespace fs = std::filesystem;
+  if (path.empty()) return "no " + what + " given (an empty path)";
+  std::error_code ec;
+  const fs::file_status st = fs::status(path, ec);
+  if (!fs::exists(st)) return "no such " + what;
+  if (fs::is_directory(st)) return "is a directory, not a " + what;
+  if (!fs::is_regular_file(st)) {
+    const char* kind = fs::is_fifo(st)             ? "a fifo"
+                       : fs::is_socket(st)         ? "a socket"
+                       : fs::is_character_file(st) ? "a character device"
+                       : fs::is_block_file(st)     ? "a block device"
+                                                   : "a special file";
+    return std::string("is ") + kind + ", not a regular " + what;
+  }
+  std::ifstream probe(path);
+  if (!probe) return "cannot read " + what + ": " + std::strerror(errno);
+  return "";
+}
+
+std::string read_input_file(const std::string& path, const std::string& what) {
+  if (std::string problem = input_file_problem(path, what); !problem.empty())
+    throw SceneError(path.empty() ? problem : path + ": " + problem);
+  std::ifstream in(path);
+  std::stringstream buf;
+  buf << in.rdbuf();
+  if (in.bad()) throw SceneError(path + ": cannot read " + what + ": " + std::strerror(errno));
+  return buf.str();
+}
+
+}  // namespace apiclab

@@ -1,0 +1,136 @@
+#include "scene_json.hpp"
+
+#include <set>
+#include <vector>
+
+namespace apiclab {
+namespace {
+
+using nlohmann::json;
+
+// Line and column (1-based) of a byte offset.
+std::string position_text(const std::string& text, std::size_t offset) {
+  std::size_t line = 1, column = 1;
+  for (std::size_t i = 0; i < offset && i < text.size(); ++i) {
+    if (text[i] == '\n') {
+      ++line;
+      column = 1;
+    } else {
+      ++column;
+    }
+  }
+  return "line " + std::to_string(line) + ", column " + std::to_string(column);
+}
+
+// nlohmann's message without its "[json.exception.parse_error.101] parse error at line 1,
+// column 5: " prefix (the position is reported once, by position_text).
+std::string reason_of(const std::string& what) {
+  std::string s = what;
+  if (s.rfind("[json.exception.", 0) == 0) s = s.substr(s.find(']') + 2);
+  const auto colon = s.find(": ");
+  if (s.rfind("parse error", 0) == 0 && colon != std::string::npos) s = s.substr(colon + 2);
+  return s;
+}
+
+// Forwards every event to nlohmann's DOM builder; keeps the path of the value being read and
+// the keys seen in each open object.
+class StrictSax {
+ public:
+  StrictSax(json& out, const std::string& text) : dom_(out, false), text_(text) {}
+
+  bool null() { return value() && dom_.null(); }
+  bool boolean(bool v) { return value() && dom_.boolean(v); }
+  bool number_integer(json::number_integer_t v) { return value() && dom_.number_integer(v); }
+  bool number_unsigned(json::number_unsigned_t v) { return value() && dom_.number_unsigned(v); }
+  bool number_float(json::number_float_t v, const json::string_t& s) {
+    return value() && dom_.number_float(v, s);
+  }
+  bool string(json::string_t& v) { return value() && dom_.string(v); }
+  bool binary(json::binary_t& v) { return value() && dom_.binary(v); }
+  bool start_object(std::size_t n) {
+    if (!value()) return false;
+    frames_.push_back({true, "", -1, {}});
+    return dom_.start_object(n);
+  }
+  bool key(json::string_t& k) {
+    Frame& f = frames_.back();
+    f.key = k;
+    if (!f.keys.insert(k).second) {
+      error_ = {"appears twice (JSON would keep only the last; remove one)", path(), ""};
+      return false;
+    }
+    return dom_.key(k);
+  }
+  bool end_object() {
+    frames_.pop_back();
+    return dom_.end_object();
+  }
+  bool start_array(std::size_t n) {
+    if (!value()) return false;
+    frames_.push_back({false, "", -1, {}});
+    return dom_.start_array(n);
+  }
+  bool end_array() {
+    frames_.pop_back();
+    return dom_.end_array();
+  }
+  bool parse_error(std::size_t position, const std::string& token,
+                   const nlohmann::detail::exception& ex) {
+    // The failing value was not counted yet: in an array it is the next element.
+    if (!frames_.empty() && !frames_.back().object) ++frames_.back().index;
+    const bool overflow = ex.id == 406;  // out_of_range.406: number overflow
+    error_ = {overflow ? "number " + token + " is out of range for a double" : reason_of(ex.what()),
+              path(), position_text(text_, position)};
+    return false;
+  }
+  const JsonError& error() const { return error_; }
+
+ private:
+  struct Frame {
+    bool object;
+    std::string key;
+    long index;
+    std::set<std::string> keys;
+  };
+  // A value starts: in an array, it is the next element.
+  bool value() {
+    if (!frames_.empty() && !frames_.back().object) ++frames_.back().index;
+    return true;
+  }
+  std::string path() const {
+    std::string p;
+    for (const Frame& f : frames_) {
+      std::string part = f.object ? f.key : (f.index >= 0 ? std::to_string(f.index) : "");
+      if (part.empty()) continue;
+      p += (p.empty() ? "" : ".") + part;
+    }
+    return p;
+  }
+
+  nlohmann::detail::json_sax_dom_parser<json> dom_;
+  const std::string& text_;
+  std::vector<Frame> frames_;
+  JsonError error_;
+};
+
+}  // namespace
+
+std::string JsonError::text() const {
+  if (position.empty()) return "key '" + path + "' " + cause;  // a duplicate key
+  if (cause.rfind("number ", 0) == 0 && !path.empty())
+    return "key '" + path + "': " + cause + " (" + position + ")";
+  return "malformed JSON at " + position + (path.empty() ? "" : " (near key '" + path + "')") +
+         ": " + cause;
+}
+
+bool parse_json_strict(const std::string& text, json& out, JsonError& error) {
+  out = json();
+  StrictSax sax(out, text);
+  if (json::sax_parse(text, &sax)) return true;
+  error = sax.error();
+  if (error.cause.empty()) error.cause = "malformed JSON";
+  out = json();
+  return false;
+}
+
+}  // namespace apiclab

@@ -1,0 +1,106 @@
+// The memory guard (sim/memory_estimate.hpp): the estimate is measured against the resident
+// memory a real scene takes, and a scene whose estimate exceeds the cap is refused at once.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <string>
+
+#include "sim/memory_estimate.hpp"
+#include "sim/scene.hpp"
+#include "sim/simulation.hpp"
+
+namespace apiclab {
+namespace {
+
+// VmRSS of this process in bytes (ctest runs each test in a process of its own).
+double resident_bytes() {
+  std::ifstream in("/proc/self/status");
+  std::string name;
+  double kb = 0;
+  while (in >> name) {
+    if (name == "VmRSS:") {
+      in >> kb;
+      return kb * 1024;
+    }
+    std::getline(in, name);
+  }
+  return 0;
+}
+
+// A 3D elastic block: 69^3 grid nodes, 32^3 x 8 = 262,144 particles, a few hundred MB.
+std::string block_scene(double dx, const std::string& solver_extra = "") {
+  return R"({"name": "block", "dim": 3,
+    "domain": {"min": [0, 0, 0], "max": [1, 1, 1], "dx": )" +
+         std::to_string(dx) + R"(},
+    "gravity": [0, -9.8, 0],
+    "time": {"end": 1, "fps": 24, "dt": {"rule": "fixed", "value": 1e-4}},
+    "solver": {"scheme": "apic")" +
+         solver_extra + R"(},
+    "materials": [{"E": 1000, "nu": 0.3, "rho": 1}],
+    "objects": [{"shape": {"type": "box", "min": [0.25, 0.25, 0.25], "max": [0.75, 0.75, 0.75]},
+                 "material": 0, "sampling": {"type": "ppc", "ppc": 8}}]})";
+}
+
+TEST(MemoryEstimate, WithinTwiceTheMeasuredResidentGrowth) {
+  const SceneDesc scene = parse_scene_text(block_scene(1.0 / 64), "block");
+  const MemoryEstimate e = estimate_memory(scene, Precision::dbl);
+  EXPECT_NEAR(e.particles, 262144, 1);           // (0.5 / (dx / 2))^3
+  EXPECT_NEAR(e.grid_nodes, 69.0 * 69 * 69, 1);  // 64 cells + 1 + 2 ghost layers per side
+  const double before = resident_bytes();
+  auto sim = make_simulation(scene, Precision::dbl);
+  for (int s = 0; s < 2; ++s) sim->step_fixed(1e-4);  // the first step sizes the caches
+  const double grown = resident_bytes() - before;
+  std::printf("estimate %.1f MB, resident growth %.1f MB\n", e.bytes() / 1e6, grown / 1e6);
+  EXPECT_GT(grown, 0.5 * e.bytes());
+  EXPECT_LT(grown, 2.0 * e.bytes());
+}
+
+TEST(MemoryEstimate, TypoDxIsRefusedAtOnceWithTheEstimate) {
+  const SceneDesc scene = parse_scene_text(block_scene(1e-6), "typo.json");
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    auto sim = make_simulation(scene, Precision::dbl);
+    ADD_FAILURE() << "a 1e18-node grid was not refused";
+  } catch (const SceneError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("typo.json: needs about"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("grid nodes"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("available memory"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("--max-memory"), std::string::npos) << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+  }
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_LT(seconds, 0.5);
+}
+
+TEST(MemoryEstimate, SceneKeySetsTheCap) {
+  // 1 MB is far below the block's few hundred MB; 1e300 GB lifts the cap (--max-memory none).
+  const SceneDesc capped =
+      parse_scene_text(block_scene(1.0 / 16, R"(, "max_memory_gb": 0.001)"), "capped.json");
+  EXPECT_THROW(check_memory(capped, Precision::dbl), SceneError);
+  const SceneDesc lifted =
+      parse_scene_text(block_scene(1.0 / 16, R"(, "max_memory_gb": 1e300)"), "lifted.json");
+  EXPECT_NO_THROW(check_memory(lifted, Precision::dbl));
+  // Float halves the per-node and per-particle arrays of reals.
+  const MemoryEstimate d = estimate_memory(lifted, Precision::dbl);
+  const MemoryEstimate f = estimate_memory(lifted, Precision::single);
+  EXPECT_LT(f.bytes(), 0.7 * d.bytes());
+  EXPECT_GT(f.bytes(), 0.4 * d.bytes());
+}
+
+TEST(MemoryEstimate, RoundTripProbe) {
+  EXPECT_NEAR(estimate_roundtrip_memory(64).grid_nodes, 64 * 64, 0);
+  EXPECT_THROW(check_memory(estimate_roundtrip_memory(1 << 20), 8e9, "roundtrip"), SceneError);
+}
+
+TEST(MemoryEstimate, AvailableMemoryIsRead) {
+  const auto available = available_memory_bytes();
+  ASSERT_TRUE(available.has_value());
+  EXPECT_GT(*available, 1e6);
+}
+
+}  // namespace
+}  // namespace apiclab
