@@ -10,15 +10,6 @@
 
 namespace apiclab {
 
-std::string apiclab_version() {
-#ifdef APICLAB_VERSION
-  const std::string v = APICLAB_VERSION;
-  return v.empty() ? "unknown" : v;
-#else
-  return "unknown";
-#endif
-}
-
 nlohmann::json run_settings(const SceneDesc& scene, Precision precision,
                             const std::vector<std::string>& overrides) {
   nlohmann::json parameters = nlohmann::json::object();

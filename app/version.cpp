@@ -2,6 +2,7 @@
 // (app/CMakeLists.txt passes both to this file alone, so a new commit recompiles only it).
 #include <string>
 
+#include "app/run_outputs.hpp"
 #include "commands.hpp"
 
 #ifndef APICLAB_VERSION
@@ -11,11 +12,15 @@
 #define APICLAB_GIT_DESCRIBE ""
 #endif
 
-namespace apiclab::cli {
+namespace apiclab {
 
-std::string version_text() {
+std::string apiclab_version() {
   const std::string git = APICLAB_GIT_DESCRIBE;
-  return std::string("apiclab ") + APICLAB_VERSION + (git.empty() ? "" : " (git " + git + ")");
+  return std::string(APICLAB_VERSION) + (git.empty() ? "" : " (git " + git + ")");
 }
 
-}  // namespace apiclab::cli
+namespace cli {
+std::string version_text() { return "apiclab " + apiclab_version(); }
+}  // namespace cli
+
+}  // namespace apiclab
