@@ -7,6 +7,7 @@
 
 #include "app/clock.hpp"
 #include "app/frame_loop.hpp"
+#include "app/sweep/record.hpp"
 #include "cli.hpp"
 #include "commands.hpp"
 #include "sim/diagnostics.hpp"
@@ -96,7 +97,13 @@ void register_run(CLI::App& root, CommandTable& table) {
   CLI::App* cmd =
       root.add_subcommand("run", "headless simulation; diagnostics CSV, progress on stderr");
   add_run_options(cmd, *opts);
-  table.push_back({cmd, [opts] { return run(*opts); }});
+  auto record = std::make_shared<std::string>();
+  cmd->add_option("--record", *record,
+                  "a sweep run: diagnostics, frames and result.json into this folder, written "
+                  "whole or not at all (app/sweep/record.hpp)");
+  table.push_back({cmd, [opts, record] {
+                     return record->empty() ? run(*opts) : sweep::record_run(*opts, *record);
+                   }});
 }
 
 }  // namespace apiclab::cli

@@ -15,6 +15,7 @@ using CommandTable = std::vector<Command>;
 void register_run(CLI::App& root, CommandTable& table);
 void register_roundtrip(CLI::App& root, CommandTable& table);
 void register_bench(CLI::App& root, CommandTable& table);
+void register_sweep(CLI::App& root, CommandTable& table);  // app/cmd_sweep.cpp
 #ifdef APICLAB_HAVE_RENDER
 void register_render(CLI::App& root, CommandTable& table);  // render and compare
 #endif
