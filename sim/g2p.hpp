@@ -19,7 +19,7 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
   const T lambda = T(scene_.solver.integrator_lambda());
   const T alpha = T(scene_.solver.flip_alpha);
   // Sec 5.9: the multilinear kernel's D_p is not k Δx² I. Its lagged C (default) is stable;
-  // `bform` keeps C = B D_p⁻¹ with the particle's own D_p, singular on grid lines (unstable).
+  // `bform` keeps C = B D_p⁻¹ with D_p at the particle's next position (unstable).
   const bool multilinear = K::type == KernelType::linear;
   const bool lagged = multilinear && scene_.solver.apic_linear_form == ApicLinearForm::lagged;
   const bool bform_multilinear = multilinear && !lagged;
@@ -113,9 +113,15 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
           B += T(0.5) * dt * (lambda * skew - vpic * ubar.transpose() + ubar * vpic.transpose());
         }
         if (bform_multilinear) {
-          const Mat<T, D> Dp = st.inertia();  // diagonal
+          // Sec 5.9's B form: B^{n+1} is inverted with D_p at the start of the next step, at
+          // x_p^{n+1}, where f(1 − f) Δx² per axis vanishes as a particle nears a grid line.
+          Vec<T, D> x_next = p_.x[q] + dt * ubar;
+          for (int a = 0; a < D; ++a) x_next[a] = std::min(std::max(x_next[a], lo[a]), hi[a]);
+          Stencil<T, D, K> next;
+          next.compute(x_next, grid_);
+          const Mat<T, D> Dp = next.inertia();  // diagonal
           for (int c = 0; c < D; ++c) B.col(c) /= Dp(c, c);
-          gathered.apic_C = B;  // C = B D_p⁻¹ (Sec 5.9's unstable form)
+          gathered.apic_C = B;
         } else {
           gathered.apic_C = B * inv_k;  // C = B D⁻¹ with D = k Δx² I
         }

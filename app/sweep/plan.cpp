@@ -156,7 +156,15 @@ Plan make_plan(const Spec& spec) {
     run.overrides = spec.set;
     for (auto& [k, v] : run.config)
       if (!is_derived_key(k)) run.overrides.push_back(k + "=" + v.text);
-    SceneDesc scene = parse_for(spec, run, run.overrides);
+    // A fixed step from dt_factor replaces the scene's rule (the cfl rule refuses some kernels);
+    // its value is set below, once Δx and the speeds are known.
+    const Value* dt_factor = run.value("dt_factor");
+    auto with_fixed_rule = [&] {
+      std::vector<std::string> o = run.overrides;
+      if (dt_factor) o.insert(o.end(), {"time.dt.rule=fixed", "time.dt.value=1"});
+      return o;
+    };
+    SceneDesc scene = parse_for(spec, run, with_fixed_rule());
     run.dx = scene.domain.dx;
     if (const Value* r = run.value("resolution")) {
       // dx / r, and the sampling follows, so particles per cell stay fixed (ppc sampling needs
@@ -171,9 +179,9 @@ Plan make_plan(const Spec& spec) {
         else if (s.type == SamplingType::poisson)
           run.overrides.push_back(key + "radius=" + exact(s.radius / r->number));
       }
-      scene = parse_for(spec, run, run.overrides);
+      scene = parse_for(spec, run, with_fixed_rule());
     }
-    if (const Value* f = run.value("dt_factor")) {
+    if (const Value* f = dt_factor) {
       // Fixed Δt = factor · Δx / (c + max|v₀|), c of the stiffest material.
       double c = 0;
       for (const MaterialDesc& m : scene.materials) c = std::max(c, m.wave_speed());
@@ -205,7 +213,12 @@ Plan make_plan(const Spec& spec) {
   // run's own scene and, for other axes, the base scene's own value where the axis has it.
   std::map<std::string, SceneDesc> base;  // per scene, with the fixed overrides only
   for (PlannedRun& run : plan.runs) {
-    if (!base.count(run.scene_path)) base.emplace(run.scene_path, parse_for(spec, run, spec.set));
+    if (!base.count(run.scene_path)) {
+      std::vector<std::string> fixed = spec.set;
+      if (spec.axis("dt_factor"))
+        fixed.insert(fixed.end(), {"time.dt.rule=fixed", "time.dt.value=1"});
+      base.emplace(run.scene_path, parse_for(spec, run, fixed));
+    }
     const SceneDesc& scene = base.at(run.scene_path);
     std::vector<std::pair<std::string, Value>> want;
     for (const AxisGroup& g : spec.groups)
@@ -213,8 +226,8 @@ Plan make_plan(const Spec& spec) {
         Value v = a.values.front();
         if (auto named = spec.reference.find(a.key); named != spec.reference.end()) {
           v = named->second;
-        } else if (a.key == "scene") {
-          v = *run.value("scene");
+        } else if (spec.follows_scene(a.key)) {
+          v = *run.value(a.key);
         } else if (a.key == "resolution") {
           v = *std::max_element(a.values.begin(), a.values.end(),
                                 [](auto& x, auto& y) { return x.number < y.number; });

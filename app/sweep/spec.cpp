@@ -149,6 +149,18 @@ std::vector<std::string> Spec::axis_keys() const {
   return keys;
 }
 
+bool Spec::follows_scene(const std::string& key) const {
+  for (const AxisGroup& g : groups) {
+    bool has_scene = false, has_key = false;
+    for (const Axis& a : g.axes) {
+      has_scene = has_scene || a.key == "scene";
+      has_key = has_key || a.key == key;
+    }
+    if (has_scene && has_key) return true;
+  }
+  return false;
+}
+
 Spec parse_spec(const std::string& text, const std::string& source) {
   json j = json::parse(text, nullptr, false);
   if (j.is_discarded() || !j.is_object())
@@ -168,14 +180,13 @@ Spec parse_spec(const std::string& text, const std::string& source) {
             return all;
           }() + ")");
   s.name = j.value("name", std::string("sweep"));
-  if (!j.contains("scene")) check.fail("scene", "missing (a shipped scene name or a path)");
 
   auto add_axis = [&](const std::string& key, const json& values) {
     if (s.axis(key)) check.fail(key, "given twice (axes, zip, or a top-level key)");
     s.groups.push_back({{check.axis(key, values)}});
   };
   // scene, precision and threads: single-valued unless they are arrays (axes).
-  add_axis("scene", j["scene"]);
+  if (j.contains("scene")) add_axis("scene", j["scene"]);  // or in "axes" or a "zip" group
   if (j.contains("precision")) add_axis("precision", j["precision"]);
   if (j.contains("threads")) add_axis("threads", j["threads"]);
   if (j.contains("set")) {
@@ -211,6 +222,7 @@ Spec parse_spec(const std::string& text, const std::string& source) {
       s.groups.push_back(std::move(group));
     }
   }
+  if (!s.axis("scene")) check.fail("scene", "missing (a shipped scene name or a path)");
   // A value an exclusion or the reference names must be one of its axis's values.
   auto member = [&](const std::string& where, const std::string& key, const json& v) {
     const Axis* a = s.axis(key);

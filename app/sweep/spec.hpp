@@ -45,6 +45,9 @@ struct Spec {
   // The axis with this key, or null.
   const Axis* axis(const std::string& key) const;
   std::vector<std::string> axis_keys() const;
+  // Whether the axis steps with the scene (the scene axis, or zipped with it, like a per-scene
+  // time.end): it follows each run's scene in references, map rows and series.
+  bool follows_scene(const std::string& key) const;
 };
 
 // Axis keys besides the registry's: "scene", "resolution", "dt_factor", "precision", "threads".

@@ -54,7 +54,7 @@ std::vector<StabilityMap> stability_maps(const Spec& spec, const std::vector<Run
   const Axis* columns = spec.axis(spec.columns);
   std::vector<std::string> row_keys;
   for (const std::string& k : varying_axes(spec))
-    if (k != "scene" && k != spec.columns) row_keys.push_back(k);
+    if (!spec.follows_scene(k) && k != spec.columns) row_keys.push_back(k);
   for (std::size_t i = 0; i < results.size(); ++i) {
     const PlannedRun& run = *results[i].run;
     const std::string scene = run.value_text("scene");
@@ -128,7 +128,7 @@ std::vector<Series> convergence_series(const Spec& spec, const std::vector<RunRe
   if (!res || res->values.size() < 2) return out;
   std::vector<std::string> keys;
   for (const std::string& k : varying_axes(spec))
-    if (k != "resolution") keys.push_back(k);
+    if (k != "resolution" && (k == "scene" || !spec.follows_scene(k))) keys.push_back(k);
   for (std::size_t i = 0; i < results.size(); ++i) {
     const RunResult& r = results[i];
     if (is_reference(results, i) || r.outcome == "blew_up" || r.outcome == "no_result") continue;
