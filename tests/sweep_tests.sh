@@ -98,7 +98,7 @@ if "$APICLAB" sweep "$TINY" --out "$TMP/a" --jobs 2 --quiet --target-error 0.5 >
     nok "tiny sweep reference distances (reference '$ref_err', positive others $others)"
   fi
   if "$APICLAB" --help 2>/dev/null | grep -q figures; then
-    if [ -s "$TMP/a/error_vs_cost.png" ] && [ -s "$TMP/a/error_vs_cost.csv" ] &&
+    if [ -s "$TMP/a/error_vs_cost_rotating-disk.png" ] && [ -s "$TMP/a/error_vs_cost_rotating-disk.csv" ] &&
       [ -s "$TMP/a/stability_rotating-disk.png" ] && [ -s "$TMP/a/convergence.png" ]; then
       ok "tiny sweep: charts beside their CSVs"
     else

@@ -53,20 +53,28 @@ std::string error_label(const std::string& error) {
   return "max |dL|/|L0|";
 }
 
+std::string file_part(const std::string& scene) {
+  std::string s = fs::path(scene).stem().string();
+  for (char& ch : s)
+    if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '-' && ch != '_') ch = '-';
+  return s;
+}
+
 std::string error_vs_cost(ChartCanvas& canvas, const Spec& spec,
-                          const std::vector<RunResult>& results, const std::string& dir) {
+                          const std::vector<RunResult>& results, const std::string& scene,
+                          const std::string& dir) {
   const std::string& error = spec.errors.front();
-  const auto series = cost_series(spec, results, error);
+  const auto series = cost_series(spec, results, error, scene);
   if (series.empty()) return "";
-  const auto front = pareto_front(results, error);
+  const auto front = pareto_front(results, error, scene);
+  const std::string base = "error_vs_cost_" + file_part(scene);
   std::vector<double> fx, fy;
-  for (std::size_t i : front)
-    if (!is_reference(results, i)) {
-      fx.push_back(results[i].cost());
-      fy.push_back(results[i].error(error));
-    }
+  for (std::size_t i : front) {
+    fx.push_back(results[i].cost());
+    fy.push_back(results[i].error(error));
+  }
   {
-    std::ofstream csv(fs::path(dir) / "error_vs_cost.csv");
+    std::ofstream csv(fs::path(dir) / (base + ".csv"));
     csv << "id,series,cost_s," << error << "_error,outcome,pareto\n";
     for (const Series& s : series)
       for (std::size_t i : s.runs)
@@ -93,7 +101,8 @@ std::string error_vs_cost(ChartCanvas& canvas, const Spec& spec,
   plots.push_back(pareto);
   const int W = 900, H = 520;
   render::Image image = canvas.draw(W, H, [&] {
-    const float top = figures::heading(canvas, "Sweep " + spec.name + ": error against cost", W);
+    const float top =
+        figures::heading(canvas, "Sweep " + spec.name + ", " + scene + ": error against cost", W);
     gui::PlotOptions o;
     o.title = "each point one run; reference runs left out";
     o.x_label = "cost: wall seconds inside the steps";
@@ -105,8 +114,8 @@ std::string error_vs_cost(ChartCanvas& canvas, const Spec& spec,
     ImGui::SetCursorScreenPos(ImVec2(10, top));
     gui::plot("cost", ImVec2(W - 20, H - top - 6), o, plots);
   });
-  render::write_png(image, (fs::path(dir) / "error_vs_cost.png").string());
-  return "error_vs_cost.png";
+  render::write_png(image, (fs::path(dir) / (base + ".png")).string());
+  return base + ".png";
 }
 
 ImU32 outcome_color(const std::string& outcome) {
@@ -119,9 +128,7 @@ ImU32 outcome_color(const std::string& outcome) {
 
 std::string stability(ChartCanvas& canvas, const Spec& spec, const std::vector<RunResult>& results,
                       const StabilityMap& m, const std::string& dir) {
-  std::string base = "stability_" + fs::path(m.scene).stem().string();
-  for (char& ch : base)
-    if (!std::isalnum(static_cast<unsigned char>(ch)) && ch != '-' && ch != '_') ch = '-';
+  const std::string base = "stability_" + file_part(m.scene);
   {
     std::ofstream csv(fs::path(dir) / (base + ".csv"));
     csv << "row";
@@ -228,8 +235,9 @@ std::vector<std::string> write_charts(const Spec& spec, const std::vector<RunRes
                                       const std::string& out_dir) {
   ChartCanvas canvas;
   std::vector<std::string> names;
-  for (const std::string& n : {error_vs_cost(canvas, spec, results, out_dir)})
-    if (!n.empty()) names.push_back(n);
+  for (const std::string& scene : scenes(spec))
+    if (std::string n = error_vs_cost(canvas, spec, results, scene, out_dir); !n.empty())
+      names.push_back(n);
   if (spec.axis(spec.columns) || spec.columns == "dt_factor")
     for (const StabilityMap& m : stability_maps(spec, results))
       names.push_back(stability(canvas, spec, results, m, out_dir));

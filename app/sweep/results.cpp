@@ -112,10 +112,12 @@ std::string write_runs_csv(const Spec& spec, const std::vector<RunResult>& resul
 }
 
 std::vector<std::size_t> pareto_front(const std::vector<RunResult>& results,
-                                      const std::string& error) {
+                                      const std::string& error, const std::string& scene) {
   std::vector<std::size_t> candidates;
   for (std::size_t i = 0; i < results.size(); ++i) {
     const RunResult& r = results[i];
+    if (!scene.empty() && r.run->value_text("scene") != scene) continue;
+    if (r.run->reference == i) continue;  // its error is 0 by definition
     if ((r.outcome == "completed" || r.outcome == "noisy") && std::isfinite(r.error(error)) &&
         r.cost() > 0)
       candidates.push_back(i);

@@ -31,8 +31,9 @@ std::string write_runs_csv(const Spec& spec, const std::vector<RunResult>& resul
 
 // Indices of the runs on the Pareto front of (cost, error): completed or noisy runs with a finite
 // error that no other such run beats on both. Sorted by cost.
+// Only the runs of `scene` when it is not empty (errors of different scenes do not compare).
 std::vector<std::size_t> pareto_front(const std::vector<RunResult>& results,
-                                      const std::string& error);
+                                      const std::string& error, const std::string& scene = "");
 
 // A number as the tables print it: 4 significant digits, "" for NaN.
 std::string number_text(double v, int digits = 4);

@@ -8,18 +8,6 @@
 #include "app/sweep/tables.hpp"
 
 namespace apiclab::sweep {
-namespace {
-
-std::string config_text(const Spec& spec, const PlannedRun& run) {
-  std::string s;
-  for (const AxisGroup& g : spec.groups)
-    for (const Axis& a : g.axes)
-      if (a.values.size() > 1) s += (s.empty() ? "" : ", ") + a.key + "=" + run.value_text(a.key);
-  return s.empty() ? "(the one configuration)" : s;
-}
-
-}  // namespace
-
 std::string write_summary(const Spec& spec, const std::vector<RunResult>& results,
                           const std::string& out_dir, std::optional<double> target_error,
                           const std::vector<std::string>& charts) {
@@ -37,13 +25,14 @@ std::string write_summary(const Spec& spec, const std::vector<RunResult>& result
         "(README, Sweeps); cost is the wall time inside the steps.\n";
   for (const std::string& c : charts) md << "\n![" << c << "](" << c << ")\n";
 
-  md << "\n## Pareto front: " << error << " error against cost\n\n"
-     << "| configuration | cost [s] | " << error << " error | outcome |\n|---|---|---|---|\n";
-  for (std::size_t i : pareto_front(results, error))
-    if (!is_reference(results, i))
+  for (const std::string& scene : scenes(spec)) {
+    md << "\n## Pareto front: " << scene << ", " << error << " error against cost\n\n"
+       << "| configuration | cost [s] | " << error << " error | outcome |\n|---|---|---|---|\n";
+    for (std::size_t i : pareto_front(results, error, scene))
       md << "| " << config_text(spec, *results[i].run) << " | " << number_text(results[i].cost(), 3)
          << " | " << number_text(results[i].error(error), 3) << " | " << results[i].outcome
          << " |\n";
+  }
 
   for (const StabilityMap& m : stability_maps(spec, results)) {
     md << "\n## Stability map: " << m.scene << "\n\n| | ";
@@ -79,14 +68,18 @@ std::string write_summary(const Spec& spec, const std::vector<RunResult>& result
     md << "\n## Cheapest configuration with every selected error (";
     for (std::size_t k = 0; k < spec.errors.size(); ++k) md << (k ? ", " : "") << spec.errors[k];
     md << ") at most " << number_text(*target_error, 3) << "\n\n";
-    if (auto best = cheapest_meeting(spec, results, *target_error)) {
-      const RunResult& r = results[*best];
-      md << config_text(spec, *r.run) << ": " << number_text(r.cost(), 3) << " s in the steps ("
-         << r.rec.steps << " steps)";
-      for (const std::string& e : spec.errors) md << ", " << e << " " << number_text(r.error(e), 3);
-      md << " (run " << r.run->id << ").\n";
-    } else {
-      md << "No completed run meets it.\n";
+    for (const std::string& scene : scenes(spec)) {
+      md << "- " << scene << ": ";
+      if (auto best = cheapest_meeting(spec, results, *target_error, scene)) {
+        const RunResult& r = results[*best];
+        md << config_text(spec, *r.run) << ", " << number_text(r.cost(), 3) << " s in the steps ("
+           << r.rec.steps << " steps)";
+        for (const std::string& e : spec.errors)
+          md << ", " << e << " " << number_text(r.error(e), 3);
+        md << " (run " << r.run->id << ")\n";
+      } else {
+        md << "no completed run meets it\n";
+      }
     }
   }
   const std::string text = md.str();

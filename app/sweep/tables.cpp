@@ -91,18 +91,32 @@ std::vector<StabilityMap> stability_maps(const Spec& spec, const std::vector<Run
   return maps;
 }
 
+std::vector<std::string> scenes(const Spec& spec) {
+  std::vector<std::string> out;
+  for (const Value& v : spec.axis("scene")->values)
+    if (std::find(out.begin(), out.end(), v.text) == out.end()) out.push_back(v.text);
+  return out;
+}
+
+std::string config_text(const Spec& spec, const PlannedRun& run) {
+  std::string s;
+  for (const std::string& k : varying_axes(spec))
+    if (!spec.follows_scene(k))
+      s += (s.empty() ? "" : ", ") + short_key(k) + "=" + run.value_text(k);
+  return s.empty() ? "(the one configuration)" : s;
+}
+
 std::vector<Series> cost_series(const Spec& spec, const std::vector<RunResult>& results,
-                                const std::string& error) {
+                                const std::string& error, const std::string& scene) {
   std::vector<Series> out;
-  const bool many_scenes = spec.axis("scene")->values.size() > 1;
   for (std::size_t i = 0; i < results.size(); ++i) {
     const RunResult& r = results[i];
+    if (r.run->value_text("scene") != scene) continue;
     if (is_reference(results, i) || !(r.outcome == "completed" || r.outcome == "noisy")) continue;
     const double e = r.error(error);
     if (!(e > 0) || !(r.cost() > 0)) continue;
     std::string label = r.run->value_text(spec.series);
     if (label.empty()) label = "all";
-    if (many_scenes) label = r.run->value_text("scene") + " " + label;
     auto s = std::find_if(out.begin(), out.end(), [&](auto& x) { return x.label == label; });
     if (s == out.end()) {
       out.push_back({label, {}, {}, {}, 0});
@@ -158,9 +172,10 @@ std::vector<Series> convergence_series(const Spec& spec, const std::vector<RunRe
 }
 
 std::optional<std::size_t> cheapest_meeting(const Spec& spec, const std::vector<RunResult>& results,
-                                            double target) {
+                                            double target, const std::string& scene) {
   std::optional<std::size_t> best;
   for (std::size_t i = 0; i < results.size(); ++i) {
+    if (results[i].run->value_text("scene") != scene) continue;
     const RunResult& r = results[i];
     if (r.outcome != "completed") continue;
     const bool meets = std::all_of(spec.errors.begin(), spec.errors.end(), [&](auto& e) {

@@ -28,9 +28,15 @@ struct Series {
   std::vector<std::size_t> runs;
   double slope = 0;  // log-log least-squares slope (convergence)
 };
-// Error against cost (seconds in the steps) per value of spec.series; reference runs left out.
+// Error against cost (seconds in the steps) per value of spec.series for one scene; reference
+// runs left out.
 std::vector<Series> cost_series(const Spec& spec, const std::vector<RunResult>& results,
-                                const std::string& error);
+                                const std::string& error, const std::string& scene);
+// The scenes of the sweep, in spec order.
+std::vector<std::string> scenes(const Spec& spec);
+// "scheme=apic, kernel=quadratic, resolution=2": the varying axes that do not follow the scene,
+// with their keys' last part.
+std::string config_text(const Spec& spec, const PlannedRun& run);
 // Error against dx per method (every axis but resolution and scene), with the fitted slope;
 // needs a resolution axis with two values or more.
 std::vector<Series> convergence_series(const Spec& spec, const std::vector<RunResult>& results,
@@ -39,7 +45,7 @@ std::vector<Series> convergence_series(const Spec& spec, const std::vector<RunRe
 // The cheapest completed run whose every selected error is at most `target`; reference runs
 // are candidates too (they meet any target).
 std::optional<std::size_t> cheapest_meeting(const Spec& spec, const std::vector<RunResult>& results,
-                                            double target);
+                                            double target, const std::string& scene);
 
 // Whether the run is its own reference.
 inline bool is_reference(const std::vector<RunResult>& results, std::size_t i) {
