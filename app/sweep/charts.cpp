@@ -143,7 +143,7 @@ std::string stability(ChartCanvas& canvas, const Spec& spec, const std::vector<R
       csv << '\n';
     }
   }
-  const float label_w = 230, cell_w = 104, cell_h = 30, legend_h = 34;
+  const float label_w = 230, cell_w = 124, cell_h = 30, legend_h = 34;
   const int W = int(label_w + cell_w * float(m.column_labels.size()) + 20);
   const int H = int(50 + 28 + cell_h * float(m.row_labels.size()) + legend_h + 10);
   render::Image image = canvas.draw(std::max(W, 640), H, [&] {

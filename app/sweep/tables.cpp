@@ -36,7 +36,7 @@ std::string short_key(const std::string& key) {
 std::string cell_text(const RunResult& r) {
   char buf[64];
   if (r.outcome == "blew_up") {
-    std::snprintf(buf, sizeof buf, "blew up t=%.3g", r.rec.fail_t);
+    std::snprintf(buf, sizeof buf, "blew up t=%.2g", r.rec.fail_t);
   } else if (r.outcome == "not_converged") {
     std::snprintf(buf, sizeof buf, "no conv. %ld", r.rec.unconverged_steps);
   } else if (r.outcome == "noisy") {
@@ -139,7 +139,7 @@ std::vector<Series> convergence_series(const Spec& spec, const std::vector<RunRe
                                        const std::string& error) {
   std::vector<Series> out;
   const Axis* res = spec.axis("resolution");
-  if (!res || res->values.size() < 2) return out;
+  if (!res || res->values.size() < 2 || spec.follows_scene("resolution")) return out;
   std::vector<std::string> keys;
   for (const std::string& k : varying_axes(spec))
     if (k != "resolution" && (k == "scene" || !spec.follows_scene(k))) keys.push_back(k);
