@@ -27,6 +27,9 @@ struct SweepOptions {
 
 int sweep_command(const SweepOptions& o) {
   using namespace apiclab::sweep;
+  if (o.jobs < 1) throw UsageError("sweep: --jobs must be at least 1");
+  if (o.target_error && !(*o.target_error > 0))
+    throw UsageError("sweep: --target-error must be positive");
   const Spec spec = load_spec(o.spec);
   const Plan plan = make_plan(spec);  // every check before any run
   if (!o.collect.empty() && (!o.out.empty() || !o.export_jobs.empty()))
@@ -86,15 +89,13 @@ void register_sweep(CLI::App& root, CommandTable& table) {
       "summary.md");
   cmd->add_option("spec", o->spec, "sweep spec (JSON; README, Sweeps)")->required();
   cmd->add_option("--out", o->out, "output folder (runs are kept there; a rerun resumes)");
-  cmd->add_option("--jobs", o->jobs, "runs at a time, each its own process")
-      ->check(CLI::PositiveNumber);
+  cmd->add_option("--jobs", o->jobs, "runs at a time, each its own process (>= 1)");
   cmd->add_option("--export-jobs", o->export_jobs,
                   "write one self-contained `apiclab run` command per line instead of running");
   cmd->add_option("--collect", o->collect,
                   "build runs.csv, charts and summary from the records in this folder");
   cmd->add_option("--target-error", o->target_error,
-                  "summary.md names the cheapest run whose selected errors are at most this")
-      ->check(CLI::PositiveNumber);
+                  "summary.md names the cheapest run whose selected errors are at most this (> 0)");
   cmd->add_flag("--quiet", o->quiet, "no progress on stderr");
   table.push_back({cmd, [o] { return sweep_command(*o); }});
 }

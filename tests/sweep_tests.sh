@@ -69,6 +69,28 @@ bad_spec "bad fixed override" "key 'solver.cg_tolerance'" \
 bad_spec "malformed JSON" "malformed JSON" '{"scene": '
 bad_spec "unknown error name" "key 'errors'" "{$D, \"errors\": [\"accuracy\"]}"
 
+# bad_flag NAME NEEDLE ARGS...: exit 2, one stderr line, nothing written.
+bad_flag() {
+  local name=$1 needle=$2
+  shift 2
+  rm -rf "$TMP/flag-out"
+  "$APICLAB" sweep "$@" >"$TMP/out" 2>"$TMP/err"
+  local rc=$? lines
+  lines=$(wc -l <"$TMP/err")
+  if [ $rc -eq 2 ] && [ "$lines" -eq 1 ] && grep -qF -- "$needle" "$TMP/err" &&
+    [ ! -e "$TMP/flag-out" ]; then
+    ok "bad flag: $name"
+  else
+    nok "bad flag: $name (rc $rc, $lines lines, wanted '$needle')" "$(cat "$TMP/err")"
+  fi
+}
+bad_flag "no --out" "--out DIR is required" "$TINY"
+bad_flag "--jobs 0" "--jobs must be at least 1" "$TINY" --out "$TMP/flag-out" --jobs 0
+bad_flag "--target-error 0" "--target-error must be positive" "$TINY" --out "$TMP/flag-out" \
+  --target-error 0
+bad_flag "--collect of a missing folder" "no such folder" "$TINY" --collect "$TMP/flag-out"
+bad_flag "spec file missing" "cannot open sweep spec" "$TMP/no-such-spec.json" --out "$TMP/flag-out"
+
 # csv_without_costs FILE: runs.csv without the columns that time the runs.
 csv_without_costs() {
   awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) drop[i] = ($i ~ /wall_s|cpu_s|per_s|rss/) }
