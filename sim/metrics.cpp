@@ -242,6 +242,34 @@ ReferenceDistance reference_distance(const RunFrames& run, const RunFrames& ref)
   return d;
 }
 
+double rigid_motion_distance(const RunFrames& run, const std::vector<RigidMotion>& motions) {
+  if (run.frames.empty() || int(motions.size()) < run.object_count()) return kNaN;
+  const std::size_t D = std::size_t(run.dim);
+  const std::vector<double>& X = run.frames.front().positions;
+  double num = 0, den = 0;
+  for (const Frame& f : run.frames) {
+    for (std::size_t q = 0; q < run.count(); ++q) {
+      const RigidMotion& m = motions[std::size_t(run.object[q])];
+      Eigen::Vector3d r(0, 0, 0), axis(0, 0, 1);
+      for (std::size_t a = 0; a < D; ++a) r[Eigen::Index(a)] = X[q * D + a] - m.centre[a];
+      double angle = m.omega[2] * f.t;
+      if (D == 3) {
+        const Eigen::Vector3d w(m.omega[0], m.omega[1], m.omega[2]);
+        angle = w.norm() * f.t;
+        if (w.norm() > 0) axis = w.normalized();
+      }
+      const Eigen::Vector3d rotated = Eigen::AngleAxisd(angle, axis) * r;
+      for (std::size_t a = 0; a < D; ++a) {
+        const double u_exact = rotated[Eigen::Index(a)] - r[Eigen::Index(a)] + m.velocity[a] * f.t;
+        const double u = f.positions[q * D + a] - X[q * D + a];
+        num += (u - u_exact) * (u - u_exact);
+        den += u_exact * u_exact;
+      }
+    }
+  }
+  return std::sqrt(num) / std::max(std::sqrt(den), 1e-300);
+}
+
 double log_log_slope(const std::vector<double>& x, const std::vector<double>& y) {
   double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
   for (std::size_t i = 0; i < x.size() && i < y.size(); ++i) {

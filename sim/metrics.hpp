@@ -74,6 +74,16 @@ struct ReferenceDistance {
 };
 ReferenceDistance reference_distance(const RunFrames& run, const RunFrames& reference);
 
+// A known answer: each object in free rigid motion about its initial centre c (a disk spinning
+// with no forces, to the extent its elastic stretch is negligible),
+// x(t) = c + v t + R(ω t)(X − c), with R the rotation by |ω| t about ω (2D: about z, ω = ω_z).
+struct RigidMotion {
+  std::array<double, 3> centre{0, 0, 0}, velocity{0, 0, 0}, omega{0, 0, 0};
+};
+// The relative L2 error over the frames of the run's displacement x − X against the rigid
+// motion's, per particle of object o with motions[o]; NaN without frames.
+double rigid_motion_distance(const RunFrames& run, const std::vector<RigidMotion>& motions);
+
 // Least-squares slope of log(y) against log(x) over the positive, finite pairs; NaN with fewer
 // than two.
 double log_log_slope(const std::vector<double>& x, const std::vector<double>& y);

@@ -83,6 +83,10 @@ noise)
 convergence)
   sweep convergence.json
   slope=$(awk -F, 'NR == 2 { print $5 }' "$TMP/out/convergence.csv")
+  rigid=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+    { if ($c["err_rigid"] == "" || $c["err_rigid"] > 1e-3) bad++ } END { print bad + 0 }' "$TMP/out/runs.csv")
+  check "distance to the known answer (rigid rotation) below 1e-3 at every resolution" \
+    "$([ "$rigid" -eq 0 ] && echo 1)" "$rigid runs above"
   check "APIC's reference distance falls with resolution at order >= 1.2 (measured 1.44)" \
     "$(awk -v s="$slope" 'BEGIN { print (s >= 1.2) ? 1 : 0 }')" "fitted slope $slope"
   ;;

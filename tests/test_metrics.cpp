@@ -108,6 +108,19 @@ TEST(Metrics, DifferentParticlesOfTheSameMotionGiveAboutZero) {
   EXPECT_GT(reference_distance(run_w, other).displacement, 0.1);
 }
 
+TEST(Metrics, RigidMotionOfAKnownAnswer) {
+  // move() turns each disk about its own centre at 0.4 rad/s and moves it by (0.2, −0.1) t.
+  RunFrames run = disk_points(0.02, 0.5);
+  move(run, 6);
+  std::vector<RigidMotion> motions(2);
+  motions[0] = {{0.5, 0.5, 0}, {0.2, -0.1, 0}, {0, 0, 0.4}};
+  motions[1] = {{1.5, 0.4, 0}, {0.2, -0.1, 0}, {0, 0, 0.4}};
+  EXPECT_LT(rigid_motion_distance(run, motions), 1e-14);
+  // A wrong spin rate is far from it.
+  motions[0].omega[2] = motions[1].omega[2] = 0.2;
+  EXPECT_GT(rigid_motion_distance(run, motions), 0.1);
+}
+
 TEST(Metrics, FailedRunIsNotComparable) {
   RunFrames ref = disk_points(0.02, 0.5), run = ref;
   move(ref, 6);

@@ -50,6 +50,7 @@ std::string error_label(const std::string& error) {
   if (error == "kinetic") return "kinetic energy error (rel. L2)";
   if (error == "elastic") return "elastic energy error (rel. L2)";
   if (error == "energy") return "max |dE|/E0";
+  if (error == "rigid") return "distance to rigid rotation ||u - u_rigid|| / ||u_rigid||";
   return "max |dL|/|L0|";
 }
 

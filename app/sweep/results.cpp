@@ -8,6 +8,8 @@
 #include <limits>
 #include <map>
 
+#include "sim/scene.hpp"
+
 namespace apiclab::sweep {
 namespace {
 
@@ -36,6 +38,7 @@ double RunResult::error(const std::string& name) const {
   if (name == "elastic") return ref.elastic;
   if (name == "energy") return present ? rec.conservation.max_energy : kNaN;
   if (name == "angular") return present ? rec.conservation.max_angular : kNaN;
+  if (name == "rigid") return rigid;
   return kNaN;
 }
 
@@ -63,13 +66,31 @@ std::vector<RunResult> collect(const Spec& spec, const Plan& plan, const std::st
     else
       r.outcome = "completed";
     if (r.rec.blew_up) continue;
+    const metrics::RunFrames frames = read_frames(dir);
+    if (spec.known_answer == "rigid_rotation") {
+      // Each object's centre, velocity and spin as the run's scene states them.
+      const SceneDesc scene = load_scene(plan.runs[i].scene_path, plan.runs[i].overrides);
+      std::vector<metrics::RigidMotion> motions;
+      for (const ObjectDesc& o : scene.objects) {
+        metrics::RigidMotion m;
+        const ShapeDesc& s = o.shape;
+        for (int a = 0; a < 3; ++a)
+          m.centre[std::size_t(a)] = s.type == ShapeType::box
+                                         ? 0.5 * (s.min[std::size_t(a)] + s.max[std::size_t(a)])
+                                         : s.center[std::size_t(a)];
+        m.velocity = o.velocity;
+        m.omega = o.angular_velocity;
+        motions.push_back(m);
+      }
+      r.rigid = metrics::rigid_motion_distance(frames, motions);
+    }
     const std::size_t ref = plan.runs[i].reference;
     const std::string ref_dir = run_dir(out_dir, plan.runs[ref]);
     if (!record_complete(ref_dir)) continue;
     auto it = reference_frames.find(ref);
     if (it == reference_frames.end())
       it = reference_frames.emplace(ref, read_frames(ref_dir)).first;
-    r.ref = metrics::reference_distance(read_frames(dir), it->second);
+    r.ref = metrics::reference_distance(frames, it->second);
   }
   return results;
 }
@@ -85,7 +106,7 @@ std::string write_runs_csv(const Spec& spec, const std::vector<RunResult>& resul
          "newton_iters,cg_iters,peak_rss_mb,outcome,fail_step,fail_t,fail_quantity,"
          "unconverged_steps,noise,max_energy,final_energy,max_angular,final_angular,"
          "angular_relative,max_momentum,final_momentum,err_com,err_kinetic,err_elastic,"
-         "err_displacement,displacement_rms,reference\n";
+         "err_displacement,displacement_rms,err_rigid,reference\n";
   for (const RunResult& r : results) {
     const PlannedRun& p = *r.run;
     const RunRecord& c = r.rec;
@@ -106,7 +127,8 @@ std::string write_runs_csv(const Spec& spec, const std::vector<RunResult>& resul
         << num(c.conservation.max_momentum) << ',' << num(c.conservation.final_momentum) << ','
         << number_text(r.ref.com, 6) << ',' << number_text(r.ref.kinetic, 6) << ','
         << number_text(r.ref.elastic, 6) << ',' << number_text(r.ref.displacement, 6) << ','
-        << number_text(r.ref.displacement_rms, 6) << ',' << results[p.reference].run->id << '\n';
+        << number_text(r.ref.displacement_rms, 6) << ',' << number_text(r.rigid, 6) << ','
+        << results[p.reference].run->id << '\n';
   }
   return path;
 }

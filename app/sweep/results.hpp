@@ -2,6 +2,7 @@
 // converged / blew up / no result) and compared with its reference run (sim/metrics.hpp), then
 // written as DIR/runs.csv, one row per run.
 #pragma once
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,7 @@ struct RunResult {
   RunRecord rec;
   std::string outcome;  // completed | noisy | not_converged | blew_up | no_result
   metrics::ReferenceDistance ref;
+  double rigid = std::numeric_limits<double>::quiet_NaN();  // distance to the known answer
   // By name (spec.hpp's error_names()): the reference distances and the conservation errors.
   double error(const std::string& name) const;
   bool stable() const { return outcome == "completed"; }

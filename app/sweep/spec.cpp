@@ -130,8 +130,8 @@ bool is_derived_key(const std::string& key) {
 }
 
 const std::vector<std::string>& error_names() {
-  static const std::vector<std::string> names = {"displacement", "com",    "kinetic",
-                                                 "elastic",      "energy", "angular"};
+  static const std::vector<std::string> names = {"displacement", "com",     "kinetic", "elastic",
+                                                 "energy",       "angular", "rigid"};
   return names;
 }
 
@@ -169,8 +169,9 @@ Spec parse_spec(const std::string& text, const std::string& source) {
   Spec s;
   s.source = source;
   static const std::vector<std::string> known = {
-      "name", "description", "scene",     "precision", "threads", "set",    "axes",
-      "zip",  "exclude",     "reference", "series",    "columns", "errors", "noise_threshold"};
+      "name",   "description", "scene",  "precision",       "threads",
+      "set",    "axes",        "zip",    "exclude",         "reference",
+      "series", "columns",     "errors", "noise_threshold", "known_answer"};
   for (auto& [k, v] : j.items())
     if (std::find(known.begin(), known.end(), k) == known.end())
       check.fail(
@@ -270,11 +271,20 @@ Spec parse_spec(const std::string& text, const std::string& source) {
     for (const json& e : j["errors"]) {
       const std::string name = e.is_string() ? e.get<std::string>() : e.dump();
       if (std::find(error_names().begin(), error_names().end(), name) == error_names().end())
-        check.fail("errors", "unknown error '" + name +
-                                 "' (expected displacement|com|kinetic|elastic|energy|angular)");
+        check.fail("errors",
+                   "unknown error '" + name +
+                       "' (expected displacement|com|kinetic|elastic|energy|angular|rigid)");
       s.errors.push_back(name);
     }
   }
+  if (j.contains("known_answer")) {
+    if (j["known_answer"] != "rigid_rotation")
+      check.fail("known_answer", "expected \"rigid_rotation\" (the one known answer so far)");
+    s.known_answer = "rigid_rotation";
+  }
+  if (std::find(s.errors.begin(), s.errors.end(), "rigid") != s.errors.end() &&
+      s.known_answer.empty())
+    check.fail("errors", "error 'rigid' needs \"known_answer\": \"rigid_rotation\"");
   if (j.contains("noise_threshold")) {
     if (!j["noise_threshold"].is_number() || !(j["noise_threshold"].get<double>() > 0))
       check.fail("noise_threshold", "expected a positive number");

@@ -37,9 +37,11 @@ struct Spec {
   std::vector<AxisGroup> groups;           // includes the single-valued scene/precision/threads
   std::vector<Match> exclude;              // a run matching every key of one entry is left out
   std::map<std::string, Value> reference;  // named reference values (others: the default rule)
-  double noise_threshold = 0.1;            // RMS |v_p - v_PIC| / RMS |v_p(0)| above it: noisy
-  std::string series = "solver.scheme";    // error-against-cost series
-  std::string columns = "dt_factor";       // stability map columns
+  // "rigid_rotation": every object in free rigid motion is the known answer (error "rigid").
+  std::string known_answer;
+  double noise_threshold = 0.1;          // RMS |v_p - v_PIC| / RMS |v_p(0)| above it: noisy
+  std::string series = "solver.scheme";  // error-against-cost series
+  std::string columns = "dt_factor";     // stability map columns
   std::vector<std::string> errors = {"displacement"};  // what --target-error must meet
 
   // The axis with this key, or null.
