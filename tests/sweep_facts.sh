@@ -82,7 +82,7 @@ noise)
   ;;
 convergence)
   sweep convergence.json
-  slope=$(awk -F, 'NR == 2 { print $5 }' "$TMP/out/convergence.csv")
+  slope=$(awk -F, 'NR == 2 { print $5 }' "$TMP/out/convergence_rotating-disk.csv")
   rigid=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
     { if ($c["err_rigid"] == "" || $c["err_rigid"] > 1e-3) bad++ } END { print bad + 0 }' "$TMP/out/runs.csv")
   check "distance to the known answer (rigid rotation) below 1e-3 at every resolution" \

@@ -121,7 +121,7 @@ if "$APICLAB" sweep "$TINY" --out "$TMP/a" --jobs 2 --quiet --target-error 0.5 >
   fi
   if "$APICLAB" --help 2>/dev/null | grep -q figures; then
     if [ -s "$TMP/a/error_vs_cost_rotating-disk.png" ] && [ -s "$TMP/a/error_vs_cost_rotating-disk.csv" ] &&
-      [ -s "$TMP/a/stability_rotating-disk.png" ] && [ -s "$TMP/a/convergence.png" ]; then
+      [ -s "$TMP/a/stability_rotating-disk.png" ] && [ -s "$TMP/a/convergence_rotating-disk.png" ]; then
       ok "tiny sweep: charts beside their CSVs"
     else
       nok "tiny sweep charts" "$(ls "$TMP/a")"

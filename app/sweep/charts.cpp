@@ -185,12 +185,14 @@ std::string stability(ChartCanvas& canvas, const Spec& spec, const std::vector<R
 }
 
 std::string convergence(ChartCanvas& canvas, const Spec& spec,
-                        const std::vector<RunResult>& results, const std::string& dir) {
+                        const std::vector<RunResult>& results, const std::string& scene,
+                        const std::string& dir) {
   const std::string& error = spec.errors.front();
-  const auto series = convergence_series(spec, results, error);
+  const auto series = convergence_series(spec, results, error, scene);
   if (series.empty()) return "";
+  const std::string base = "convergence_" + file_part(scene);
   {
-    std::ofstream csv(fs::path(dir) / "convergence.csv");
+    std::ofstream csv(fs::path(dir) / (base + ".csv"));
     csv << "id,series,dx," << error << "_error,slope\n";
     for (const Series& s : series)
       for (std::size_t k = 0; k < s.runs.size(); ++k)
@@ -214,7 +216,8 @@ std::string convergence(ChartCanvas& canvas, const Spec& spec,
   }
   const int W = 900, H = 520;
   render::Image image = canvas.draw(W, H, [&] {
-    const float top = figures::heading(canvas, "Sweep " + spec.name + ": convergence", W);
+    const float top =
+        figures::heading(canvas, "Sweep " + spec.name + ", " + scene + ": convergence", W);
     gui::PlotOptions o;
     o.title = "error against grid spacing, fitted log-log slopes";
     o.x_label = "grid spacing dx";
@@ -226,8 +229,8 @@ std::string convergence(ChartCanvas& canvas, const Spec& spec,
     ImGui::SetCursorScreenPos(ImVec2(10, top));
     gui::plot("convergence", ImVec2(W - 20, H - top - 6), o, plots);
   });
-  render::write_png(image, (fs::path(dir) / "convergence.png").string());
-  return "convergence.png";
+  render::write_png(image, (fs::path(dir) / (base + ".png")).string());
+  return base + ".png";
 }
 
 }  // namespace
@@ -242,7 +245,9 @@ std::vector<std::string> write_charts(const Spec& spec, const std::vector<RunRes
   if (spec.axis(spec.columns) || spec.columns == "dt_factor")
     for (const StabilityMap& m : stability_maps(spec, results))
       names.push_back(stability(canvas, spec, results, m, out_dir));
-  if (std::string n = convergence(canvas, spec, results, out_dir); !n.empty()) names.push_back(n);
+  for (const std::string& scene : scenes(spec))
+    if (std::string n = convergence(canvas, spec, results, scene, out_dir); !n.empty())
+      names.push_back(n);
   return names;
 }
 

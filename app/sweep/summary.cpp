@@ -48,11 +48,11 @@ std::string write_summary(const Spec& spec, const std::vector<RunResult>& result
     }
   }
 
-  const auto conv = convergence_series(spec, results, error);
-  if (!conv.empty()) {
-    md << "\n## Convergence: " << error
-       << " error against dx\n\n| series | dx | error | "
-          "fitted slope |\n|---|---|---|---|\n";
+  for (const std::string& scene : scenes(spec)) {
+    const auto conv = convergence_series(spec, results, error, scene);
+    if (conv.empty()) continue;
+    md << "\n## Convergence: " << scene << ", " << error
+       << " error against dx\n\n| series | dx | error | fitted slope |\n|---|---|---|---|\n";
     for (const Series& s : conv) {
       std::string dx, err;
       for (std::size_t k = 0; k < s.x.size(); ++k) {

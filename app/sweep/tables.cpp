@@ -136,21 +136,26 @@ std::vector<Series> cost_series(const Spec& spec, const std::vector<RunResult>& 
 }
 
 std::vector<Series> convergence_series(const Spec& spec, const std::vector<RunResult>& results,
-                                       const std::string& error) {
+                                       const std::string& error, const std::string& scene) {
   std::vector<Series> out;
   const Axis* res = spec.axis("resolution");
   if (!res || res->values.size() < 2 || spec.follows_scene("resolution")) return out;
+  // The label: the values of the other varying axes, one per zipped group (its partners say
+  // nothing more).
   std::vector<std::string> keys;
-  for (const std::string& k : varying_axes(spec))
-    if (k != "resolution" && (k == "scene" || !spec.follows_scene(k))) keys.push_back(k);
+  for (const AxisGroup& g : spec.groups)
+    for (const Axis& a : g.axes)
+      if (a.values.size() > 1 && a.key != "resolution" && !spec.follows_scene(a.key)) {
+        keys.push_back(a.key);
+        break;
+      }
   for (std::size_t i = 0; i < results.size(); ++i) {
     const RunResult& r = results[i];
+    if (r.run->value_text("scene") != scene) continue;
     if (is_reference(results, i) || r.outcome == "blew_up" || r.outcome == "no_result") continue;
     if (!(r.error(error) > 0)) continue;
     std::string label;
-    for (const std::string& k : keys)
-      label += (label.empty() ? "" : " ") + (k == "scene" ? "" : short_key(k) + "=") +
-               r.run->value_text(k);
+    for (const std::string& k : keys) label += (label.empty() ? "" : " ") + r.run->value_text(k);
     if (label.empty()) label = "all";
     auto s = std::find_if(out.begin(), out.end(), [&](auto& x) { return x.label == label; });
     if (s == out.end()) {

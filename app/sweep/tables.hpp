@@ -40,7 +40,7 @@ std::string config_text(const Spec& spec, const PlannedRun& run);
 // Error against dx per method (every axis but resolution and scene), with the fitted slope;
 // needs a resolution axis with two values or more.
 std::vector<Series> convergence_series(const Spec& spec, const std::vector<RunResult>& results,
-                                       const std::string& error);
+                                       const std::string& error, const std::string& scene);
 
 // The cheapest completed run whose every selected error is at most `target`; reference runs
 // are candidates too (they meet any target).
