@@ -9,6 +9,7 @@
 #include "app/clock.hpp"
 #include "app/frame_loop.hpp"
 #include "app/run_outputs.hpp"
+#include "app/sweep/record.hpp"
 #include "cli.hpp"
 #include "commands.hpp"
 #include "sim/diagnostics.hpp"
@@ -150,7 +151,13 @@ void register_run(CLI::App& root, CommandTable& table) {
   cmd->add_option("--summary", opts->summary,
                   "write a JSON run summary (settings, steps, dt statistics, costs, drifts, "
                   "failure) to this file [default: none]");
-  table.push_back({cmd, [opts] { return run(*opts); }});
+  auto record = std::make_shared<std::string>();
+  cmd->add_option("--record", *record,
+                  "a sweep run: diagnostics, frames and result.json into this folder, written "
+                  "whole or not at all (app/sweep/record.hpp) [default: none]");
+  table.push_back({cmd, [opts, record] {
+                     return record->empty() ? run(*opts) : sweep::record_run(opts->run, *record);
+                   }});
 }
 
 }  // namespace apiclab::cli

@@ -17,7 +17,8 @@ void register_run(CLI::App& root, CommandTable& table);
 void register_roundtrip(CLI::App& root, CommandTable& table);
 void register_bench(CLI::App& root, CommandTable& table);
 void register_list(CLI::App& root, CommandTable& table);
-std::string version_text();  // "apiclab 0.1.0 (git 1fbbf76-dirty)"
+std::string version_text();                                // "apiclab 0.1.0 (git 1fbbf76-dirty)"
+void register_sweep(CLI::App& root, CommandTable& table);  // app/cmd_sweep.cpp
 #ifdef APICLAB_HAVE_RENDER
 void register_render(CLI::App& root, CommandTable& table);  // render and compare
 #endif

@@ -18,8 +18,12 @@ template <class K, Scheme S>
 void MpmSimulation<T, D>::g2p_impl(T dt) {
   const T lambda = T(scene_.solver.integrator_lambda());
   const T alpha = T(scene_.solver.flip_alpha);
-  const bool lagged = K::type == KernelType::linear;  // Sec 5.9: lagged C for multilinear
-  const T inv_k = lagged ? T(0) : T(1) / inertia_scale();
+  // Sec 5.9: the multilinear kernel's D_p is not k Δx² I. Its lagged C (default) is stable;
+  // `bform` keeps C = B D_p⁻¹ with D_p at the particle's next position (unstable).
+  const bool multilinear = K::type == KernelType::linear;
+  const bool lagged = multilinear && scene_.solver.apic_linear_form == ApicLinearForm::lagged;
+  const bool bform_multilinear = multilinear && !lagged;
+  const T inv_k = multilinear ? T(0) : T(1) / inertia_scale();
   const std::ptrdiff_t n = std::ptrdiff_t(p_.size());
   bool bad = false;
   double max_move = 0;
@@ -108,11 +112,23 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
             skew << T(0), twist[0], -twist[0], T(0);
           B += T(0.5) * dt * (lambda * skew - vpic * ubar.transpose() + ubar * vpic.transpose());
         }
-        gathered.apic_C = B * inv_k;  // C = B D⁻¹ with D = k Δx² I
+        if (bform_multilinear) {
+          // Sec 5.9's B form: B^{n+1} is inverted with D_p at the start of the next step, at
+          // x_p^{n+1}, where f(1 − f) Δx² per axis vanishes as a particle nears a grid line.
+          Vec<T, D> x_next = p_.x[q] + dt * ubar;
+          for (int a = 0; a < D; ++a) x_next[a] = std::min(std::max(x_next[a], lo[a]), hi[a]);
+          Stencil<T, D, K> next;
+          next.compute(x_next, grid_);
+          const Mat<T, D> Dp = next.inertia();  // diagonal
+          for (int c = 0; c < D; ++c) B.col(c) /= Dp(c, c);
+          gathered.apic_C = B;
+        } else {
+          gathered.apic_C = B * inv_k;  // C = B D⁻¹ with D = k Δx² I
+        }
       }
     }
     update_particle_velocity<S>(
-        gathered, alpha, lagged, [&] { return Mat<T, D>(st.inertia()); }, p_.v[q], p_.C[q]);
+        gathered, alpha, multilinear, [&] { return Mat<T, D>(st.inertia()); }, p_.v[q], p_.C[q]);
     // Particle update: positions on the moved grid (eq 39), F by eq 40.
     Vec<T, D> x = p_.x[q] + dt * ubar;
     max_move = std::max(max_move, double((dt * ubar).cwiseAbs().maxCoeff()));

@@ -28,6 +28,8 @@ void validate_mpm(SceneSection& r, SceneDesc& s) {
            "the 'cfl' time-step rule needs the quadratic or cubic kernel (Sec 4.3 bounds D_p^-1 "
            "(x_i - x_p) "
            "only when D_p = k dx^2 I; Sec 5.9)");
+  v.apic_linear_form = r.choice("apic_linear_form", apic_linear_form_choices(), v.apic_linear_form,
+                                "APIC linear form");
   v.integrator = r.choice("integrator", integrator_choices(), v.integrator, "integrator");
   if (r.has("lambda")) v.lambda = r.number("lambda", 0);
   v.newton_tolerance = r.number("newton_tolerance", v.newton_tolerance);

@@ -19,6 +19,8 @@ enum class SamplingType { lattice, ppc, poisson, triangulated };
 enum class BoundaryCondition { slip, sticky, separate, periodic };
 enum class DtRule { fixed, cfl, elastic, two_step };
 enum class Precision { single, dbl };
+// APIC's affine matrix with the multilinear kernel (Sec 5.9).
+enum class ApicLinearForm { lagged, bform };
 // How particles are coloured (render/, the GUI and `render --color`).
 enum class ColorMode { speed, material, object, noise };
 
@@ -101,6 +103,15 @@ inline const std::vector<Choice<Precision>>& precision_choices() {
   return c;
 }
 
+inline const std::vector<Choice<ApicLinearForm>>& apic_linear_form_choices() {
+  static const std::vector<Choice<ApicLinearForm>> c = {
+      {"lagged", ApicLinearForm::lagged,
+       "C = sum v_i grad w_ip^T, the lagged form of Sec 5.9 (default; stable)"},
+      {"bform", ApicLinearForm::bform,
+       "UNSTABLE: C = B D_p^-1 with the multilinear D_p, singular on grid lines (Sec 5.9)"}};
+  return c;
+}
+
 inline const std::vector<Choice<ColorMode>>& color_mode_choices() {
   static const std::vector<Choice<ColorMode>> c = {
       {"speed", ColorMode::speed, "particle speed |v_p|"},
@@ -143,6 +154,9 @@ inline std::string_view key_of(MaterialModel m) { return choice_key(material_cho
 inline std::string_view key_of(BoundaryCondition b) { return choice_key(boundary_choices(), b); }
 inline std::string_view key_of(DtRule r) { return choice_key(dt_rule_choices(), r); }
 inline std::string_view key_of(Precision p) { return choice_key(precision_choices(), p); }
+inline std::string_view key_of(ApicLinearForm f) {
+  return choice_key(apic_linear_form_choices(), f);
+}
 inline std::string_view key_of(ColorMode m) { return choice_key(color_mode_choices(), m); }
 
 }  // namespace apiclab

@@ -50,6 +50,8 @@ struct SolverDesc {
   double flip_alpha = 1.0;  // eq 3 blend: 1 = pure FLIP, 0 = PIC
   KernelType kernel = KernelType::quadratic;
   Integrator integrator = Integrator::symplectic;
+  // Multilinear kernel only: APIC's C as lagged Σ ṽ ∇wᵀ or as the unstable B D_p⁻¹ (Sec 5.9).
+  ApicLinearForm apic_linear_form = ApicLinearForm::lagged;
   std::optional<double> lambda;  // λ of eqs 27-30; empty: the integrator's
   double newton_tolerance = 1e-6;
   int newton_max_iterations = 20;

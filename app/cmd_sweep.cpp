@@ -1,0 +1,103 @@
+// `apiclab sweep SPEC --out DIR`: runs a sweep of configurations (app/sweep/), then writes
+// runs.csv, the charts and summary.md (README, Sweeps).
+#include <cstdio>
+#include <filesystem>
+#include <optional>
+
+#include "app/sweep/plan.hpp"
+#include "app/sweep/results.hpp"
+#include "app/sweep/runner.hpp"
+#include "app/sweep/spec.hpp"
+#include "app/sweep/summary.hpp"
+#include "cli.hpp"
+#include "commands.hpp"
+#ifdef APICLAB_HAVE_FIGURES
+#include "app/sweep/charts.hpp"
+#endif
+
+namespace apiclab::cli {
+namespace {
+
+struct SweepOptions {
+  std::string spec, out, export_jobs, collect;
+  int jobs = 1;
+  std::optional<double> target_error;
+  bool quiet = false;
+};
+
+int sweep_command(const SweepOptions& o) {
+  using namespace apiclab::sweep;
+  if (o.jobs < 1) throw UsageError("sweep: --jobs must be at least 1");
+  if (o.target_error && !(*o.target_error > 0))
+    throw UsageError("sweep: --target-error must be positive");
+  const Spec spec = load_spec(o.spec);
+  const Plan plan = make_plan(spec);  // every check before any run
+  if (!o.collect.empty() && (!o.out.empty() || !o.export_jobs.empty()))
+    throw UsageError(
+        "sweep: --collect DIR reads a finished sweep; it takes no --out or "
+        "--export-jobs");
+  const std::string out = o.collect.empty() ? o.out : o.collect;
+  if (out.empty()) throw UsageError("sweep: --out DIR is required (or --collect DIR)");
+  if (!o.export_jobs.empty()) {
+    ensure_writable_dir(out);
+    export_jobs(plan, out, o.export_jobs);
+    std::printf(
+        "%zu run commands written to %s; run them (e.g. parallel --jobs 16 < %s), then "
+        "apiclab sweep %s --collect %s\n",
+        plan.runs.size(), o.export_jobs.c_str(), o.export_jobs.c_str(), o.spec.c_str(),
+        out.c_str());
+    return 0;
+  }
+  if (o.collect.empty()) {
+    ensure_writable_dir(out);
+    if (!o.quiet)
+      std::fprintf(stderr, "apiclab: sweep %s: %zu runs, %d at a time, into %s\n",
+                   spec.name.c_str(), plan.runs.size(), o.jobs, out.c_str());
+    run_plan(plan, out, o.jobs, o.quiet);
+  } else if (!std::filesystem::is_directory(out)) {
+    throw UsageError("sweep: --collect '" + out + "': no such folder");
+  }
+  const auto results = collect(spec, plan, out);
+  const std::string csv = write_runs_csv(spec, results, out);
+  std::vector<std::string> charts;
+#ifdef APICLAB_HAVE_FIGURES
+  try {
+    charts = write_charts(spec, results, out);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "apiclab: sweep: charts not drawn: %s\n", e.what());
+  }
+#endif
+  write_summary(spec, results, out, o.target_error, charts);
+  std::size_t missing = 0;
+  for (const RunResult& r : results) missing += r.outcome == "no_result";
+  std::printf("sweep %s: %zu runs; %s, %s/summary.md", spec.name.c_str(), results.size(),
+              csv.c_str(), out.c_str());
+  for (const std::string& c : charts) std::printf(", %s/%s", out.c_str(), c.c_str());
+  std::printf("\n");
+  if (missing)
+    std::printf("warning: %zu runs have no result yet (rows with outcome no_result)\n", missing);
+  return 0;
+}
+
+}  // namespace
+
+void register_sweep(CLI::App& root, CommandTable& table) {
+  auto o = std::make_shared<SweepOptions>();
+  CLI::App* cmd = root.add_subcommand(
+      "sweep",
+      "run a sweep spec: runs.csv, error-vs-cost, stability and convergence charts, "
+      "summary.md");
+  cmd->add_option("spec", o->spec, "sweep spec (JSON; README, Sweeps)")->required();
+  cmd->add_option("--out", o->out, "output folder (runs are kept there; a rerun resumes)");
+  cmd->add_option("--jobs", o->jobs, "runs at a time, each its own process (>= 1)");
+  cmd->add_option("--export-jobs", o->export_jobs,
+                  "write one self-contained `apiclab run` command per line instead of running");
+  cmd->add_option("--collect", o->collect,
+                  "build runs.csv, charts and summary from the records in this folder");
+  cmd->add_option("--target-error", o->target_error,
+                  "summary.md names the cheapest run whose selected errors are at most this (> 0)");
+  cmd->add_flag("--quiet", o->quiet, "no progress on stderr");
+  table.push_back({cmd, [o] { return sweep_command(*o); }});
+}
+
+}  // namespace apiclab::cli

@@ -1,0 +1,47 @@
+// A sweep's runs: the Cartesian product of the spec's axis groups less its exclusions, each run
+// turned into `--set` overrides on its base scene (the derived axes resolution and dt_factor
+// included), checked by the strict scene parser, keyed by a hash of its configuration, and
+// given its reference run.
+#pragma once
+#include <cstddef>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "app/sweep/spec.hpp"
+
+namespace apiclab::sweep {
+
+struct PlannedRun {
+  std::vector<std::pair<std::string, Value>> config;  // every axis key and its value
+  std::string scene_path;                             // resolved base scene
+  std::vector<std::string> overrides;                 // KEY=VALUE, in order
+  std::string precision = "double";
+  int threads = 1;
+  double dx = 0;              // grid spacing of this run
+  double dt = 0;              // fixed step from dt_factor, 0 when the scene's own rule stands
+  std::string id;             // 16 hex digits of a hash of the configuration
+  std::size_t reference = 0;  // index of the run it is compared with
+
+  const Value* value(const std::string& key) const;
+  std::string value_text(const std::string& key) const;  // "" when not an axis
+  std::string label() const;                             // "solver.scheme=apic, dt_factor=2"
+  // The self-contained `apiclab run` command that records this run in DIR/runs/ID.
+  std::vector<std::string> command(const std::string& exe, const std::string& out_dir) const;
+};
+
+struct Plan {
+  std::vector<PlannedRun> runs;
+};
+
+// Throws cli::UsageError naming the spec and the key for a configuration the scene rejects or a
+// reference that is not in the sweep.
+Plan make_plan(const Spec& spec);
+
+// The folder of a run's record inside a sweep folder.
+std::string run_dir(const std::string& out_dir, const PlannedRun& run);
+
+// A shell word (single-quoted where needed), for the exported command lines.
+std::string shell_quote(const std::string& word);
+
+}  // namespace apiclab::sweep

@@ -1,0 +1,249 @@
+#include "app/sweep/record.hpp"
+
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+
+#include "app/frame_loop.hpp"
+#include "sim/run_summary.hpp"
+
+namespace apiclab::sweep {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+constexpr char kMagic[4] = {'A', 'S', 'F', '1'};
+
+double json_number(const json& j, const char* key) {
+  if (!j.contains(key) || j[key].is_null()) return std::numeric_limits<double>::quiet_NaN();
+  return j[key].get<double>();
+}
+
+// frames.bin: magic, dim, count, object[count], then per frame t, kinetic, elastic and
+// positions[count·dim] (float, as the snapshot holds them).
+class FrameWriter {
+ public:
+  explicit FrameWriter(const std::string& path) : out_(path, std::ios::binary) {
+    if (!out_) throw std::runtime_error("cannot write " + path);
+  }
+  void add(const Snapshot& s, const DiagnosticsRow& row) {
+    if (!header_written_) {
+      const std::int32_t dim = s.dim;
+      const std::uint64_t n = s.count();
+      out_.write(kMagic, 4);
+      out_.write(reinterpret_cast<const char*>(&dim), sizeof dim);
+      out_.write(reinterpret_cast<const char*>(&n), sizeof n);
+      out_.write(reinterpret_cast<const char*>(s.object.data()),
+                 std::streamsize(s.object.size() * sizeof(std::int32_t)));
+      header_written_ = true;
+    }
+    const double head[3] = {s.time, row.kinetic, row.elastic};
+    out_.write(reinterpret_cast<const char*>(head), sizeof head);
+    out_.write(reinterpret_cast<const char*>(s.positions.data()),
+               std::streamsize(s.positions.size() * sizeof(float)));
+  }
+
+ private:
+  std::ofstream out_;
+  bool header_written_ = false;
+};
+
+double rms(const std::vector<float>& v, int components) {
+  if (v.empty()) return 0;
+  double s = 0;
+  for (float x : v) s += double(x) * double(x);
+  return std::sqrt(s / double(v.size() / std::size_t(components)));
+}
+
+json conservation_json(const metrics::Conservation& c) {
+  return {{"max_energy", c.max_energy},
+          {"final_energy", c.final_energy},
+          {"max_angular", c.max_angular},
+          {"final_angular", c.final_angular},
+          {"angular_relative", c.angular_relative},
+          {"max_momentum", c.max_momentum},
+          {"final_momentum", c.final_momentum}};
+}
+
+}  // namespace
+
+int record_run(const cli::RunOptions& o, const std::string& dir) {
+  SceneDesc scene = cli::load_scene_with_options(o);
+  const Precision precision = cli::precision_of(o);
+  cli::apply_threads(o.threads);
+  const double start = now_seconds();
+  const fs::path final_dir(dir);
+  const fs::path tmp = final_dir.string() + ".tmp-" + std::to_string(::getpid());
+  std::error_code ec;
+  fs::remove_all(tmp, ec);
+  fs::create_directories(tmp, ec);
+  if (ec) throw cli::UsageError("--record: cannot create '" + tmp.string() + "'");
+  std::ofstream csv(tmp / "diagnostics.csv");
+  csv << diagnostics_header() << '\n';
+  FrameWriter frames((tmp / "frames.bin").string());
+
+  auto sim = make_simulation(scene, precision);
+  DiagnosticsRow first = sim->measure();
+  first.dt = 0;
+  write_diagnostics_row(csv, first);
+  std::vector<DiagnosticsRow> rows = {first};
+  rows.reserve(4096);
+  RunRecord rec;
+  rec.particles = long(particle_count(*sim));
+  Lockstep panes({sim.get()});
+  const auto on_row = [&](std::size_t, const DiagnosticsRow& r) {
+    write_diagnostics_row(csv, r);
+    rows.push_back(r);
+    rec.step_wall_s += r.wall_seconds;
+    rec.newton_iters += r.newton_iters;
+    rec.cg_iters += r.cg_iters;
+    if (!r.converged) ++rec.unconverged_steps;
+  };
+  double rms_speed0 = 0;
+  const TransferControls* transfers = sim->transfers();
+  run_frame_loop(FrameTimes(scene), panes, on_row, [&](int f) {
+    if (sim->failure()) return false;
+    auto snap = sim->snapshot();
+    frames.add(*snap, rows.back());
+    ++rec.frames;
+    const double speed = rms(snap->velocities, snap->dim);
+    if (f == 0) rms_speed0 = speed;
+    if (transfers) {
+      transfers->fill_velocity_noise(*snap);
+      const double scale = std::max({rms_speed0, speed, 1e-300});
+      rec.noise = std::max(rec.noise, rms(snap->noise, 1) / scale);
+    }
+    return true;
+  });
+  csv.close();
+  rec.steps = sim->steps();
+  if (const auto& failure = sim->failure()) {
+    rec.blew_up = true;
+    rec.fail_step = failure->step;
+    rec.fail_t = failure->t;
+    rec.fail_quantity = failure->quantity;
+    rec.fail_message = failure->message;
+  }
+  rec.conservation =
+      metrics::conservation(rows, sim->total_mass(), DriftRule::domain_extent(scene));
+  rusage use{};
+  getrusage(RUSAGE_SELF, &use);
+  rec.cpu_s = double(use.ru_utime.tv_sec + use.ru_stime.tv_sec) +
+              1e-6 * double(use.ru_utime.tv_usec + use.ru_stime.tv_usec);
+  rec.peak_rss_mb = double(use.ru_maxrss) / 1024.0;
+  rec.total_wall_s = now_seconds() - start;
+  json j = {{"id", final_dir.filename().string()},
+            {"scene", scene.name},
+            {"overrides", o.sets},
+            {"precision", o.precision},
+            {"threads", o.threads},
+            {"particles", rec.particles},
+            {"steps", rec.steps},
+            {"frames", rec.frames},
+            {"step_wall_s", rec.step_wall_s},
+            {"total_wall_s", rec.total_wall_s},
+            {"cpu_s", rec.cpu_s},
+            {"peak_rss_mb", rec.peak_rss_mb},
+            {"newton_iters", rec.newton_iters},
+            {"cg_iters", rec.cg_iters},
+            {"unconverged_steps", rec.unconverged_steps},
+            {"outcome", rec.blew_up ? "blew_up" : "completed"},
+            {"noise", rec.noise},
+            {"conservation", conservation_json(rec.conservation)}};
+  if (rec.blew_up)
+    j["failure"] = {{"step", rec.fail_step},
+                    {"t", rec.fail_t},
+                    {"quantity", rec.fail_quantity},
+                    {"message", rec.fail_message}};
+  {
+    std::ofstream out(tmp / "result.json");
+    out << j.dump(1) << '\n';
+    if (!out) throw cli::UsageError("--record: cannot write " + (tmp / "result.json").string());
+  }
+  fs::remove_all(final_dir, ec);
+  fs::rename(tmp, final_dir, ec);
+  if (ec) throw cli::UsageError("--record: cannot rename into '" + dir + "': " + ec.message());
+  if (!o.quiet)
+    std::fprintf(stderr, "apiclab: %s: %s in %ld steps, %.3g s; recorded in %s\n",
+                 scene.name.c_str(), rec.blew_up ? rec.fail_message.c_str() : "completed",
+                 rec.steps, rec.step_wall_s, dir.c_str());
+  return 0;
+}
+
+bool record_complete(const std::string& dir) {
+  return fs::is_regular_file(fs::path(dir) / "result.json");
+}
+
+RunRecord read_record(const std::string& dir) {
+  const fs::path path = fs::path(dir) / "result.json";
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(path.string() + ": cannot open");
+  json j = json::parse(in, nullptr, false);
+  if (j.is_discarded()) throw std::runtime_error(path.string() + ": malformed JSON");
+  RunRecord r;
+  r.id = j.value("id", "");
+  r.particles = j.value("particles", 0L);
+  r.steps = j.value("steps", 0L);
+  r.frames = j.value("frames", 0L);
+  r.step_wall_s = json_number(j, "step_wall_s");
+  r.total_wall_s = json_number(j, "total_wall_s");
+  r.cpu_s = json_number(j, "cpu_s");
+  r.peak_rss_mb = json_number(j, "peak_rss_mb");
+  r.newton_iters = json_number(j, "newton_iters");
+  r.cg_iters = json_number(j, "cg_iters");
+  r.unconverged_steps = j.value("unconverged_steps", 0L);
+  r.blew_up = j.value("outcome", "") == "blew_up";
+  r.noise = json_number(j, "noise");
+  if (r.blew_up && j.contains("failure")) {
+    const json& f = j["failure"];
+    r.fail_step = f.value("step", 0L);
+    r.fail_t = json_number(f, "t");
+    r.fail_quantity = f.value("quantity", "");
+    r.fail_message = f.value("message", "");
+  }
+  const json& c = j["conservation"];
+  r.conservation = {json_number(c, "max_energy"),      json_number(c, "final_energy"),
+                    json_number(c, "max_angular"),     json_number(c, "final_angular"),
+                    c.value("angular_relative", true), json_number(c, "max_momentum"),
+                    json_number(c, "final_momentum")};
+  return r;
+}
+
+metrics::RunFrames read_frames(const std::string& dir) {
+  const fs::path path = fs::path(dir) / "frames.bin";
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(path.string() + ": cannot open");
+  char magic[4];
+  std::int32_t dim = 0;
+  std::uint64_t n = 0;
+  in.read(magic, 4);
+  in.read(reinterpret_cast<char*>(&dim), sizeof dim);
+  in.read(reinterpret_cast<char*>(&n), sizeof n);
+  metrics::RunFrames run;
+  if (!in) return run;  // no frame at all (failed before frame 0)
+  if (std::string(magic, 4) != std::string(kMagic, 4) || (dim != 2 && dim != 3))
+    throw std::runtime_error(path.string() + ": not a frames file");
+  run.dim = dim;
+  run.object.resize(n);
+  in.read(reinterpret_cast<char*>(run.object.data()), std::streamsize(n * sizeof(std::int32_t)));
+  std::vector<float> x(n * std::uint64_t(dim));
+  for (;;) {
+    double head[3];
+    if (!in.read(reinterpret_cast<char*>(head), sizeof head)) break;
+    if (!in.read(reinterpret_cast<char*>(x.data()), std::streamsize(x.size() * sizeof(float))))
+      throw std::runtime_error(path.string() + ": truncated frame");
+    metrics::Frame f{head[0], head[1], head[2], std::vector<double>(x.begin(), x.end())};
+    run.frames.push_back(std::move(f));
+  }
+  return run;
+}
+
+}  // namespace apiclab::sweep

@@ -1,0 +1,42 @@
+// One sweep run, recorded by `apiclab run SCENE ... --record DIR` (a separate process, so timed
+// runs share no threads): DIR/diagnostics.csv, DIR/frames.bin (particle positions and energies
+// at frame times) and DIR/result.json (cost, outcome, conservation, velocity noise). Everything is
+// written under DIR.tmp-PID and renamed to DIR at the end, so a reader never sees a half-written
+// run and a killed run leaves no DIR.
+#pragma once
+#include <string>
+
+#include "app/cli.hpp"
+#include "sim/metrics.hpp"
+
+namespace apiclab::sweep {
+
+// What result.json holds.
+struct RunRecord {
+  std::string id;
+  long particles = 0, steps = 0, frames = 0;
+  double step_wall_s = 0;   // inside the steps: the cost the charts use
+  double total_wall_s = 0;  // the whole process: building, measuring, writing included
+  double cpu_s = 0, peak_rss_mb = 0;
+  double newton_iters = 0, cg_iters = 0;
+  long unconverged_steps = 0;
+  bool blew_up = false;
+  long fail_step = 0;
+  double fail_t = 0;
+  std::string fail_quantity, fail_message;
+  metrics::Conservation conservation;
+  double noise = 0;  // max over frames of RMS |v_p − v_PIC| / RMS |v_p| (the larger of t = 0, t)
+};
+
+// `run --record DIR`: runs the scene of `o` and writes the record. Returns 0 whenever the run was
+// recorded (a blow-up is a result); a bad scene throws SceneError before anything is written.
+int record_run(const cli::RunOptions& o, const std::string& dir);
+
+// Whether DIR holds a complete record.
+bool record_complete(const std::string& dir);
+// Reads DIR/result.json; throws std::runtime_error naming the file.
+RunRecord read_record(const std::string& dir);
+// Reads DIR/frames.bin; throws std::runtime_error naming the file.
+metrics::RunFrames read_frames(const std::string& dir);
+
+}  // namespace apiclab::sweep

@@ -1,0 +1,115 @@
+#include "app/sweep/runner.hpp"
+
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+#include "app/cli.hpp"
+#include "app/sweep/record.hpp"
+
+namespace apiclab::sweep {
+namespace {
+
+namespace fs = std::filesystem;
+
+pid_t spawn(const std::vector<std::string>& args, const std::string& log) {
+  std::vector<char*> argv;
+  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (fd >= 0) {
+      dup2(fd, 1);
+      dup2(fd, 2);
+      ::close(fd);
+    }
+    execv(argv[0], argv.data());
+    _exit(127);
+  }
+  if (pid < 0) throw cli::UsageError("cannot start a run process (fork failed)");
+  return pid;
+}
+
+}  // namespace
+
+std::string self_executable() {
+  std::error_code ec;
+  const fs::path p = fs::read_symlink("/proc/self/exe", ec);
+  if (ec) throw cli::UsageError("cannot find this executable (/proc/self/exe)");
+  return p.string();
+}
+
+RunnerReport run_plan(const Plan& plan, const std::string& out_dir, int jobs, bool quiet) {
+  RunnerReport report;
+  const fs::path runs = fs::path(out_dir) / "runs", logs = fs::path(out_dir) / "logs";
+  fs::create_directories(runs);
+  fs::create_directories(logs);
+  for (const auto& entry : fs::directory_iterator(runs))  // half-written runs of a killed sweep
+    if (entry.path().filename().string().find(".tmp-") != std::string::npos)
+      fs::remove_all(entry.path());
+  std::vector<const PlannedRun*> todo;
+  for (const PlannedRun& r : plan.runs) {
+    if (record_complete(run_dir(out_dir, r)))
+      ++report.skipped;
+    else
+      todo.push_back(&r);
+  }
+  if (!quiet && report.skipped)
+    std::fprintf(stderr, "apiclab: sweep: %zu of %zu runs already complete in %s, skipped\n",
+                 report.skipped, plan.runs.size(), out_dir.c_str());
+  const std::string exe = self_executable();
+  std::map<pid_t, const PlannedRun*> running;
+  std::size_t next = 0, done = 0;
+  const double start = now_seconds();
+  while (next < todo.size() || !running.empty()) {
+    while (next < todo.size() && int(running.size()) < std::max(1, jobs)) {
+      const PlannedRun* r = todo[next++];
+      running[spawn(r->command(exe, out_dir), (logs / (r->id + ".log")).string())] = r;
+    }
+    int status = 0;
+    const pid_t pid = waitpid(-1, &status, 0);
+    if (pid < 0) break;
+    auto it = running.find(pid);
+    if (it == running.end()) continue;
+    const PlannedRun* r = it->second;
+    running.erase(it);
+    ++done;
+    ++report.ran;
+    if (!record_complete(run_dir(out_dir, *r))) {
+      ++report.failed_to_record;
+      std::fprintf(stderr, "\napiclab: sweep: run %s (%s) left no record (exit %d); see %s\n",
+                   r->id.c_str(), r->label().c_str(),
+                   WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status),
+                   (logs / (r->id + ".log")).c_str());
+    }
+    if (!quiet) {
+      const double elapsed = now_seconds() - start;
+      std::fprintf(stderr, "\rapiclab: sweep: %zu/%zu runs, %.0f s, ETA %.0f s   ", done,
+                   todo.size(), elapsed, elapsed / double(done) * double(todo.size() - done));
+    }
+  }
+  if (!quiet && !todo.empty()) std::fprintf(stderr, "\n");
+  return report;
+}
+
+void export_jobs(const Plan& plan, const std::string& out_dir, const std::string& file) {
+  cli::ensure_writable_file(file);
+  std::ofstream out(file);
+  const std::string exe = self_executable();
+  const std::string dir = fs::absolute(out_dir).string();
+  for (const PlannedRun& r : plan.runs) {
+    std::string line;
+    for (const std::string& a : r.command(exe, dir))
+      line += (line.empty() ? "" : " ") + shell_quote(a);
+    out << line << '\n';
+  }
+  if (!out) throw cli::UsageError("cannot write '" + file + "'");
+}
+
+}  // namespace apiclab::sweep

@@ -1,0 +1,194 @@
+#include "app/sweep/tables.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <numeric>
+
+#include "sim/metrics.hpp"
+
+namespace apiclab::sweep {
+namespace {
+
+// The axes that vary (more than one value), in spec order.
+std::vector<std::string> varying_axes(const Spec& spec) {
+  std::vector<std::string> keys;
+  for (const AxisGroup& g : spec.groups)
+    for (const Axis& a : g.axes)
+      if (a.values.size() > 1) keys.push_back(a.key);
+  return keys;
+}
+
+std::string join_values(const PlannedRun& run, const std::vector<std::string>& keys) {
+  std::string s;
+  for (const std::string& k : keys) s += (s.empty() ? "" : " ") + run.value_text(k);
+  return s;
+}
+
+std::string short_key(const std::string& key) {
+  const auto dot = key.rfind('.');
+  return dot == std::string::npos ? key : key.substr(dot + 1);
+}
+
+}  // namespace
+
+std::string cell_text(const RunResult& r) {
+  char buf[64];
+  if (r.outcome == "blew_up") {
+    std::snprintf(buf, sizeof buf, "blew up t=%.2g", r.rec.fail_t);
+  } else if (r.outcome == "not_converged") {
+    std::snprintf(buf, sizeof buf, "no conv. %ld", r.rec.unconverged_steps);
+  } else if (r.outcome == "noisy") {
+    std::snprintf(buf, sizeof buf, "noisy %.2g", r.rec.noise);
+  } else if (r.outcome == "completed") {
+    std::snprintf(buf, sizeof buf, "dE %.3g%%", 100 * r.rec.conservation.final_energy);
+  } else {
+    std::snprintf(buf, sizeof buf, "no result");
+  }
+  return buf;
+}
+
+std::vector<StabilityMap> stability_maps(const Spec& spec, const std::vector<RunResult>& results) {
+  std::vector<StabilityMap> maps;
+  const Axis* columns = spec.axis(spec.columns);
+  std::vector<std::string> row_keys;
+  for (const std::string& k : varying_axes(spec))
+    if (!spec.follows_scene(k) && k != spec.columns) row_keys.push_back(k);
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    const PlannedRun& run = *results[i].run;
+    const std::string scene = run.value_text("scene");
+    auto map = std::find_if(maps.begin(), maps.end(), [&](auto& m) { return m.scene == scene; });
+    if (map == maps.end()) {
+      StabilityMap m;
+      m.scene = scene;
+      m.column_key = columns ? spec.columns : "";
+      if (columns) {
+        for (const Value& v : columns->values)  // zipped axes may repeat a value
+          if (std::find(m.column_labels.begin(), m.column_labels.end(), v.text) ==
+              m.column_labels.end())
+            m.column_labels.push_back(v.text);
+      } else {
+        m.column_labels.push_back("");
+      }
+      maps.push_back(m);
+      map = maps.end() - 1;
+    }
+    const std::string row = join_values(run, row_keys);
+    auto r = std::find(map->row_labels.begin(), map->row_labels.end(), row);
+    if (r == map->row_labels.end()) {
+      map->row_labels.push_back(row);
+      map->cells.push_back(std::vector<long>(map->column_labels.size(), -1));
+      r = map->row_labels.end() - 1;
+    }
+    std::size_t c = 0;
+    if (columns)
+      c = std::size_t(std::find(map->column_labels.begin(), map->column_labels.end(),
+                                run.value_text(spec.columns)) -
+                      map->column_labels.begin());
+    map->cells[std::size_t(r - map->row_labels.begin())][c] = long(i);
+  }
+  return maps;
+}
+
+std::vector<std::string> scenes(const Spec& spec) {
+  std::vector<std::string> out;
+  for (const Value& v : spec.axis("scene")->values)
+    if (std::find(out.begin(), out.end(), v.text) == out.end()) out.push_back(v.text);
+  return out;
+}
+
+std::string config_text(const Spec& spec, const PlannedRun& run) {
+  std::string s;
+  for (const std::string& k : varying_axes(spec))
+    if (!spec.follows_scene(k))
+      s += (s.empty() ? "" : ", ") + short_key(k) + "=" + run.value_text(k);
+  return s.empty() ? "(the one configuration)" : s;
+}
+
+std::vector<Series> cost_series(const Spec& spec, const std::vector<RunResult>& results,
+                                const std::string& error, const std::string& scene) {
+  std::vector<Series> out;
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    const RunResult& r = results[i];
+    if (r.run->value_text("scene") != scene) continue;
+    if (is_reference(results, i) || !(r.outcome == "completed" || r.outcome == "noisy")) continue;
+    const double e = r.error(error);
+    if (!(e > 0) || !(r.cost() > 0)) continue;
+    std::string label = r.run->value_text(spec.series);
+    if (label.empty()) label = "all";
+    auto s = std::find_if(out.begin(), out.end(), [&](auto& x) { return x.label == label; });
+    if (s == out.end()) {
+      out.push_back({label, {}, {}, {}, 0});
+      s = out.end() - 1;
+    }
+    s->runs.push_back(i);
+  }
+  for (Series& s : out) {
+    std::sort(s.runs.begin(), s.runs.end(),
+              [&](auto a, auto b) { return results[a].cost() < results[b].cost(); });
+    for (std::size_t i : s.runs) {
+      s.x.push_back(results[i].cost());
+      s.y.push_back(results[i].error(error));
+    }
+  }
+  return out;
+}
+
+std::vector<Series> convergence_series(const Spec& spec, const std::vector<RunResult>& results,
+                                       const std::string& error, const std::string& scene) {
+  std::vector<Series> out;
+  const Axis* res = spec.axis("resolution");
+  if (!res || res->values.size() < 2 || spec.follows_scene("resolution")) return out;
+  // The label: the values of the other varying axes, one per zipped group (its partners say
+  // nothing more).
+  std::vector<std::string> keys;
+  for (const AxisGroup& g : spec.groups)
+    for (const Axis& a : g.axes)
+      if (a.values.size() > 1 && a.key != "resolution" && !spec.follows_scene(a.key)) {
+        keys.push_back(a.key);
+        break;
+      }
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    const RunResult& r = results[i];
+    if (r.run->value_text("scene") != scene) continue;
+    if (is_reference(results, i) || r.outcome == "blew_up" || r.outcome == "no_result") continue;
+    if (!(r.error(error) > 0)) continue;
+    std::string label;
+    for (const std::string& k : keys) label += (label.empty() ? "" : " ") + r.run->value_text(k);
+    if (label.empty()) label = "all";
+    auto s = std::find_if(out.begin(), out.end(), [&](auto& x) { return x.label == label; });
+    if (s == out.end()) {
+      out.push_back({label, {}, {}, {}, 0});
+      s = out.end() - 1;
+    }
+    s->runs.push_back(i);
+  }
+  for (Series& s : out) {
+    std::sort(s.runs.begin(), s.runs.end(),
+              [&](auto a, auto b) { return results[a].run->dx < results[b].run->dx; });
+    for (std::size_t i : s.runs) {
+      s.x.push_back(results[i].run->dx);
+      s.y.push_back(results[i].error(error));
+    }
+    s.slope = metrics::log_log_slope(s.x, s.y);
+  }
+  return out;
+}
+
+std::optional<std::size_t> cheapest_meeting(const Spec& spec, const std::vector<RunResult>& results,
+                                            double target, const std::string& scene) {
+  std::optional<std::size_t> best;
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    if (results[i].run->value_text("scene") != scene) continue;
+    const RunResult& r = results[i];
+    if (r.outcome != "completed") continue;
+    const bool meets = std::all_of(spec.errors.begin(), spec.errors.end(), [&](auto& e) {
+      return r.error(e) <= target;  // NaN never meets
+    });
+    if (meets && (!best || r.cost() < results[*best].cost())) best = i;
+  }
+  return best;
+}
+
+}  // namespace apiclab::sweep

@@ -1,0 +1,91 @@
+#!/usr/bin/env bash
+# The stability map's facts as measured by `apiclab sweep` (issue 13), each on a small, fast
+# configuration:
+#   stability  (tests/sweeps/stability-facts.json, rotating-disk on a 16x16 grid, 1 s):
+#     symplectic Euler blows up at 4x the explicit limit while the midpoint rule holds there;
+#     PIC's damping: its energy error is more than 100x APIC's at the same step;
+#   noise      (tests/sweeps/ringing-noise.json, Sec 6.7's ringing to 1 s): FLIP is noisy, APIC not;
+#   convergence (tests/sweeps/convergence.json): APIC's reference distance on rotating-disk falls
+#     with resolution at the order stated in README (Sweeps).
+# Usage: APICLAB=/path/to/apiclab sweep_facts.sh SOURCE_DIR stability|noise|convergence
+set -u
+APICLAB=${APICLAB:?set APICLAB to the apiclab executable}
+SRC=${1:?usage: sweep_facts.sh SOURCE_DIR WHICH}
+WHICH=${2:?usage: sweep_facts.sh SOURCE_DIR stability|noise|convergence}
+TMP=$(mktemp -d "${TMPDIR:-/tmp}/apiclab-facts.XXXXXX")
+trap 'rm -rf "$TMP"' EXIT
+
+pass=0
+fail=0
+check() {  # check NAME CONDITION-RESULT(0/1) DETAIL
+  if [ "$2" = 1 ]; then
+    pass=$((pass + 1))
+    echo "PASS: $1 ($3)"
+  else
+    fail=$((fail + 1))
+    echo "FAIL: $1 ($3)"
+  fi
+}
+
+# field CSV COLUMN KEY=VALUE...: the column of the one row matching every KEY=VALUE.
+field() {
+  local csv=$1 column=$2
+  shift 2
+  awk -F, -v want="$*" -v col="$column" '
+    NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; n = split(want, w, " "); next }
+    { ok = 1
+      for (k = 1; k <= n; k++) { split(w[k], kv, "="); if ($c[kv[1]] != kv[2]) ok = 0 }
+      if (ok) print $c[col] }' "$csv"
+}
+
+sweep() {  # sweep SPEC: runs it into $TMP/out
+  if ! "$APICLAB" sweep "$SRC/tests/sweeps/$1" --out "$TMP/out" --jobs 2 --quiet >"$TMP/log" 2>&1; then
+    echo "FAIL: apiclab sweep $1"
+    cat "$TMP/log"
+    exit 1
+  fi
+  cat "$TMP/out/summary.md"
+}
+
+case $WHICH in
+stability)
+  sweep stability-facts.json
+  csv=$TMP/out/runs.csv
+  q="solver.kernel=quadratic"
+  a=$(field "$csv" outcome solver.scheme=apic solver.integrator=symplectic dt_factor=4 $q)
+  b=$(field "$csv" outcome solver.scheme=apic solver.integrator=midpoint dt_factor=4 $q)
+  c=$(field "$csv" outcome solver.scheme=apic solver.integrator=symplectic dt_factor=0.1 $q)
+  check "symplectic Euler blows up past the explicit limit, midpoint holds" \
+    "$([ "$a" = blew_up ] && [ "$b" = completed ] && [ "$c" = completed ] && echo 1)" \
+    "apic symplectic x4: $a, midpoint x4: $b, symplectic x0.1: $c"
+  # Sec 5.9's B-form-with-multilinear-weights failure is not asserted: since a fixed dt is taken
+  # exactly (no frame-landing slivers), lagged C and the B-form blow up at the same dt factors
+  # on rotating-disk (0.1x at 16^2, 0.05x at 32^2) and on skew-impact, so this map does not yet
+  # separate them; see the open sweep issue's note.
+  ep=$(field "$csv" final_energy solver.scheme=pic solver.integrator=symplectic dt_factor=0.1 $q)
+  ea=$(field "$csv" final_energy solver.scheme=apic solver.integrator=symplectic dt_factor=0.1 $q)
+  check "PIC's damping as an energy error, 100x APIC's" \
+    "$(awk -v p="$ep" -v a="$ea" 'BEGIN { print (p > 0.1 && p > 100 * a) ? 1 : 0 }')" \
+    "|dE|/E PIC $ep, APIC $ea"
+  ;;
+noise)
+  sweep ringing-noise.json
+  csv=$TMP/out/runs.csv
+  f=$(field "$csv" outcome solver.scheme=flip)
+  a=$(field "$csv" outcome solver.scheme=apic)
+  check "FLIP's noise in ringing" "$([ "$f" = noisy ] && [ "$a" = completed ] && echo 1)" \
+    "flip: $f (noise $(field "$csv" noise solver.scheme=flip)), apic: $a (noise $(field "$csv" noise solver.scheme=apic))"
+  ;;
+convergence)
+  sweep convergence.json
+  slope=$(awk -F, 'NR == 2 { print $5 }' "$TMP/out/convergence_rotating-disk.csv")
+  rigid=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+    { if ($c["err_rigid"] == "" || $c["err_rigid"] > 1e-3) bad++ } END { print bad + 0 }' "$TMP/out/runs.csv")
+  check "distance to the known answer (rigid rotation) below 1e-3 at every resolution" \
+    "$([ "$rigid" -eq 0 ] && echo 1)" "$rigid runs above"
+  check "APIC's reference distance falls with resolution at order >= 1.2 (measured 1.44)" \
+    "$(awk -v s="$slope" 'BEGIN { print (s >= 1.2) ? 1 : 0 }')" "fitted slope $slope"
+  ;;
+esac
+echo "sweep_facts $WHICH: $pass passed, $fail failed"
+[ "$fail" -eq 0 ]
