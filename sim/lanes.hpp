@@ -61,12 +61,20 @@ struct Lanes {
     const T values[count] = {T(v)...};
     return from_array(values, std::make_index_sequence<parts>{});
   }
-  // The first lanes of a wider group (one or two register loads).
+  // The first lanes of a wider group: one load per part (a copy of the whole group through
+  // memcpy went through the stack as 16-byte pieces, and reloading them stalled store forwarding).
   template <int wider>
   static Lanes prefix_of(const Lanes<T, wider, register_bytes>& w) {
-    static_assert(sizeof(Lanes) <= sizeof(w) && std::is_trivially_copyable_v<Lanes>);
+    using Wide = Lanes<T, wider, register_bytes>;
+    static_assert(count <= Wide::count);
     Lanes out;
-    std::memcpy(&out, &w, sizeof out);
+    if constexpr (Wide::per_part == per_part) {
+      for (int k = 0; k < parts; ++k) out.part[k] = w.part[k];
+    } else {
+      const char* bytes = reinterpret_cast<const char*>(&w);
+      for (int k = 0; k < parts; ++k)
+        std::memcpy(&out.part[k], bytes + k * sizeof(Part), sizeof(Part));
+    }
     return out;
   }
   T operator[](int i) const { return part[i / per_part][i % per_part]; }
