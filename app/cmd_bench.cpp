@@ -131,8 +131,10 @@ std::optional<BlockResult> time_block(const BenchOptions& o, Precision precision
   r.measure_wall = (now_seconds() - measure_start) / rows;
   bool finite = std::isfinite(sink) && finite_state(*sim);
   if (finite && o.reference) {
-    // Fewer steps: the reference is slower, and its rate does not depend on the step count.
-    r.reference = reference_rate(*warm, dt, std::max(2, steps / 4));
+    // Fewer steps (about 10⁶ particle-steps, a few seconds): the reference is slower, and its
+    // rate does not depend on the step count.
+    const long affordable = 1000000L / long(std::max<std::size_t>(r.particles, 1));
+    r.reference = reference_rate(*warm, dt, int(std::max(2L, std::min(affordable, long(steps)))));
     finite = r.reference.has_value();
   }
   if (!finite) {
