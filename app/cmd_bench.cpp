@@ -1,13 +1,20 @@
-// `apiclab bench`: explicit-step throughput on a standard elastic block.
+// `apiclab bench`: explicit-step throughput on a standard elastic block (one size, or a table of
+// sizes), optionally against the readable reference step on the same state, or the throughput
+// of a real scene over a few frames.
 #include <omp.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "app/cli_checks.hpp"
+#include "app/frame_loop.hpp"
 #include "cli.hpp"
 #include "commands.hpp"
+#include "sim/mpm.hpp"
+#include "sim/reference_setup.hpp"
 
 namespace apiclab::cli {
 namespace {
@@ -15,18 +22,23 @@ namespace {
 struct BenchOptions {
   int dim = 2;
   long particles = 0;  // default: 262144 (2D), 110592 (3D)
-  int steps = 0;       // default: 200 (2D), 50 (3D)
-  std::string precision = "float", scheme = "apic", kernel = "quadratic", integrator = "symplectic";
+  int steps = 0;       // default: 200 (2D), 50 (3D); with --sizes, the same work per size
+  std::optional<std::string> precision;  // default: float (block), double (--scene)
+  std::string scheme = "apic", kernel = "quadratic", integrator = "symplectic";
   int threads = 0;
   std::string max_memory;
+  std::vector<long> sizes;
+  bool reference = false;
+  std::string scene;
+  int frames = 3;
 };
 
 // A block of fixed-corotated material, spinning and falling, filling a quarter of the domain
 // along each axis at 4 (2D) or 8 (3D) particles per cell.
-std::string bench_scene(const BenchOptions& o, double& dx) {
+std::string bench_scene(const BenchOptions& o, long particles, double& dx) {
   using json = nlohmann::json;
   const int ppc = o.dim == 2 ? 4 : 8;
-  double cells_in_block = double(o.particles) / ppc;
+  double cells_in_block = double(particles) / ppc;
   double side_cells = std::pow(cells_in_block, 1.0 / o.dim);
   dx = 0.5 / side_cells;
   const bool d2 = o.dim == 2;
@@ -56,44 +68,208 @@ std::string bench_scene(const BenchOptions& o, double& dx) {
   return scene.dump();
 }
 
-int bench(BenchOptions o) {
-  if (o.dim != 2 && o.dim != 3) throw UsageError("--dim must be 2 or 3");
-  if (o.particles == 0) o.particles = o.dim == 2 ? 262144 : 110592;
-  if (o.steps == 0) o.steps = o.dim == 2 ? 200 : 50;
-  Precision precision;
-  try {
-    precision = parse_choice(precision_choices(), o.precision, "precision");
-  } catch (const std::invalid_argument& e) {
-    throw UsageError(e.what());
-  }
-  apply_threads(o.threads);
-  double dx = 0;
+bool finite_state(const Simulation& sim) {
+  const DiagnosticsRow end = sim.measure();
+  return std::isfinite(end.total + end.kinetic);
+}
+
+// The readable reference step (sim/reference_step.hpp) from sim's current particles, `steps`
+// fixed steps of dt in the same precision; particle-steps/s, or nullopt if it blew up.
+template <class T, int D>
+std::optional<double> reference_rate(const Simulation& sim, double dt, int steps) {
+  const auto& mpm = dynamic_cast<const MpmSimulation<T, D>&>(sim);
+  const reference::Setup<T, D> setup = reference::setup_of<T, D>(sim.scene());
+  reference::ParticleState<T, D> state = reference::state_of(mpm.particles());
+  const double start = now_seconds();
+  for (int s = 0; s < steps; ++s) reference::step<T, D>(setup, state, T(dt));
+  const double wall = now_seconds() - start;
+  for (const auto& x : state.x)
+    if (!x.allFinite()) return std::nullopt;
+  return double(state.x.size()) * steps / wall;
+}
+std::optional<double> reference_rate(const Simulation& sim, double dt, int steps) {
+  const bool single = sim.precision() == Precision::single;
+  if (sim.dim() == 2)
+    return single ? reference_rate<float, 2>(sim, dt, steps)
+                  : reference_rate<double, 2>(sim, dt, steps);
+  return single ? reference_rate<float, 3>(sim, dt, steps)
+                : reference_rate<double, 3>(sim, dt, steps);
+}
+
+struct BlockResult {
+  std::size_t particles = 0;
+  int steps = 0;
+  double dx = 0, wall = 0, rate = 0;
+  double measure_wall = 0;  // seconds per diagnostics row (Simulation::measure), as step() pays
+  std::optional<double> reference;  // particle-steps/s of the reference step (--reference)
+};
+
+// Times `steps` steps of the block at about `particles` particles after 3 warm-up steps (the
+// first sort, page faults), `repeats` times from the same warmed-up state (small sizes: enough
+// work to time, in the same stage of the motion as the large ones); with --reference, then the
+// reference step from that state. Returns nullopt, having said why, if the block blew up.
+std::optional<BlockResult> time_block(const BenchOptions& o, Precision precision, long particles,
+                                      int steps, int repeats = 1) {
+  BlockResult r;
   std::vector<std::string> sets;
   if (auto gb = max_memory_gb(o.max_memory))
     sets.push_back("solver.max_memory_gb=" + std::to_string(*gb));
-  SceneDesc scene = parse_scene_text(bench_scene(o, dx), "bench scene", sets);
-  auto sim = make_simulation(scene, precision);
+  SceneDesc scene = parse_scene_text(bench_scene(o, particles, r.dx), "bench scene", sets);
+  auto warm = make_simulation(scene, precision);
   const double dt = scene.time.dt;
-  for (int s = 0; s < 3; ++s) sim->step_fixed(dt);  // warm up: first sort, page faults
-  double start = now_seconds();
-  for (int s = 0; s < o.steps; ++s) sim->step_fixed(dt);
-  double wall = now_seconds() - start;
-  const DiagnosticsRow end = sim->measure();
-  if (!std::isfinite(end.total + end.kinetic)) {
+  for (int s = 0; s < 3; ++s) warm->step_fixed(dt);
+  std::unique_ptr<Simulation> sim;
+  for (int k = 0; k < repeats; ++k) {
+    sim = warm->clone();
+    const double start = now_seconds();
+    for (int s = 0; s < steps; ++s) sim->step_fixed(dt);
+    r.wall += now_seconds() - start;
+  }
+  r.particles = particle_count(*sim);
+  r.steps = steps * repeats;
+  r.rate = double(r.particles) * r.steps / r.wall;
+  // The diagnostics row step() computes after every step (energies, momenta), timed alone.
+  const int rows = std::max(1, r.steps / 4);
+  const double measure_start = now_seconds();
+  double sink = 0;
+  for (int s = 0; s < rows; ++s) sink += sim->measure().total;
+  r.measure_wall = (now_seconds() - measure_start) / rows;
+  bool finite = std::isfinite(sink) && finite_state(*sim);
+  if (finite && o.reference) {
+    // Fewer steps (about 10⁶ particle-steps, a few seconds): the reference is slower, and its
+    // rate does not depend on the step count.
+    const long affordable = 1000000L / long(std::max<std::size_t>(r.particles, 1));
+    r.reference = reference_rate(*warm, dt, int(std::max(2L, std::min(affordable, long(steps)))));
+    finite = r.reference.has_value();
+  }
+  if (!finite) {
     std::fprintf(stderr,
                  "bench: the simulation blew up (non-finite state) within %d steps; try another "
                  "kernel or fewer steps\n",
-                 o.steps);
+                 steps);
+    return std::nullopt;
+  }
+  return r;
+}
+
+Precision parse_precision(const std::string& key) {
+  try {
+    return parse_choice(precision_choices(), key, "precision");
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+}
+
+// --sizes: one row per size. Each size steps through the same simulated time as the default
+// run (fewer steps when smaller: Δt ∝ Δx), repeated from the warmed-up state until it has
+// about the default run's particle-steps (at most 100 times); --steps fixes the step count.
+int bench_sizes(const BenchOptions& o, Precision precision) {
+  const double default_size = o.dim == 2 ? 262144 : 110592, default_steps = o.dim == 2 ? 200 : 50;
+  std::printf("bench: %dD %s, scheme %s, kernel %s, integrator %s, %d threads\n", o.dim,
+              o.precision->c_str(), o.scheme.c_str(), o.kernel.c_str(), o.integrator.c_str(),
+              omp_get_max_threads());
+  std::printf("%10s %6s %10s %7s %18s", "particles", "steps", "ms/step", "diag",
+              "particle-steps/s");
+  if (o.reference) std::printf(" %18s %9s", "reference", "speed-up");
+  std::printf("\n");
+  double lo = 1e300, hi = 0;
+  for (long size : o.sizes) {
+    const double scaled = default_steps * std::pow(double(size) / default_size, 1.0 / o.dim);
+    const int steps = o.steps > 0 ? o.steps : int(std::clamp(std::lround(scaled), 5L, 200L));
+    const double work = default_size * default_steps;
+    const int repeats = int(std::clamp(std::lround(work / (double(size) * steps)), 1L, 100L));
+    const auto r = time_block(o, precision, size, steps, repeats);
+    if (!r) return 2;
+    const double step_wall = r->wall / r->steps;
+    std::printf("%10zu %6d %10.3f %6.1f%% %18.0f", r->particles, r->steps, 1e3 * step_wall,
+                100 * r->measure_wall / step_wall, r->rate);
+    if (r->reference) std::printf(" %18.0f %8.2fx", *r->reference, r->rate / *r->reference);
+    std::printf("\n");
+    std::fflush(stdout);
+    lo = std::min(lo, r->rate);
+    hi = std::max(hi, r->rate);
+  }
+  std::printf("flatness: slowest / fastest size = %.2f\n", lo / hi);
+  return 0;
+}
+
+// --scene: the scene's own time-step rule and diagnostics (what `run` does), over a few frames.
+int bench_scene_frames(const BenchOptions& o, const CLI::App& cmd) {
+  RunOptions ro;
+  ro.scene = o.scene;
+  ro.precision = o.precision.value_or("double");
+  if (cmd.count("--scheme")) ro.scheme = o.scheme;
+  if (cmd.count("--kernel")) ro.kernel = o.kernel;
+  if (cmd.count("--integrator")) ro.integrator = o.integrator;
+  SceneDesc scene = load_scene_with_options(ro);
+  auto sim = make_simulation(scene, precision_of(ro));
+  const FrameTimes times(scene);
+  const int frames = std::min(o.frames, times.frames);
+  const double start = now_seconds();
+  for (int f = 1; f <= frames; ++f)
+    if (sim->advance_to(times.time_of(f))) break;
+  const double wall = now_seconds() - start;
+  if (const auto& failure = sim->failure()) {
+    std::fprintf(stderr, "bench: %s\n", failure->message.c_str());
     return 2;
   }
-  double rate = double(particle_count(*sim)) * o.steps / wall;
+  std::printf(
+      "bench: scene %s, %dD %s, scheme %s, integrator %s, %zu particles, %d frames, %d "
+      "threads\n",
+      scene.name.c_str(), scene.dim, ro.precision.c_str(),
+      std::string(key_of(scene.solver.scheme)).c_str(),
+      std::string(key_of(scene.solver.integrator)).c_str(), particle_count(*sim), frames,
+      omp_get_max_threads());
+  std::printf("wall: %.3f s for %ld steps to t = %.4g s, %.3f ms/step\n", wall, sim->steps(),
+              sim->time(), 1e3 * wall / double(std::max(1L, sim->steps())));
+  std::printf("simulated s per wall s: %.4g\n", sim->time() / wall);
+  std::printf("particle-steps/s: %.0f\n",
+              double(particle_count(*sim)) * double(sim->steps()) / wall);
+  return 0;
+}
+
+int bench(BenchOptions o, const CLI::App& cmd) {
+  if (o.dim != 2 && o.dim != 3) throw UsageError("--dim must be 2 or 3");
+  if (o.frames < 1) throw UsageError("--frames must be at least 1");
+  apply_threads(o.threads);
+  if (!o.scene.empty()) {
+    for (const char* flag : {"--dim", "--particles", "--steps", "--sizes", "--reference"})
+      if (cmd.count(flag))
+        throw UsageError(std::string(flag) +
+                         " is for the bench block; --scene times the scene "
+                         "as it is (use --frames)");
+    return bench_scene_frames(o, cmd);
+  }
+  if (cmd.count("--frames")) throw UsageError("--frames goes with --scene");
+  if (!o.precision) o.precision = "float";
+  const Precision precision = parse_precision(*o.precision);
+  if (o.reference && o.integrator != "symplectic")
+    throw UsageError("--reference: the reference step is symplectic Euler only");
+  for (long size : o.sizes)
+    if (size < 16) throw UsageError("--sizes: every size must be at least 16 particles");
+  if (!o.sizes.empty()) {
+    if (cmd.count("--particles")) throw UsageError("give --particles or --sizes, not both");
+    if (cmd.count("--steps") && o.steps < 1) throw UsageError("--steps must be at least 1");
+    return bench_sizes(o, precision);
+  }
+  if (o.particles == 0) o.particles = o.dim == 2 ? 262144 : 110592;
+  if (o.steps == 0) o.steps = o.dim == 2 ? 200 : 50;
+  if (o.particles < 16 || o.steps < 1)
+    throw UsageError("--particles must be at least 16 and --steps at least 1");
+  const auto r = time_block(o, precision, o.particles, o.steps);
+  if (!r) return 2;
   std::printf(
       "bench: %dD %s, scheme %s, kernel %s, integrator %s, %zu particles, dx %.4g, %d steps, %d "
       "threads\n",
-      o.dim, o.precision.c_str(), o.scheme.c_str(), o.kernel.c_str(), o.integrator.c_str(),
-      particle_count(*sim), dx, o.steps, omp_get_max_threads());
-  std::printf("wall: %.3f s, %.3f ms/step\n", wall, 1e3 * wall / o.steps);
-  std::printf("particle-steps/s: %.0f\n", rate);
+      o.dim, o.precision->c_str(), o.scheme.c_str(), o.kernel.c_str(), o.integrator.c_str(),
+      r->particles, r->dx, o.steps, omp_get_max_threads());
+  std::printf("wall: %.3f s, %.3f ms/step\n", r->wall, 1e3 * r->wall / o.steps);
+  std::printf("diagnostics row: %.3f ms, %.1f%% of a step\n", 1e3 * r->measure_wall,
+              100 * r->measure_wall * o.steps / r->wall);
+  if (r->reference)
+    std::printf("reference step (same state and precision): %.0f particle-steps/s; speed-up %.2f\n",
+                *r->reference, r->rate / *r->reference);
+  std::printf("particle-steps/s: %.0f\n", r->rate);
   return 0;
 }
 
@@ -110,9 +286,11 @@ void register_bench(CLI::App& root, CommandTable& table) {
                   "110592 (3D)]")
       ->check(CLI::Range(16L, 2000000000L));
   cmd->add_option("--steps", o->steps,
-                  "timed steps [allowed: 1 or more; default: 200 (2D), 50 (3D)]")
+                  "timed steps [allowed: 1 or more; default: 200 (2D), 50 (3D); with --sizes, "
+                  "the same work per size]")
       ->check(CLI::Range(1, 100000000));
-  cmd->add_option("--precision", o->precision, "float|double [default: float]");
+  cmd->add_option("--precision", o->precision,
+                  "float|double [default: float; double with --scene]");
   cmd->add_option("--threads", o->threads, "OpenMP threads [allowed: 1-4096; default: all cores]")
       ->check(CLI::Range(1, 4096));
   cmd->add_option("--scheme", o->scheme,
@@ -124,7 +302,16 @@ void register_bench(CLI::App& root, CommandTable& table) {
   cmd->add_option("--max-memory", o->max_memory,
                   "refuse a block whose estimated memory exceeds this: BYTES (e.g. 8G), auto or "
                   "none [default: auto = the available memory]");
-  table.push_back({cmd, [o] { return bench(*o); }});
+  cmd->add_option("--sizes", o->sizes,
+                  "a table over particle counts, e.g. 3000,30000,300000 [default: one block]")
+      ->delimiter(',');
+  cmd->add_flag("--reference", o->reference,
+                "also time the readable reference step on the same state; print the speed-up "
+                "[default: off]");
+  cmd->add_option("--scene", o->scene,
+                  "time a real scene (name or path) instead of the block [default: the block]");
+  cmd->add_option("--frames", o->frames, "frames of --scene to time [default: 3]");
+  table.push_back({cmd, [o, cmd] { return bench(*o, *cmd); }});
 }
 
 }  // namespace apiclab::cli

@@ -187,7 +187,7 @@ void BlockPartition<T, D>::set_active_box(Grid<T, D>& grid,
   if (lo == box_lo_ && hi == box_hi_ && !box_rows_.empty()) return;
   for_each_box_node(
       [&](std::size_t i) {  // the old box
-        grid.accumulator[i] = typename Grid<T, D>::Lanes{};
+        grid.accumulator[i] = typename Grid<T, D>::NodeLanes{};
         grid.mass[i] = T(0);
         grid.velocity[i].setZero();
         grid.velocity_new[i].setZero();

@@ -6,35 +6,11 @@
 #include <cstdint>
 #include <vector>
 
+#include "lanes.hpp"
 #include "math.hpp"
 #include "scene.hpp"
 
 namespace apiclab {
-
-// Eight values as one vector (GCC/Clang vector extension: SSE, AVX or AVX-512 without
-// intrinsics). Spelled per scalar because the attribute is lost on a dependent typedef.
-template <class T>
-struct Lanes8;
-template <>
-struct Lanes8<float> {
-  typedef float type __attribute__((vector_size(8 * sizeof(float))));
-  typedef std::int32_t index __attribute__((vector_size(8 * sizeof(float))));
-};
-template <>
-struct Lanes8<double> {
-  typedef double type __attribute__((vector_size(8 * sizeof(double))));
-  typedef std::int64_t index __attribute__((vector_size(8 * sizeof(double))));
-};
-
-// (v_i, v_j, v_k, v_7, …, v_7): three lanes brought to the front.
-template <class T, int i, int j, int k>
-typename Lanes8<T>::type permute(const typename Lanes8<T>::type& v) {
-#if defined(__clang__)
-  return __builtin_shufflevector(v, v, i, j, k, 7, 7, 7, 7, 7);
-#else
-  return __builtin_shuffle(v, typename Lanes8<T>::index{i, j, k, 7, 7, 7, 7, 7});
-#endif
-}
 
 template <class T, int D>
 struct Grid {
@@ -52,14 +28,14 @@ struct Grid {
   std::vector<Vec<T, D>> velocity;
   std::vector<Vec<T, D>> velocity_new;  // ṽ_i^{n+1} (eq 29), after the grid update
   std::vector<Vec<T, D>> force;         // f_i (eq 34), after P2G with forces
-  // `lanes` values per node, two uses in one step (nodes of a stencil row are one contiguous
-  // run the compiler can add or load as whole vectors):
+  // 1 + 2D lanes per node (sim/lanes.hpp), two uses in one step (nodes of a stencil row are one
+  // contiguous run the compiler can add or load as whole registers):
   //   clear_grid → particles_to_grid: the P2G accumulator [m, m v (D), f (D), padding];
-  //   grid_to_particles: the packed G2P input [ṽ (D), vⁿ (D), padding] (pack_velocities).
-  static constexpr int lanes = 8;
-  static_assert(1 + 2 * D <= lanes);
-  using Lanes = typename Lanes8<T>::type;
-  std::vector<Lanes, Eigen::aligned_allocator<Lanes>> accumulator;
+  //   grid_to_particles: the packed G2P input [ṽ (D), vⁿ (D), padding] (pack_velocities),
+  //   read as its first 2D lanes (GatherLanes).
+  using NodeLanes = Lanes<T, 1 + 2 * D>;
+  using GatherLanes = Lanes<T, 2 * D>;
+  std::vector<NodeLanes, Eigen::aligned_allocator<NodeLanes>> accumulator;
 
   void init(const SceneDesc& s) {
     dx = T(s.domain.dx);
@@ -82,7 +58,7 @@ struct Grid {
     velocity.assign(total, Vec<T, D>::Zero());
     velocity_new.assign(total, Vec<T, D>::Zero());
     force.assign(total, Vec<T, D>::Zero());
-    accumulator.assign(total, Lanes{});
+    accumulator.assign(total, NodeLanes{});
   }
   std::size_t size() const { return mass.size(); }
   // Wrapped (periodic) or clamped node index along one axis.

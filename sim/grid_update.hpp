@@ -12,12 +12,13 @@ template <class T, int D>
 void MpmSimulation<T, D>::pack_velocities() {
   auto* acc = grid_.accumulator.data();
   for_each_box_node([&](std::size_t i) {
-    typename Grid<T, D>::Lanes node{};
-    for (int a = 0; a < D; ++a) {
-      node[a] = grid_.velocity_new[i][a];
-      node[D + a] = grid_.velocity[i][a];
-    }
-    acc[i] = node;
+    using NodeLanes = typename Grid<T, D>::NodeLanes;
+    const Vec<T, D>& vt = grid_.velocity_new[i];
+    const Vec<T, D>& vn = grid_.velocity[i];
+    if constexpr (D == 2)
+      acc[i] = NodeLanes::of(vt[0], vt[1], vn[0], vn[1]);
+    else
+      acc[i] = NodeLanes::of(vt[0], vt[1], vt[2], vn[0], vn[1], vn[2]);
   });
 }
 

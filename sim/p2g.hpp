@@ -24,7 +24,7 @@ void MpmSimulation<T, D>::add_mesh_forces() {
 template <class T, int D>
 void MpmSimulation<T, D>::clear_grid() {
   auto* acc = grid_.accumulator.data();
-  for_each_box_node([&](std::size_t i) { acc[i] = typename Grid<T, D>::Lanes{}; });
+  for_each_box_node([&](std::size_t i) { acc[i] = typename Grid<T, D>::NodeLanes{}; });
 }
 
 // −V_p P(F_p) F_pᵀ per particle, so that f_i = Σ_p (this) ∇w_ip (eq 34 at λ = 0). A pass of
@@ -69,14 +69,21 @@ void MpmSimulation<T, D>::p2g_impl() {
           //           + wx_i Σ_{a≥1} (row.w row.r_a affine[a] + row.dw_a stress_lanes[a]),
           // where affine[a] = [0, m C col a, 0] and stress_lanes[a] = [0, 0, stress col a]:
           // whole-vector multiply-adds only.
-          using Lanes = typename Grid<T, D>::Lanes;
-          Lanes mass_mom{}, affine_lanes[D] = {}, stress_lanes[D] = {};
-          mass_mom[0] = m;
-          for (int a = 0; a < D; ++a) {
-            mass_mom[1 + a] = mv[a];
+          // Each group built whole in registers (Lanes::of), not lane by lane.
+          using Lanes = typename Grid<T, D>::NodeLanes;
+          Lanes mass_mom, affine_lanes[D], stress_lanes[D];
+          if constexpr (D == 2) {
+            mass_mom = Lanes::of(m, mv[0], mv[1]);
             for (int c = 0; c < D; ++c) {
-              if constexpr (affine) affine_lanes[c][1 + a] = mC(a, c);
-              stress_lanes[c][1 + D + a] = stress(a, c);
+              affine_lanes[c] = affine ? Lanes::of(T(0), mC(0, c), mC(1, c)) : Lanes{};
+              stress_lanes[c] = Lanes::of(T(0), T(0), T(0), stress(0, c), stress(1, c));
+            }
+          } else {
+            mass_mom = Lanes::of(m, mv[0], mv[1], mv[2]);
+            for (int c = 0; c < D; ++c) {
+              affine_lanes[c] = affine ? Lanes::of(T(0), mC(0, c), mC(1, c), mC(2, c)) : Lanes{};
+              stress_lanes[c] =
+                  Lanes::of(T(0), T(0), T(0), T(0), stress(0, c), stress(1, c), stress(2, c));
             }
           }
           Lanes per_x[W];

@@ -377,6 +377,31 @@ else
   nok "bench --particles 2000 --steps 5" "exit $RC" "last line: $last" "$(cat "$ERR")"
 fi
 
+# bench --sizes --reference: one row per size with the reference rate and a speed-up above 1
+# (the optimised step against the readable one, same state and precision), then the flatness.
+run_cli bench --sizes 300,1200 --steps 3 --reference --precision double --threads 1
+rows=$(awk '$1 ~ /^[0-9]+$/ && NF == 7 && $7 ~ /x$/ && $7 + 0 > 1 { n++ } END { print n + 0 }' "$OUT")
+if [ "$RC" -eq 0 ] && [ "$rows" -eq 2 ] && grep -q '^flatness: slowest / fastest size = ' "$OUT"; then
+  ok "bench --sizes 300,1200 --reference: 2 rows with speed-up > 1, flatness"
+else
+  nok "bench --sizes --reference" "exit $RC, $rows good rows" "$(cat "$OUT")" "$(cat "$ERR")"
+fi
+# bench --scene: a shipped scene through step() (diagnostics included) over one frame.
+run_cli bench --scene rotating-disk --frames 1 --threads 1
+last=$(tail -n 1 "$OUT")
+if [ "$RC" -eq 0 ] && grep -q '^simulated s per wall s: ' "$OUT" &&
+  [[ "$last" =~ ^particle-steps/s:\ [0-9]+$ ]]; then
+  ok "bench --scene rotating-disk ends with '$last'"
+else
+  nok "bench --scene rotating-disk --frames 1" "exit $RC" "$(cat "$OUT")" "$(cat "$ERR")"
+fi
+expect_error "bench --sizes below 16 particles" "--sizes" "16" -- bench --sizes 3000,10
+expect_error "bench --reference with an implicit integrator" "--reference" "symplectic" -- \
+  bench --reference --integrator midpoint
+expect_error "bench --scene with a block option" "--particles" "--scene" -- \
+  bench --scene rotating-disk --particles 1000
+expect_error "bench --scene missing" "no-such-scene" -- bench --scene no-such-scene
+
 # ---- blow-up -------------------------------------------------------------------------------
 expect_blowup() {
   local name=$1

@@ -10,7 +10,7 @@
 #include <string>
 
 #include "sim/mpm.hpp"
-#include "sim/reference_step.hpp"
+#include "sim/reference_setup.hpp"
 
 namespace apiclab {
 namespace {
@@ -122,30 +122,6 @@ void place_block(MpmSimulation<double, D>& sim, const Case& c) {
   }
 }
 
-template <int D>
-reference::Setup<double, D> setup_of(const SceneDesc& s) {
-  reference::Setup<double, D> r;
-  for (int a = 0; a < D; ++a) {
-    r.min[a] = s.domain.min[a];
-    r.cells[a] = int(std::lround((s.domain.max[a] - s.domain.min[a]) / s.domain.dx));
-    r.gravity[a] = s.gravity[a];
-  }
-  r.dx = s.domain.dx;
-  for (int k = 0; k < 2 * D; ++k) r.walls[std::size_t(k)] = s.domain.walls[std::size_t(k)];
-  for (const ColliderDesc& c : s.colliders) {
-    reference::Plane<double, D> plane;
-    for (int a = 0; a < D; ++a) plane.point[a] = c.point[a], plane.normal[a] = c.normal[a];
-    plane.condition = c.condition;
-    r.colliders.push_back(plane);
-  }
-  r.scheme = s.solver.scheme;
-  r.flip_alpha = s.solver.flip_alpha;
-  r.kernel = s.solver.kernel;
-  r.model = s.materials[0].model;
-  r.lame = {s.materials[0].mu(), s.materials[0].lambda()};
-  return r;
-}
-
 // The larger of a and b, NaN if either is (std::max would drop a NaN b).
 double worse(double a, double b) { return std::isnan(b) || b > a ? b : a; }
 
@@ -162,10 +138,9 @@ Differences run_both(const Case& c) {
   const SceneDesc scene = scene_for(D, c);
   MpmSimulation<double, D> sim(scene);
   place_block<D>(sim, c);
-  reference::ParticleState<double, D> ref;
   const auto& p = sim.particles();
-  ref.x = p.x, ref.v = p.v, ref.C = p.C, ref.F = p.F, ref.mass = p.mass, ref.volume = p.volume0;
-  const reference::Setup<double, D> setup = setup_of<D>(scene);
+  reference::ParticleState<double, D> ref = reference::state_of(p);
+  const reference::Setup<double, D> setup = reference::setup_of<double, D>(scene);
   for (int k = 0; k < kSteps; ++k) {
     sim.step_fixed(kDt);
     reference::step<double, D>(setup, ref, kDt);
@@ -248,8 +223,7 @@ TEST(ReferenceStep, WallsColliderAndStressChangeTheMotion) {
   place_block<2>(sim, c);
   const auto& p = sim.particles();
   auto final_velocities = [&](const reference::Setup<double, 2>& setup) {
-    reference::ParticleState<double, 2> s;
-    s.x = p.x, s.v = p.v, s.C = p.C, s.F = p.F, s.mass = p.mass, s.volume = p.volume0;
+    reference::ParticleState<double, 2> s = reference::state_of(p);
     for (int k = 0; k < kSteps; ++k) reference::step<double, 2>(setup, s, kDt);
     return s.v;
   };
@@ -259,7 +233,7 @@ TEST(ReferenceStep, WallsColliderAndStressChangeTheMotion) {
     for (std::size_t q = 0; q < a.size(); ++q) d = std::max(d, (a[q] - b[q]).norm());
     return d;
   };
-  const reference::Setup<double, 2> full = setup_of<2>(scene_for(2, c));
+  const reference::Setup<double, 2> full = reference::setup_of<double, 2>(scene_for(2, c));
   reference::Setup<double, 2> no_walls = full, no_collider = full, no_stress = full;
   no_walls.walls.fill(BoundaryCondition::periodic);  // the block stays clear of the wrap
   no_walls.colliders.clear();

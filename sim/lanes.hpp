@@ -1,0 +1,130 @@
+// Per-node lane groups for P2G and G2P: a few values of one grid node held as whole SIMD
+// registers of the target (GCC/Clang vector extension, no intrinsics). A group wider than a
+// register is split into register-sized parts with explicit per-part operations: a single
+// 512-bit vector of doubles on an AVX2 target is lowered through the stack (scalar stores, then
+// vector reloads), which made double on AVX2 three times slower than float.
+#pragma once
+#include <algorithm>
+#include <bit>
+#include <cstdint>
+#include <cstring>
+#include <type_traits>
+#include <utility>
+
+namespace apiclab {
+
+// Bytes of the widest vector register the build targets.
+#if defined(__AVX512F__)
+inline constexpr int simd_register_bytes = 64;
+#elif defined(__AVX__)
+inline constexpr int simd_register_bytes = 32;
+#else
+inline constexpr int simd_register_bytes = 16;
+#endif
+
+// One register of P values. Spelled per scalar and width because the attribute is lost on a
+// dependent typedef.
+template <class T, int P>
+struct SimdVector;
+#define APICLAB_SIMD_VECTOR(T, I, P)                             \
+  template <>                                                    \
+  struct SimdVector<T, P> {                                      \
+    typedef T type __attribute__((vector_size(P * sizeof(T))));  \
+    typedef I index __attribute__((vector_size(P * sizeof(T)))); \
+  };
+APICLAB_SIMD_VECTOR(float, std::int32_t, 4)
+APICLAB_SIMD_VECTOR(float, std::int32_t, 8)
+APICLAB_SIMD_VECTOR(double, std::int64_t, 2)
+APICLAB_SIMD_VECTOR(double, std::int64_t, 4)
+APICLAB_SIMD_VECTOR(double, std::int64_t, 8)
+#undef APICLAB_SIMD_VECTOR
+
+// At least `used` values as `parts` registers of `per_part` lanes each, no wider than needed
+// (G2P's 4 lanes of a 2D double node are one 256-bit register also on AVX-512, where a 512-bit
+// one costs two). Lane i lives in part i / per_part, and the parts are contiguous, so the first
+// lanes of a group in memory are a smaller group (prefix_of). The register width is a parameter
+// so that tests can check every layout on any machine.
+template <class T, int used, int register_bytes = simd_register_bytes>
+struct Lanes {
+  static constexpr int per_part =
+      std::min({8, register_bytes / int(sizeof(T)), int(std::bit_ceil(unsigned(used)))});
+  static constexpr int parts = (used + per_part - 1) / per_part;
+  static constexpr int count = parts * per_part;
+  using Part = typename SimdVector<T, per_part>::type;
+  Part part[parts];
+
+  // The lanes (v_0, v_1, …), zero after the given ones; built in registers, not lane by lane
+  // through memory.
+  template <class... V>
+  static Lanes of(V... v) {
+    static_assert(sizeof...(V) <= count);
+    const T values[count] = {T(v)...};
+    return from_array(values, std::make_index_sequence<parts>{});
+  }
+  // The first lanes of a wider group: one load per part (a copy of the whole group through
+  // memcpy went through the stack as 16-byte pieces, and reloading them stalled store forwarding).
+  template <int wider>
+  static Lanes prefix_of(const Lanes<T, wider, register_bytes>& w) {
+    using Wide = Lanes<T, wider, register_bytes>;
+    static_assert(count <= Wide::count);
+    Lanes out;
+    if constexpr (Wide::per_part == per_part) {
+      for (int k = 0; k < parts; ++k) out.part[k] = w.part[k];
+    } else {
+      const char* bytes = reinterpret_cast<const char*>(&w);
+      for (int k = 0; k < parts; ++k)
+        std::memcpy(&out.part[k], bytes + k * sizeof(Part), sizeof(Part));
+    }
+    return out;
+  }
+  T operator[](int i) const { return part[i / per_part][i % per_part]; }
+
+  Lanes& operator+=(const Lanes& o) {
+    for (int k = 0; k < parts; ++k) part[k] += o.part[k];
+    return *this;
+  }
+  friend Lanes operator+(Lanes a, const Lanes& b) { return a += b; }
+  friend Lanes operator-(Lanes a, const Lanes& b) {
+    for (int k = 0; k < parts; ++k) a.part[k] -= b.part[k];
+    return a;
+  }
+  friend Lanes operator*(Lanes a, const Lanes& b) {
+    for (int k = 0; k < parts; ++k) a.part[k] *= b.part[k];
+    return a;
+  }
+  friend Lanes operator*(T s, Lanes a) {
+    for (int k = 0; k < parts; ++k) a.part[k] *= s;
+    return a;
+  }
+
+  // (v_i, v_j, v_k, …): three lanes brought to the front (the rest unspecified).
+  template <int i, int j, int k>
+  Lanes front3() const {
+    static_assert(i < count && j < count && k < count);
+    if constexpr (parts == 1 && per_part >= 4) {
+#if defined(__clang__)
+      if constexpr (per_part == 4)
+        return {__builtin_shufflevector(part[0], part[0], i, j, k, k)};
+      else
+        return {__builtin_shufflevector(part[0], part[0], i, j, k, k, k, k, k, k)};
+#else
+      using Mask = typename SimdVector<T, per_part>::index;
+      return {__builtin_shuffle(part[0], Mask{i, j, k, k})};
+#endif
+    } else {
+      return of((*this)[i], (*this)[j], (*this)[k]);
+    }
+  }
+
+ private:
+  template <std::size_t... k>
+  static Lanes from_array(const T* values, std::index_sequence<k...>) {
+    return {{part_from(values + k * per_part, std::make_index_sequence<per_part>{})...}};
+  }
+  template <std::size_t... e>
+  static Part part_from(const T* values, std::index_sequence<e...>) {
+    return Part{values[e]...};
+  }
+};
+
+}  // namespace apiclab
