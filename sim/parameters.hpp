@@ -37,6 +37,9 @@ struct NumericParameter {
   int (*count)(const SceneDesc&) = nullptr;
   // Whether the scene gives a value at all (solver.lambda is optional); null: always.
   bool (*is_set)(const SceneDesc&, int index) = nullptr;
+  // The solver method whose `solver` section holds the key ("eol": the EoL family, eol and
+  // eulerian); empty: every method's scenes take it.
+  std::string_view method = {};
 
   std::string key_at(int index) const;  // "materials.*.E", 0 -> "materials.0.E"
   std::string unit_for(int dim) const;  // unit in a scene of this dimension
