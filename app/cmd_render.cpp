@@ -26,7 +26,9 @@ std::ofstream open_csv(const std::string& path) {
 int render(const RenderOptions& o) {
   RenderSession session(o);
   const SceneDesc& scene = session.scene;
-  const std::string scheme(key_of(scene.solver.scheme));
+  // The transfer scheme names an MPM run; a method without schemes (eol, eulerian) names itself.
+  const std::string scheme =
+      scene.solver.method == "mpm" ? std::string(key_of(scene.solver.scheme)) : scene.solver.method;
   const std::string csv_path = o.run.csv.empty() ? o.out + "/" + scheme + ".csv" : o.run.csv;
   std::ofstream csv = open_csv(csv_path);
   if (!o.run.dump.empty()) ensure_writable_dir(o.run.dump);

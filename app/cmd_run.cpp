@@ -29,9 +29,10 @@ void write_dump(const Simulation& sim, const std::string& dir, int frame) {
 int run(const RunOptions& o) {
   SceneDesc scene = load_scene_with_options(o);
   apply_threads(o.threads);
-  std::string csv = o.csv.empty() ? "apiclab-out/" + scene.name + "-" +
-                                        std::string(key_of(scene.solver.scheme)) + ".csv"
-                                  : o.csv;
+  // The transfer scheme names an MPM run; a method without schemes (eol, eulerian) names itself.
+  const std::string scheme =
+      scene.solver.method == "mpm" ? std::string(key_of(scene.solver.scheme)) : scene.solver.method;
+  std::string csv = o.csv.empty() ? "apiclab-out/" + scene.name + "-" + scheme + ".csv" : o.csv;
   ensure_writable_file(csv);
   if (!o.dump.empty()) ensure_writable_dir(o.dump);
   std::ofstream out(csv);
@@ -42,7 +43,7 @@ int run(const RunOptions& o) {
   first.dt = 0;
   write_diagnostics_row(out, first);
   RunSummary summary(first, sim->total_mass(), DriftRule::domain_extent(scene));
-  std::string label = scene.name + " [" + std::string(key_of(scene.solver.scheme)) + ", " +
+  std::string label = scene.name + " [" + scheme + ", " +
                       std::string(key_of(scene.solver.integrator)) + ", " +
                       std::to_string(particle_count(*sim)) + " particles]";
   Progress progress(label, scene.time.end, o.quiet);
