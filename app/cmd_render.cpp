@@ -13,6 +13,7 @@
 #include "cli.hpp"
 #include "commands.hpp"
 #include "sim/diagnostics.hpp"
+#include "sim/method_registry.hpp"
 
 namespace apiclab::cli {
 namespace {
@@ -57,7 +58,9 @@ void print_time_step_note(const SceneDesc& scene, bool quiet) {
 int render(const RenderOptions& o) {
   RenderSession session(o);
   const SceneDesc& scene = session.scene;
-  const std::string scheme(key_of(scene.solver.scheme));
+  // The transfer scheme names an MPM run; a method without schemes (eol, eulerian) names itself.
+  const std::string scheme =
+      scene.solver.method == "mpm" ? std::string(key_of(scene.solver.scheme)) : scene.solver.method;
   const std::string csv_path = o.run.csv.empty() ? o.out + "/" + scheme + ".csv" : o.run.csv;
   std::ofstream csv = open_csv(csv_path, scene, o);
   if (!o.run.dump.empty()) ensure_writable_dir(o.run.dump);
@@ -115,20 +118,31 @@ int render(const RenderOptions& o) {
 }
 
 int compare(const RenderOptions& o) {
-  // The schemes, checked before anything runs.
-  std::vector<Scheme> schemes;
+  // The panes, checked before anything runs: an MPM transfer scheme (`apic`, or `mpm:apic`)
+  // or a solver method without schemes (`eol`, `eulerian`).
+  struct PaneSpec {
+    std::string key, method;
+    Scheme scheme = Scheme::apic;
+  };
+  std::vector<PaneSpec> specs;
   std::set<std::string> seen;
   std::istringstream list(o.schemes);
   for (std::string key; std::getline(list, key, ',');) {
     if (!seen.insert(key).second)
       throw UsageError("scheme '" + key + "' is listed twice in --schemes");
+    const std::string bare = key.rfind("mpm:", 0) == 0 ? key.substr(4) : key;
+    if (bare == key && key != "mpm" && find_method(key)) {
+      specs.push_back({key, key});
+      continue;
+    }
     try {
-      schemes.push_back(parse_choice(scheme_choices(), key, "scheme"));
+      specs.push_back({bare, "mpm", parse_choice(scheme_choices(), bare, "scheme")});
     } catch (const std::invalid_argument& e) {
-      throw UsageError(e.what());
+      throw UsageError(std::string(e.what()) +
+                       " or a solver method without schemes (eol, eulerian)");
     }
   }
-  if (schemes.empty()) throw UsageError("--schemes needs at least one scheme, e.g. pic,flip,apic");
+  if (specs.empty()) throw UsageError("--schemes needs at least one scheme, e.g. pic,flip,apic");
   if (!o.run.scheme.empty()) throw UsageError("compare takes --schemes (a list), not --scheme");
   if (!o.run.dump.empty()) throw UsageError("compare does not take --dump; use run or render");
   if (!o.run.csv.empty())
@@ -145,15 +159,16 @@ int compare(const RenderOptions& o) {
   };
   std::vector<Pane> panes;
   std::size_t particles = 0;
-  for (Scheme scheme : schemes) {
+  for (const PaneSpec& spec : specs) {
     SceneDesc scene = session.scene;
-    scene.solver.scheme = scheme;
-    Pane p{std::string(key_of(scheme)), make_simulation(scene, precision_of(o.run)),
-           open_csv(o.out + "/" + std::string(key_of(scheme)) + ".csv", scene, o)};
+    scene.solver.method = spec.method;
+    scene.solver.scheme = spec.scheme;
+    Pane p{spec.key, make_simulation(scene, precision_of(o.run)),
+           open_csv(o.out + "/" + spec.key + ".csv", scene, o)};
     DiagnosticsRow first = p.sim->measure();
     first.dt = 0;
     write_diagnostics_row(p.csv, first);
-    particles = particle_count(*p.sim);
+    particles = std::max(particles, particle_count(*p.sim));
     panes.push_back(std::move(p));
   }
   const SceneDesc& scene = session.scene;
@@ -229,8 +244,9 @@ void register_render(CLI::App& root, CommandTable& table) {
   // Refused by compare with a message of its own; left out of compare --help.
   for (const char* name : {"--scheme", "--csv", "--dump"}) cmp->get_option(name)->group("");
   cmp->add_option("--schemes", c->schemes,
-                  "comma-separated schemes, e.g. pic,flip,apic [required; allowed: " +
-                      choice_keys(scheme_choices()) + "]")
+                  "comma-separated panes: MPM schemes (" + choice_keys(scheme_choices()) +
+                      "), or solver methods eol and eulerian (mpm:apic for an MPM scheme "
+                      "explicitly), e.g. pic,flip,apic or eol,eulerian,mpm:apic [required]")
       ->required();
   table.push_back({cmp, [c] { return compare(*c); }});
 }

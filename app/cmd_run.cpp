@@ -23,10 +23,7 @@ void write_dump(const Simulation& sim, const std::string& dir, int frame) {
   std::snprintf(name, sizeof name, "frame_%04d.csv", frame);
   std::ofstream out(std::filesystem::path(dir) / name);
   if (!out) throw UsageError("cannot write particle dump in '" + dir + "'");
-  const TransferControls* particles = sim.transfers();
-  if (!particles)
-    throw UsageError("--dump: solver method '" + sim.scene().solver.method + "' has no particles");
-  particles->write_particles_csv(out);
+  sim.transfers()->write_particles_csv(out);  // run() refused --dump without particles
 }
 
 // run's own options beyond the common ones.
@@ -43,11 +40,15 @@ int run(const RunCommandOptions& command) {
   SceneDesc scene = load_scene_with_options(o);
   check_flip_alpha(o, {scene.solver.scheme});
   apply_threads(o.threads);
-  std::string csv = o.csv.empty() ? "apiclab-out/" + scene.name + "-" +
-                                        std::string(key_of(scene.solver.scheme)) + ".csv"
-                                  : o.csv;
+  // The transfer scheme names an MPM run; a method without schemes (eol, eulerian) names itself.
+  const std::string scheme =
+      scene.solver.method == "mpm" ? std::string(key_of(scene.solver.scheme)) : scene.solver.method;
+  std::string csv = o.csv.empty() ? "apiclab-out/" + scene.name + "-" + scheme + ".csv" : o.csv;
   ensure_writable_file(csv);
   if (!command.summary.empty()) ensure_writable_file(command.summary);
+  auto sim = make_simulation(scene, precision_of(o));
+  if (!o.dump.empty() && !sim->transfers())
+    throw UsageError("--dump: solver method '" + scene.solver.method + "' has no particles");
   if (!o.dump.empty()) ensure_writable_dir(o.dump);
   std::ofstream out(csv);
   out << diagnostics_header() << '\n';
@@ -56,12 +57,11 @@ int run(const RunCommandOptions& command) {
   if (const std::string note = time_step_note(scene); !note.empty() && !o.quiet)
     std::fprintf(stderr, "apiclab: %s\n", note.c_str());
 
-  auto sim = make_simulation(scene, precision_of(o));
   DiagnosticsRow first = sim->measure();
   first.dt = 0;
   write_diagnostics_row(out, first);
   RunSummary summary(first, sim->total_mass(), DriftRule::domain_extent(scene));
-  std::string label = scene.name + " [" + std::string(key_of(scene.solver.scheme)) + ", " +
+  std::string label = scene.name + " [" + scheme + ", " +
                       std::string(key_of(scene.solver.integrator)) + ", " +
                       std::to_string(particle_count(*sim)) + " particles]";
   Progress progress(label, scene.time.end, o.quiet);

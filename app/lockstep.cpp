@@ -32,8 +32,9 @@ double Lockstep::step_round(double t, const OnRow& on_row) {
 }
 
 void Lockstep::advance_to(double t, const OnRow& on_row) {
-  while (step_round(t, on_row) > 0) {
-  }
+  // Until every pane reached t (not until a round takes no particle-steps: a solver without
+  // particles, such as EoL, takes none).
+  while (!all_reached(t)) step_round(t, on_row);
 }
 
 }  // namespace apiclab

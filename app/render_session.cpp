@@ -1,5 +1,6 @@
 #include "app/render_session.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
@@ -26,9 +27,11 @@ std::pair<int, int> parse_size(const std::string& s) {
 std::vector<Scheme> pane_schemes(const std::string& list, const SceneDesc& scene) {
   std::vector<Scheme> out;
   std::istringstream in(list);
-  for (std::string key; std::getline(in, key, ',');)
+  for (std::string key; std::getline(in, key, ',');) {
+    if (key.rfind("mpm:", 0) == 0) key = key.substr(4);  // compare's `mpm:apic` form
     for (const auto& c : scheme_choices())
       if (c.key == key) out.push_back(c.value);
+  }
   if (list.empty()) out.push_back(scene.solver.scheme);
   return out;
 }
@@ -95,7 +98,9 @@ RenderSession::RenderSession(const RenderOptions& o) {
   scene = load_scene_with_options(o.run);
   const std::vector<Scheme> panes = pane_schemes(o.schemes, scene);
   check_flip_alpha(o.run, panes);
-  check_memory_for(scene, precision_of(o.run), int(panes.size()));  // compare: one per scheme
+  // compare: one simulation per listed pane, MPM scheme or another method (eol).
+  const int listed = int(std::count(o.schemes.begin(), o.schemes.end(), ',')) + 1;
+  check_memory_for(scene, precision_of(o.run), o.schemes.empty() ? 1 : listed);
   style.time_step = 1 / scene.time.fps;
   style.up_axis = render::up_axis_from_gravity(scene.gravity, scene.dim);
   apply_threads(o.run.threads);

@@ -48,12 +48,19 @@ void Renderer::add_grid_layers(const Snapshot& s, const Camera& camera, float li
               {corner(c), corner(c | (1 << axis)), kGridOutline, 1.4f * line_px, 0, 0});
     const GridLayer::Field* f = field_of(g, field);
     if (!f) continue;
-    const auto [lo, hi] = std::minmax_element(f->values.begin(), f->values.end());
-    const float low = *lo, range = *hi - *lo;
+    // Non-finite values mark nodes without a value (an EoL grid's empty nodes): not drawn.
+    float low = INFINITY, high = -INFINITY;
+    for (float v : f->values)
+      if (std::isfinite(v)) {
+        low = std::min(low, v);
+        high = std::max(high, v);
+      }
+    const float range = high > low ? high - low : 0.f;
     std::size_t node = 0;
     for (int k = 0; k < n[2]; ++k)
       for (int j = 0; j < n[1]; ++j)
         for (int i = 0; i < n[0]; ++i, ++node) {
+          if (!std::isfinite(f->values[node])) continue;
           const float t = range > 0 ? (f->values[node] - low) / range : 0.5f;
           const Vec3 q{dx * float(i), dx * float(j), dx * float(k)};
           if (s.dim == 2) {

@@ -20,11 +20,12 @@ struct DiagnosticsRow {
   double wall_seconds = 0;           // cost of the step
   double newton_iters = 0, cg_iters = 0, residual = 0;  // implicit integrators
   bool converged = true;  // the implicit solve met its tolerance within its caps
+  std::string dt_limit;   // which bound set dt (EoL, Sec 3.6: advection|elastic|max|frame|fixed)
 };
 
 inline const char* diagnostics_header() {
   return "step,t,dt,kinetic,kinetic_grid,potential,total,px,py,pz,Lx,Ly,Lz,newton_iters,cg_iters,"
-         "residual,wall_s";
+         "residual,wall_s,dt_limit";
 }
 
 void write_diagnostics_row(std::ostream& out, const DiagnosticsRow& r);

@@ -96,7 +96,7 @@ void bytes_per_item(const SceneDesc& scene, MemoryEstimate& e) {
   using V = Vec<T, D>;
   using M = Mat<T, D>;
   // Grid: mass, velocity, velocity_new, force and the 8-lane P2G accumulator.
-  e.bytes_per_node = sizeof(T) + 3 * sizeof(V) + sizeof(typename Grid<T, D>::Lanes);
+  e.bytes_per_node = sizeof(T) + 3 * sizeof(V) + sizeof(typename Grid<T, D>::NodeLanes);
   // Particles and the sort's scratch copy, the stress, one stencil cache, the drawing radius,
   // id table and the sort keys and order.
   const double particles = 2 * (2 * sizeof(V) + 2 * sizeof(M) + 2 * sizeof(T) + 3 * 4);

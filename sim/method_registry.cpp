@@ -10,7 +10,8 @@ namespace {
 std::map<std::string, SolverMethod>& methods() {
   static std::map<std::string, SolverMethod> table = [] {
     std::map<std::string, SolverMethod> t;
-    for (SolverMethod m : {mpm_method()}) t.emplace(m.name, std::move(m));
+    for (SolverMethod m : {mpm_method(), eol_method(), eulerian_method()})
+      t.emplace(m.name, std::move(m));
     return t;
   }();
   return table;

@@ -32,6 +32,8 @@ const SolverMethod* find_method(const std::string& name);
 std::vector<std::string> method_names();
 
 // The built-in methods, each defined with its solver.
-SolverMethod mpm_method();  // sim/mpm_method.cpp
+SolverMethod mpm_method();       // sim/mpm_method.cpp
+SolverMethod eol_method();       // sim/eol/eol_method.cpp
+SolverMethod eulerian_method();  // sim/eol/eol_method.cpp
 
 }  // namespace apiclab

@@ -39,6 +39,9 @@ struct NumericParameter {
   bool (*is_set)(const SceneDesc&, int index) = nullptr;
   // What the default is when is_set says the key is unset; empty: "from the integrator".
   std::string_view unset_default = {};
+  // The solver method whose `solver` section holds the key ("eol": the EoL family, eol and
+  // eulerian); empty: every method's scenes take it.
+  std::string_view method = {};
 
   std::string key_at(int index) const;  // "materials.*.E", 0 -> "materials.0.E"
   std::string unit_for(int dim) const;  // unit in a scene of this dimension

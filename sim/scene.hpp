@@ -43,6 +43,14 @@ struct TimeDesc {
   bool lands_on_frames() const { return rule != DtRule::fixed || land_on_frames; }
 };
 
+// The Eulerian-on-Lagrangian methods' keys of the `solver` section (sim/eol/eol_method.cpp).
+struct EolSolverDesc {
+  double alpha = 0.5;      // advection Courant bound of eq 30 (Fan et al. 2013, Sec 3.6)
+  int padding = 3;         // eol: empty cells around the rest shape in its grid
+  double cell = 0;         // eol: the objects' cell size; 0 = domain.dx
+  double grid_extent = 0;  // eol: side of each object's grid; 0 = rest shape + padding
+};
+
 struct SolverDesc {
   std::string method =
       "mpm";  // the solver family (sim/method_registry.hpp); the keys below are MPM's
@@ -65,6 +73,7 @@ struct SolverDesc {
   // Scenes with fewer particles run their loops on one thread (an OpenMP region costs more
   // than it saves there). Not a scene key: tests set it to 0 to exercise the parallel paths.
   std::size_t parallel_min_particles = 20000;
+  EolSolverDesc eol;  // read only for solver.method eol or eulerian
   double integrator_lambda() const {
     if (lambda) return *lambda;
     return integrator == Integrator::midpoint ? 0.5 : 0.0;

@@ -418,5 +418,21 @@ expect_blowup() {
 expect_blowup "blow-up at --dt 0.05" run rotating-disk --integrator symplectic --dt 0.05 --t-end 1 --csv "$TMP/blow.csv" --quiet
 expect_blowup "blow-up with E = 1e9 at a fixed dt" run rotating-disk --integrator symplectic --set materials.0.E=1e9 --dt 0.001 --t-end 1 --csv "$TMP/blow2.csv" --quiet
 
+# ---- Eulerian-on-Lagrangian methods (sim/eol/) ----------------------------------------------
+ECSV="$TMP/eol-drop.csv"
+run_cli run eol-drop --t-end 0.05 --csv "$ECSV" --quiet
+last_t=$(tail -n 1 "$ECSV" 2>/dev/null | cut -d, -f2)
+limit=$(tail -n 1 "$ECSV" 2>/dev/null | awk -F, '{print $NF}')
+if [ "$RC" -eq 0 ] && [ "$last_t" = "0.050000000000000003" ] && head -n 1 "$ECSV" | grep -q ",dt_limit$" &&
+  [ -n "$limit" ]; then
+  ok "run eol-drop lands on t = 0.05 with a dt_limit column ($limit)"
+else
+  nok "run eol-drop" "exit $RC, last t '$last_t', limit '$limit'" "$(head -c 400 "$ERR")"
+fi
+expect_error "EoL key in an MPM scene" "'solver.alpha'" "unknown key" -- run rotating-disk --set solver.alpha=0.5
+expect_error "MPM key in an EoL scene" "'solver.scheme'" "unknown key" -- run eol-spin --set solver.scheme=apic
+expect_error "rest shape outside its EoL grid" "'objects.0.shape'" "solver.grid_extent" -- run eol-spin --set solver.grid_extent=0.3
+expect_error "EoL has no particles to dump" "--dump" "eol" -- run eol-spin --t-end 0.01 --dump "$TMP/eoldump"
+
 echo "cli_tests: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -35,6 +35,18 @@ const std::string kGood = R"({
                "material": "jelly", "sampling": {"type": "ppc", "ppc": 4}, "velocity": [0.1, 0]}]
 })";
 
+// kGood for the Eulerian-on-Lagrangian methods (the keys of their own solver section).
+const std::string kGoodEol = [] {
+  nlohmann::json j = nlohmann::json::parse(kGood);
+  j["solver"] = {{"method", "eol"}};
+  return j.dump();
+}();
+
+// The scene text whose solver section takes p's key.
+const std::string& good_text_for(const NumericParameter& p) {
+  return p.method.empty() ? kGood : kGoodEol;
+}
+
 // Runs `fn`, expects a SceneError whose message is one line and contains every needle.
 template <class Fn>
 void expect_scene_error(Fn&& fn, const std::vector<std::string>& needles, const std::string& what) {
@@ -362,10 +374,11 @@ std::string range_message(const std::string& key, double value, const std::strin
   return parameter_error(*p, index, value, file).value_or("accepted");
 }
 
-// The reader's message for kGood with `overrides`, or "accepted".
-std::string reader_message(const std::vector<std::string>& overrides) {
+// The reader's message for kGood (or `text`) with `overrides`, or "accepted".
+std::string reader_message(const std::vector<std::string>& overrides,
+                           const std::string& text = kGood) {
   try {
-    parse_scene_text(kGood, "good.json", overrides);
+    parse_scene_text(text, "good.json", overrides);
     return "accepted";
   } catch (const SceneError& e) {
     return e.what();
@@ -402,14 +415,15 @@ TEST(Parameters, DeclaredOnceWithLabelUnitHelpAndDefaultInRange) {
 }
 
 TEST(Parameters, EveryKeyIsReachableBySetAndReadBack) {
-  const SceneDesc base = parse_scene_text(kGood, "good.json");
   for (const auto& p : numeric_parameters()) {
     const std::string key = p.key_at(0);
     SCOPED_TRACE(key);
+    const std::string& text = good_text_for(p);
+    const SceneDesc base = parse_scene_text(text, "good.json");
     const double value = another_valid_value(p, p.get(base, 0));
     ASSERT_NE(value, p.get(base, 0));
     SceneDesc s;
-    ASSERT_NO_THROW(s = parse_scene_text(kGood, "good.json", {key + "=" + format_value(value)}));
+    ASSERT_NO_THROW(s = parse_scene_text(text, "good.json", {key + "=" + format_value(value)}));
     EXPECT_EQ(p.get(s, 0), value);
     // The sweep's setter gives the same scene value.
     SceneDesc applied = base;
@@ -434,13 +448,13 @@ TEST(Parameters, EveryRangeBoundIsRejectedOrAcceptedWithTheOneMessage) {
       SCOPED_TRACE(key + (lower ? " lower bound " : " upper bound ") + format_value(bound));
       // Outside: rejected by the reader with the registry's message, naming file, key, value,
       // range.
-      const std::string msg = reader_message({key + "=" + format_value(outside)});
+      const std::string msg = reader_message({key + "=" + format_value(outside)}, good_text_for(p));
       EXPECT_EQ(msg, range_message(key, outside, "good.json"));
       for (const std::string& needle :
            {std::string("good.json"), "'" + key + "'", format_value(outside), p.range.text()})
         EXPECT_NE(msg.find(needle), std::string::npos) << "'" << needle << "' not in: " << msg;
       // On the bound: rejected when open, accepted when closed.
-      EXPECT_EQ(reader_message({key + "=" + format_value(bound)}),
+      EXPECT_EQ(reader_message({key + "=" + format_value(bound)}, good_text_for(p)),
                 open ? range_message(key, bound, "good.json") : "accepted");
       EXPECT_EQ(parameter_error(p, 0, inside, "good.json"), std::nullopt) << format_value(inside);
     }

@@ -1,0 +1,51 @@
+// The Eulerian-on-Lagrangian family as registered methods (Fan et al. 2013): `eol` (a rigid
+// frame and a grid per object) and `eulerian` (the baseline: the frame locked to the world, one
+// grid over the domain), with the validation of their keys in the scene's `solver` section.
+#include "sim/eol/eol_simulation.hpp"
+#include "sim/method_registry.hpp"
+
+namespace apiclab {
+namespace {
+
+// Double precision only: the split and the affine-exact advection are tested to round-off.
+std::unique_ptr<Simulation> make_eol_family(const SceneDesc& scene, bool lagrangian) {
+  if (scene.dim == 2) return std::make_unique<eol::EolSimulation<double, 2>>(scene, lagrangian);
+  return std::make_unique<eol::EolSimulation<double, 3>>(scene, lagrangian);
+}
+
+void validate_common(SceneSection& r, SceneDesc& s) {
+  auto& e = s.solver.eol;
+  // Ranges are checked once, for every method, by validate() (sim/parameters.hpp).
+  e.alpha = r.number("alpha", e.alpha);
+  s.solver.blowup_energy_factor = r.number("blowup_energy_factor", s.solver.blowup_energy_factor);
+  for (int a = 0; a < s.dim; ++a)
+    if (s.domain.periodic(a))
+      throw SceneError(s.source + ": key 'domain.boundary': the " + s.solver.method +
+                       " solver has no periodic walls");
+}
+
+void validate_eol(SceneSection& r, SceneDesc& s) {
+  validate_common(r, s);
+  auto& e = s.solver.eol;
+  e.padding = r.integer("padding", e.padding);
+  e.cell = r.number("cell", e.cell);
+  e.grid_extent = r.number("grid_extent", e.grid_extent);
+}
+
+}  // namespace
+
+SolverMethod eol_method() {
+  return {"eol",
+          "Eulerian-on-Lagrangian: a rigid frame and an Eulerian grid per object, least-squares "
+          "split (Fan et al. 2013)",
+          [](const SceneDesc& s, Precision) { return make_eol_family(s, true); }, validate_eol};
+}
+
+SolverMethod eulerian_method() {
+  return {"eulerian",
+          "pure-Eulerian baseline of Fan et al. 2013: the EoL solver with the frame locked to the "
+          "world, one grid over the domain",
+          [](const SceneDesc& s, Precision) { return make_eol_family(s, false); }, validate_common};
+}
+
+}  // namespace apiclab

@@ -1,0 +1,393 @@
+// EolSimulation's definitions (declared in eol_simulation.hpp), instantiated in eol_2d.cpp and
+// eol_3d.cpp.
+#pragma once
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "sim/eol/advection.hpp"
+#include "sim/eol/eol_simulation.hpp"
+#include "sim/eol/least_squares_split.hpp"
+#include "sim/eol/rest_shape.hpp"
+
+namespace apiclab::eol {
+namespace detail {
+inline double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+}  // namespace detail
+
+template <class T, int D>
+EolSimulation<T, D>::EolSimulation(const SceneDesc& scene, bool lagrangian)
+    : scene_(scene), lagrangian_(lagrangian) {
+  const std::string method = lagrangian ? "eol" : "eulerian";
+  if (scene.dim != D) throw SceneError(scene.source + ": key 'dim': internal dimension mismatch");
+  for (const MaterialDesc& m : scene.materials) {
+    materials_.push_back({m.model, {T(m.mu()), T(m.lambda())}});
+    density_.push_back(T(m.rho));
+    max_wave_speed_ = std::max(max_wave_speed_, m.wave_speed());
+  }
+  for (std::size_t o = 0; o < scene.objects.size(); ++o)
+    if (scene.objects[o].shape.type == ShapeType::mesh)
+      throw SceneError(scene.source + ": key 'objects." + std::to_string(o) + ".shape.type': the " +
+                       method +
+                       " solver takes box, ball, annulus and torus rest shapes (a mesh needs a "
+                       "signed distance, not yet)");
+  planes_ = scene_planes<T, D>(scene);
+  const EolSolverDesc& e = scene.solver.eol;
+  if (lagrangian) {
+    const double dx = e.cell > 0 ? e.cell : scene.domain.dx;
+    for (int o = 0; o < int(scene.objects.size()); ++o) {
+      Vec3d lo, hi;
+      rest_bounds(scene.objects[std::size_t(o)].shape, D, lo, hi);
+      int padding = e.padding;
+      if (e.grid_extent > 0) {
+        for (int a = 0; a < D; ++a) {
+          if (hi[a] - lo[a] + 2 * dx > e.grid_extent) {
+            std::ostringstream msg;
+            msg << scene.source << ": key 'objects." << o << ".shape': the rest shape spans "
+                << hi[a] - lo[a] << " m along "
+                << "xyz"[a]
+                << ", more than its EoL grid holds with a cell each side (solver.grid_extent = "
+                << e.grid_extent << " m, cell " << dx << " m)";
+            throw SceneError(msg.str());
+          }
+          const double c = 0.5 * (lo[a] + hi[a]);
+          lo[a] = c - 0.5 * e.grid_extent;
+          hi[a] = c + 0.5 * e.grid_extent;
+        }
+        padding = 0;
+      }
+      add_object_grid({o}, lo, hi, dx, padding);
+    }
+  } else {
+    std::vector<int> all;
+    for (int o = 0; o < int(scene.objects.size()); ++o) all.push_back(o);
+    add_object_grid(all, scene.domain.min, scene.domain.max, scene.domain.dx, 0);
+  }
+  std::size_t nodes = 0;
+  for (const auto& o : objects_) nodes += o.grid.size();
+  parallel_ = nodes >= scene.solver.parallel_min_particles;
+  for (auto& o : objects_) {
+    update_mass(o);
+    spatial_state(o);
+  }
+  energy_ref_ = energy_reference();
+}
+
+// A grid from lo to hi (world, at rest) plus `padding` cells each side. eol: centred on the
+// frame origin p = (lo + hi)/2; eulerian: the frame is the world, node 0 at lo.
+template <class T, int D>
+void EolSimulation<T, D>::add_object_grid(const std::vector<int>& shapes, const Vec3d& lo,
+                                          const Vec3d& hi, double dx, int padding) {
+  EolObject<T, D> o;
+  o.shapes = shapes;
+  std::array<int, D> n;
+  for (int a = 0; a < D; ++a)
+    n[std::size_t(a)] = int(std::ceil((hi[a] - lo[a]) / dx - 1e-9)) + 1 + 2 * padding;
+  o.grid.resize(n);
+  o.grid.dx = T(dx);
+  for (int a = 0; a < D; ++a) {
+    if (lagrangian_) {
+      o.frame.p[a] = T(0.5 * (lo[a] + hi[a]));
+      o.grid.origin[a] = -T(0.5 * dx * (n[std::size_t(a)] - 1));
+    } else {
+      o.frame.p[a] = T(lo[a]);
+      o.grid.origin[a] = T(0);
+    }
+  }
+  const std::size_t count = o.grid.size();
+  for (auto* f : {&o.r, &o.x, &o.u, &o.force, &o.scratch, &o.vstar})
+    f->assign(count, Vec<T, D>::Zero());
+  o.owner.assign(count, -1);
+  // Material coordinates are the world positions at t = 0 (R = I).
+  for (std::size_t i = 0; i < count; ++i) o.grid.X[i] = o.frame.p + o.grid.y(i);
+  // Initial velocity of object s at world x: V + ω × (x − center).
+  auto initial_velocity = [&](int s, const Vec<T, D>& x) {
+    const ObjectDesc& obj = scene_.objects[std::size_t(s)];
+    Vec<T, D> V, c;
+    Spin<T, D> w;
+    for (int a = 0; a < D; ++a) {
+      V[a] = T(obj.velocity[std::size_t(a)]);
+      c[a] = T(obj.shape.center[std::size_t(a)]);
+    }
+    if constexpr (D == 2)
+      w[0] = T(obj.angular_velocity[2]);
+    else
+      for (int a = 0; a < 3; ++a) w[a] = T(obj.angular_velocity[std::size_t(a)]);
+    return std::pair<Vec<T, D>, Spin<T, D>>(V + spin_cross<T, D>(w, Vec<T, D>(x - c)), w);
+  };
+  if (lagrangian_) {
+    auto [nu, w] = initial_velocity(shapes[0], o.frame.p);
+    o.frame.nu = nu;
+    o.frame.omega = w;
+  } else {
+    // The world grid: each node takes the velocity field of the nearest rest shape.
+    for (std::size_t i = 0; i < count; ++i) {
+      Vec3d X{0, 0, 0};
+      for (int a = 0; a < D; ++a) X[std::size_t(a)] = double(o.grid.X[i][a]);
+      int best = shapes[0];
+      double best_phi = 1e300;
+      for (int s : shapes) {
+        const double phi = rest_distance(scene_.objects[std::size_t(s)].shape, X, D);
+        if (phi < best_phi) {
+          best_phi = phi;
+          best = s;
+        }
+      }
+      o.grid.v[i] = initial_velocity(best, o.grid.X[i]).first;
+    }
+  }
+  objects_.push_back(std::move(o));
+}
+
+template <class T, int D>
+void EolSimulation<T, D>::update_mass(EolObject<T, D>& o) {
+  EulerianGrid<T, D>& g = o.grid;
+  const std::ptrdiff_t n = std::ptrdiff_t(g.size());
+#pragma omp parallel for if (parallel_)
+  for (std::ptrdiff_t ii = 0; ii < n; ++ii) {
+    const std::size_t i = std::size_t(ii);
+    Vec3d X{0, 0, 0};
+    for (int a = 0; a < D; ++a) X[std::size_t(a)] = double(g.X[i][a]);
+    double best = 1e300;
+    int owner = -1;
+    for (int s : o.shapes) {
+      const double phi = rest_distance(scene_.objects[std::size_t(s)].shape, X, D);
+      if (phi < best) {
+        best = phi;
+        owner = s;
+      }
+    }
+    const T fill = std::isfinite(best) ? smoothed_inside<T>(best, double(g.dx)) : T(0);
+    g.fill[i] = fill;
+    o.owner[i] = fill > T(0) ? owner : -1;
+    g.material[i] = fill > T(0) ? scene_.objects[std::size_t(owner)].material : -1;
+  }
+  o.elastic.lumped_mass(g, density_, g.mass, parallel_);
+}
+
+template <class T, int D>
+void EolSimulation<T, D>::spatial_state(EolObject<T, D>& o) const {
+  const Mat<T, D> R = o.frame.rotation();
+  for (std::size_t i = 0; i < o.grid.size(); ++i) {
+    o.r[i] = R * o.grid.y(i);
+    o.x[i] = o.r[i] + o.frame.p;
+    o.u[i] = o.frame.nu + spin_cross<T, D>(o.frame.omega, o.r[i]) + R * o.grid.v[i];
+  }
+}
+
+template <class T, int D>
+void EolSimulation<T, D>::compute_forces(EolObject<T, D>& o) {
+  const auto start = std::chrono::steady_clock::now();
+  o.elastic.compute(o.grid, materials_, o.force, parallel_);  // frame axes
+  const Mat<T, D> R = o.frame.rotation();
+  Vec<T, D> g;
+  for (int a = 0; a < D; ++a) g[a] = T(scene_.gravity[std::size_t(a)]);
+  for (std::size_t i = 0; i < o.grid.size(); ++i) {
+    const T m = o.grid.mass[i];
+    o.force[i] = R * o.force[i] + m * g;
+    if (lagrangian_ && m > T(0))
+      o.force[i] +=
+          quadratic_velocity_force<T, D>(m, o.frame.omega, o.r[i], Vec<T, D>(R * o.grid.v[i]));
+  }
+  stages_.forces += detail::seconds_since(start);
+}
+
+template <class T, int D>
+double EolSimulation<T, D>::choose_dt(double t_limit, DtLimit* limit) {
+  const TimeDesc& tm = scene_.time;
+  double dt = tm.dt;
+  DtLimit lim = tm.rule == DtRule::fixed ? DtLimit::fixed : DtLimit::max;
+  if (tm.rule != DtRule::fixed) {
+    const auto start = std::chrono::steady_clock::now();
+    for (auto& o : objects_) {
+      const auto& mass = o.grid.mass;
+      double umax = 0;
+      for (std::size_t i = 0; i < o.grid.size(); ++i) {
+        o.scratch[i] = mass[i] > T(0) ? Vec<T, D>(o.force[i] / mass[i]) : Vec<T, D>::Zero();
+        if (mass[i] > T(0)) umax = std::max(umax, double(o.u[i].norm()));
+      }
+      const double dx = double(o.grid.dx);
+      double gamma0, gamma1;
+      if (lagrangian_) {
+        // Eq 32: v* = v₀* + Δt v₁*, each the split (eq 24) of its own field.
+        const Mat<T, D> R = o.frame.rotation();
+        eulerian_remainder(o.u, o.r, split_frame_velocity(o.u, o.r, mass), R, o.vstar);
+        gamma0 = advection_rate(o.vstar, mass, dx);
+        eulerian_remainder(o.scratch, o.r, split_frame_velocity(o.scratch, o.r, mass), R, o.vstar);
+        gamma1 = advection_rate(o.vstar, mass, dx);
+      } else {
+        gamma0 = advection_rate(o.u, mass, dx);
+        gamma1 = advection_rate(o.scratch, mass, dx);
+      }
+      const double advection = advection_limit(gamma0, gamma1, scene_.solver.eol.alpha);
+      const double elastic = tm.nu * dx / (max_wave_speed_ + umax);
+      if (advection < dt) {
+        dt = advection;
+        lim = DtLimit::advection;
+      }
+      if (elastic < dt) {
+        dt = elastic;
+        lim = DtLimit::elastic;
+      }
+    }
+    stages_.split += detail::seconds_since(start);
+  }
+  if (1.0 / tm.fps < dt) {
+    dt = 1.0 / tm.fps;
+    lim = DtLimit::frame;
+  }
+  const double to_frame = t_limit - time_;
+  if (to_frame < 1.001 * dt) {  // land on the frame time, avoiding a sliver step
+    dt = to_frame;
+    lim = DtLimit::frame;
+  } else if (to_frame < 2.0 * dt) {
+    dt = 0.5 * to_frame;
+    lim = DtLimit::frame;
+  }
+  if (limit) *limit = lim;
+  return dt;
+}
+
+template <class T, int D>
+void EolSimulation<T, D>::finish_step(double dt_in) {
+  const T dt = T(dt_in);
+  for (auto& o : objects_) {
+    auto start = std::chrono::steady_clock::now();
+    impulse_update(o.u, o.force, o.grid.mass, dt);  // eq 16
+    apply_planes(o.u, o.x, o.grid.mass, planes_);   // eq 29, node–plane rows
+    stages_.assembly += detail::seconds_since(start);
+    start = std::chrono::steady_clock::now();
+    if (lagrangian_) {
+      const Mat<T, D> R = o.frame.rotation();
+      const FrameVec<T, D> q1 = split_frame_velocity(o.u, o.r, o.grid.mass);  // eq 23
+      o.frame.set_velocity(q1);
+      eulerian_remainder(o.u, o.r, q1, R, o.vstar);  // eq 24
+      o.frame.advance(dt);
+    } else {
+      o.vstar = o.u;
+    }
+    stages_.split += detail::seconds_since(start);
+    start = std::chrono::steady_clock::now();
+    // Eq 15 for X (Algorithm 1 step 4) and v (step 2), both by v*.
+    advect(o.grid, o.vstar, dt, o.grid.X, o.scratch, parallel_);
+    std::swap(o.grid.X, o.scratch);
+    advect(o.grid, o.vstar, dt, o.vstar, o.grid.v, parallel_);
+    update_mass(o);
+    o.extrapolation.apply(o.grid);
+    update_mass(o);
+    spatial_state(o);
+    stages_.advection += detail::seconds_since(start);
+  }
+  time_ += dt_in;
+  ++steps_;
+}
+
+template <class T, int D>
+void EolSimulation<T, D>::step_fixed(double dt) {
+  for (auto& o : objects_) compute_forces(o);
+  finish_step(dt);
+}
+
+template <class T, int D>
+std::optional<Failure> EolSimulation<T, D>::step(double t_limit, DiagnosticsRow* row) {
+  if (failure_) return failure_;
+  if (!(t_limit > time_)) return std::nullopt;
+  const auto start = std::chrono::steady_clock::now();
+  for (auto& o : objects_) compute_forces(o);
+  const double dt = choose_dt(t_limit, &last_limit_);
+  finish_step(dt);
+  if (t_limit - time_ < 1e-12 * std::max(1.0, std::abs(t_limit))) time_ = t_limit;
+  DiagnosticsRow r = measure();
+  r.dt = dt;
+  r.dt_limit = dt_limit_name(last_limit_);
+  r.wall_seconds = detail::seconds_since(start);
+  if (row) *row = r;
+  auto fail = [&](const std::string& quantity, const std::string& detail) {
+    std::ostringstream msg;
+    msg << "simulation blew up at step " << steps_ << ", t = " << time_ << ": " << quantity << " "
+        << detail;
+    failure_ = Failure{steps_, time_, quantity, msg.str()};
+  };
+  if (!std::isfinite(r.total) || !std::isfinite(r.kinetic)) {
+    fail("grid state", "became non-finite (NaN or Inf)");
+  } else if (r.kinetic + r.elastic > scene_.solver.blowup_energy_factor * energy_ref_) {
+    std::ostringstream d;
+    d << "grew to " << r.kinetic + r.elastic << ", more than " << scene_.solver.blowup_energy_factor
+      << " x the energy available (" << energy_ref_ << ")";
+    fail("kinetic + elastic energy", d.str());
+  }
+  return failure_;
+}
+
+template <class T, int D>
+double EolSimulation<T, D>::elastic_energy() const {
+  double e = 0;
+  for (const auto& o : objects_) e += elastic_energy_moved(o.grid, materials_);
+  return e;
+}
+
+template <class T, int D>
+double EolSimulation<T, D>::occupied_volume() const {
+  double v = 0;
+  for (const auto& o : objects_) {
+    double fill = 0;
+    for (T h : o.grid.fill) fill += double(h);
+    v += fill * std::pow(double(o.grid.dx), D);
+  }
+  return v;
+}
+
+template <class T, int D>
+double EolSimulation<T, D>::total_mass() const {
+  double m = 0;
+  for (const auto& o : objects_)
+    for (T x : o.grid.mass) m += double(x);
+  return m;
+}
+
+// Energies and momenta from the grid fields (the diagnostics CSV's columns): kinetic ½ Σ m|u|²,
+// elastic Σ V₀ Ψ, gravity −Σ m g·x, p = Σ m u, L = Σ x × m u about the origin.
+template <class T, int D>
+DiagnosticsRow EolSimulation<T, D>::measure() const {
+  DiagnosticsRow r;
+  r.step = steps_;
+  r.t = time_;
+  double kin = 0, grav = 0;
+  Eigen::Vector3d p = Eigen::Vector3d::Zero(), L = Eigen::Vector3d::Zero();
+  for (const auto& o : objects_)
+    for (std::size_t i = 0; i < o.grid.size(); ++i) {
+      const T m = o.grid.mass[i];
+      if (!(m > T(0))) continue;
+      const Vec<T, D> mv = m * o.u[i];
+      kin += 0.5 * double(m) * double(o.u[i].squaredNorm());
+      for (int a = 0; a < D; ++a) {
+        p[a] += double(mv[a]);
+        grav -= double(m) * scene_.gravity[std::size_t(a)] * double(o.x[i][a]);
+      }
+      L += cross_moment<T, D>(o.x[i], mv);
+    }
+  r.kinetic = kin;
+  r.kinetic_grid = kin;
+  r.elastic = elastic_energy();
+  r.potential = r.elastic + grav;
+  r.total = r.kinetic + r.potential;
+  r.p = {p[0], p[1], p[2]};
+  r.L = {L[0], L[1], L[2]};
+  r.dt_limit = dt_limit_name(last_limit_);
+  return r;
+}
+
+template <class T, int D>
+double EolSimulation<T, D>::energy_reference() const {
+  DiagnosticsRow r = measure();
+  double g = 0, height = 0;
+  for (int a = 0; a < D; ++a) {
+    g += scene_.gravity[std::size_t(a)] * scene_.gravity[std::size_t(a)];
+    height += std::pow(scene_.domain.max[std::size_t(a)] - scene_.domain.min[std::size_t(a)], 2);
+  }
+  return std::max(r.kinetic + r.elastic + total_mass() * std::sqrt(g) * std::sqrt(height), 1e-300);
+}
+
+}  // namespace apiclab::eol

@@ -1,0 +1,110 @@
+// The Eulerian grid of one object (Fan et al. 2013, Secs 3.1-3.3): a regular grid in the
+// intermediate domain y that rides with the object's frame. Node fields: the material
+// coordinates X (the reference map, φ₂⁻¹ of Fig 2), the Eulerian velocity v relative to the
+// frame (frame axes), and the lumped mass m = ρ₀ det(∇X) H(φ₀(X)) Δx^d (eq 6 with J̄ = det ∇X;
+// H smooths the rest shape's indicator φ₀ < 0 over one cell).
+#pragma once
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "sim/math.hpp"
+
+namespace apiclab::eol {
+
+template <class T, int D>
+struct EulerianGrid {
+  std::array<int, D> n{};                // nodes per axis
+  T dx = T(1);                           // cell size
+  Vec<T, D> origin = Vec<T, D>::Zero();  // y of node 0
+  std::vector<Vec<T, D>> X, v;
+  std::vector<T> mass, fill;           // fill = H(φ₀(X)) in [0, 1]
+  std::vector<std::int32_t> material;  // the rest shape a node's X falls in (-1: none)
+
+  void resize(const std::array<int, D>& nodes) {
+    n = nodes;
+    const std::size_t count = size();
+    X.assign(count, Vec<T, D>::Zero());
+    v.assign(count, Vec<T, D>::Zero());
+    mass.assign(count, T(0));
+    fill.assign(count, T(0));
+    material.assign(count, -1);
+  }
+  std::size_t size() const {
+    std::size_t s = 1;
+    for (int a = 0; a < D; ++a) s *= std::size_t(n[a]);
+    return s;
+  }
+  std::size_t index(const std::array<int, D>& c) const {
+    std::size_t i = std::size_t(c[D - 1]);
+    for (int a = D - 2; a >= 0; --a) i = i * std::size_t(n[a]) + std::size_t(c[a]);
+    return i;
+  }
+  std::array<int, D> coords(std::size_t i) const {
+    std::array<int, D> c;
+    for (int a = 0; a < D; ++a) {
+      c[a] = int(i % std::size_t(n[a]));
+      i /= std::size_t(n[a]);
+    }
+    return c;
+  }
+  std::size_t stride(int axis) const {
+    std::size_t s = 1;
+    for (int a = 0; a < axis; ++a) s *= std::size_t(n[a]);
+    return s;
+  }
+  Vec<T, D> y(std::size_t i) const {
+    const auto c = coords(i);
+    Vec<T, D> out = origin;
+    for (int a = 0; a < D; ++a) out[a] += dx * T(c[a]);
+    return out;
+  }
+  // ∂f/∂y at node i (column a = ∂f/∂y_a): central differences, one-sided on the grid's faces;
+  // exact for an affine f.
+  Mat<T, D> gradient(const std::vector<Vec<T, D>>& f, std::size_t i) const {
+    const auto c = coords(i);
+    Mat<T, D> G;
+    for (int a = 0; a < D; ++a) {
+      const std::size_t s = stride(a);
+      const std::size_t lo = c[a] > 0 ? i - s : i, hi = c[a] + 1 < n[a] ? i + s : i;
+      const T span = dx * T((c[a] > 0) + (c[a] + 1 < n[a]));
+      G.col(a) = span > T(0) ? Vec<T, D>((f[hi] - f[lo]) / span) : Vec<T, D>::Zero();
+    }
+    return G;
+  }
+  // Multilinear interpolation of f at y. Outside the grid the nearest cell's multilinear form
+  // is extended (its weights still reproduce affine fields), so an affine f is exact anywhere.
+  template <class V>
+  V interpolate(const std::vector<V>& f, const Vec<T, D>& at) const {
+    std::array<int, D> c;
+    std::array<T, D> t;
+    for (int a = 0; a < D; ++a) {
+      const T u = (at[a] - origin[a]) / dx;
+      c[a] = std::clamp(int(std::floor(u)), 0, std::max(n[a] - 2, 0));
+      t[a] = u - T(c[a]);
+    }
+    V out = f[0] * T(0);
+    for (int corner = 0; corner < (1 << D); ++corner) {
+      T w = T(1);
+      std::array<int, D> k = c;
+      for (int a = 0; a < D; ++a) {
+        const bool up = corner & (1 << a);
+        w *= up ? t[a] : T(1) - t[a];
+        k[a] += up;
+      }
+      out += w * f[index(k)];
+    }
+    return out;
+  }
+};
+
+// The smoothed indicator H(φ) of the rest shape: 1 inside, 0 outside, linear across one cell
+// width h around φ = 0 (a node is a cell's worth of material, split by the surface).
+template <class T>
+T smoothed_inside(double phi, double h) {
+  return T(std::clamp(0.5 - phi / h, 0.0, 1.0));
+}
+
+}  // namespace apiclab::eol

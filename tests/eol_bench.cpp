@@ -1,0 +1,61 @@
+// Per-stage timing of the EoL step in the form of Fan et al. 2013, Table II: two spheres on
+// 2 × 32³ grids (no object–object contact: part 2), ms per step for forces, assembly (the
+// impulse update and the node–plane rows), the least-squares split (with the Δt choice's two
+// projections, eq 32) and the rest (advection, extrapolation, mass), and the whole step.
+//   build/tests/eol_bench [steps]
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <nlohmann/json.hpp>
+
+#include "sim/eol/eol_simulation.hpp"
+
+int main(int argc, char** argv) {
+  using namespace apiclab;
+  using json = nlohmann::json;
+  const int steps = argc > 1 ? std::atoi(argv[1]) : 100;
+  // Radius 0.25 at dx 0.02 with 3 cells of padding: 25 + 1 + 6 = 32 nodes per axis.
+  const json ball = {{"type", "ball"}, {"radius", 0.25}};
+  json a = ball, b = ball;
+  a["center"] = {0.5, 0.6, 0.5};
+  b["center"] = {1.3, 0.6, 0.5};
+  const json scene = {
+      {"name", "table-ii-two-spheres"},
+      {"dim", 3},
+      {"domain", {{"min", {0, 0, 0}}, {"max", {1.8, 1.2, 1}}, {"dx", 0.02}, {"boundary", "slip"}}},
+      {"gravity", {0, -9.8, 0}},
+      {"time", {{"end", 10}, {"fps", 24}, {"dt", {{"rule", "elastic"}, {"nu", 0.3}}}}},
+      {"solver", {{"method", "eol"}}},
+      {"materials",
+       {{{"name", "jelly"}, {"model", "neo-hookean"}, {"E", 2000}, {"nu", 0.3}, {"rho", 1}}}},
+      {"objects",
+       {{{"shape", a}, {"material", 0}, {"velocity", {1, 0, 0}}},
+        {{"shape", b},
+         {"material", 0},
+         {"velocity", {-1, 0, 0}},
+         {"angular_velocity", {0, 0, 2}}}}}};
+  SceneDesc desc = parse_scene_text(scene.dump(), "table-ii");
+  auto sim = make_simulation(desc);
+  auto* eol = dynamic_cast<eol::EolSimulation<double, 3>*>(sim.get());
+  DiagnosticsRow row;
+  for (int s = 0; s < 3; ++s) sim->step(1e9, &row);  // warm up
+  const auto before = eol->stage_seconds();
+  const auto start = std::chrono::steady_clock::now();
+  for (int s = 0; s < steps; ++s) sim->step(1e9, &row);
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const auto after = eol->stage_seconds();
+  const auto& g = eol->objects()[0].grid;
+  const double ms = 1e3 / steps;
+  std::printf("EoL Table II form: 2 spheres, %zu x %dx%dx%d nodes, %d steps, dt %.3g s (%s)\n",
+              eol->objects().size(), g.n[0], g.n[1], g.n[2], steps, row.dt, row.dt_limit.c_str());
+  std::printf(
+      "| Forces | Assembly | LS | Forces+Assembly+LS | Advection etc. | Step (with "
+      "diagnostics) |\n|---|---|---|---|---|---|\n");
+  const double f = (after.forces - before.forces) * ms,
+               as = (after.assembly - before.assembly) * ms, ls = (after.split - before.split) * ms,
+               adv = (after.advection - before.advection) * ms;
+  std::printf("| %.2f | %.2f | %.2f | %.2f | %.2f | %.2f |\n", f, as, ls, f + as + ls, adv,
+              wall * ms);
+  return 0;
+}
