@@ -131,6 +131,27 @@ else
   nok "tiny sweep exited $?" "$(cat "$TMP/err")"
 fi
 
+# dt_factor steps are the steps asked for and still comparable: at 64 fps the 8x step (0.0192 s
+# on the 16x16 disk) is longer than a frame, so the sweep records frames at 1/0.0192 s: 0.1 s
+# takes 6 steps (7 if the step were cut to the frame interval) and both runs have errors.
+cat >"$TMP/dtf.json" <<'JSON'
+{"name": "dtf", "scene": "rotating-disk",
+ "set": {"time.end": 0.1, "time.fps": 64, "solver.integrator": "midpoint"},
+ "axes": {"dt_factor": [0.5, 8], "resolution": [0.5]}}
+JSON
+if "$APICLAB" sweep "$TMP/dtf.json" --out "$TMP/dtf" --jobs 2 --quiet >"$TMP/out" 2>"$TMP/err"; then
+  got=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+    $c["dt_factor"] == 8 { s = $c["steps"] } $c["err_displacement"] != "" { e++ }
+    END { print s "/" e + 0 }' "$TMP/dtf/runs.csv")
+  if [ "$got" = "6/2" ]; then
+    ok "dt_factor past the frame interval: exact steps (6), errors for both runs"
+  else
+    nok "dt_factor past the frame interval (steps/runs with errors: $got, want 6/2)" "$(cat "$TMP/dtf/runs.csv")"
+  fi
+else
+  nok "dt_factor sweep exited $?" "$(cat "$TMP/err")"
+fi
+
 # Resume: kill the sweep (and its run) after its first complete run, leave a half-written run,
 # restart: the complete run is skipped, the half-written one removed, runs.csv the same.
 setsid "$APICLAB" sweep "$TINY" --out "$TMP/b" --jobs 1 --quiet >/dev/null 2>&1 &

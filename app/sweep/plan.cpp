@@ -126,6 +126,7 @@ std::vector<std::string> PlannedRun::command(const std::string& exe,
 
 Plan make_plan(const Spec& spec) {
   Plan plan;
+  std::vector<double> frame_interval;  // per planned run: 1 / its scene's time.fps
   // The Cartesian product over the groups, the first group slowest.
   std::vector<std::size_t> at(spec.groups.size(), 0);
   std::map<std::string, double> speed_cache;  // max |v0| per scene and resolution
@@ -198,16 +199,32 @@ Plan make_plan(const Spec& spec) {
       run.dt = f->number * run.dx / (c + it->second);
       run.overrides.push_back("time.dt.rule=fixed");
       run.overrides.push_back("time.dt.value=" + exact(run.dt));
+      // Steps that would pass a frame time are shortened to land on it, so every run records
+      // its frames at the reference's times and the errors against it are defined.
+      run.overrides.push_back("time.dt.land_on_frames=true");
       scene = parse_for(spec, run, run.overrides);
     }
-    std::string canonical = "scene=" + run.value_text("scene") + "\nprecision=" + run.precision +
-                            "\nthreads=" + std::to_string(run.threads);
-    for (const std::string& o : run.overrides) canonical += "\n" + o;
-    run.id = hash_hex(canonical);
+    frame_interval.push_back(1 / scene.time.fps);
     plan.runs.push_back(std::move(run));
   }
   if (plan.runs.empty())
     throw UsageError(spec.source + ": key 'exclude': every configuration is excluded");
+
+  // Landing caps a step at the frame interval, so a dt_factor step longer than it would not be
+  // the step asked for: such a scene's runs all record their frames at its longest step's
+  // interval instead (the same times for every run and its reference; README, Sweeps).
+  std::map<std::string, double> longest_dt;
+  for (const PlannedRun& run : plan.runs)
+    longest_dt[run.scene_path] = std::max(longest_dt[run.scene_path], run.dt);
+  for (std::size_t i = 0; i < plan.runs.size(); ++i) {
+    PlannedRun& run = plan.runs[i];
+    const double longest = longest_dt[run.scene_path];
+    if (longest > frame_interval[i]) run.overrides.push_back("time.fps=" + exact(1 / longest));
+    std::string canonical = "scene=" + run.value_text("scene") + "\nprecision=" + run.precision +
+                            "\nthreads=" + std::to_string(run.threads);
+    for (const std::string& o : run.overrides) canonical += "\n" + o;
+    run.id = hash_hex(canonical);
+  }
 
   // References: the named values; otherwise the finest resolution, the smallest dt_factor, the
   // run's own scene and, for other axes, the base scene's own value where the axis has it.

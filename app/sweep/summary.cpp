@@ -78,7 +78,7 @@ std::string write_summary(const Spec& spec, const std::vector<RunResult>& result
           md << ", " << e << " " << number_text(r.error(e), 3);
         md << " (run " << r.run->id << ")\n";
       } else {
-        md << "no completed run meets it\n";
+        md << "no completed run but the reference meets it\n";
       }
     }
   }

@@ -182,7 +182,8 @@ std::optional<std::size_t> cheapest_meeting(const Spec& spec, const std::vector<
   for (std::size_t i = 0; i < results.size(); ++i) {
     if (results[i].run->value_text("scene") != scene) continue;
     const RunResult& r = results[i];
-    if (r.outcome != "completed") continue;
+    // The reference meets any target trivially (its error against itself is 0).
+    if (r.outcome != "completed" || r.run->reference == i) continue;
     const bool meets = std::all_of(spec.errors.begin(), spec.errors.end(), [&](auto& e) {
       return r.error(e) <= target;  // NaN never meets
     });
