@@ -86,3 +86,20 @@ TEST(PlotLegend, NeverCoversACurveInAnyCorner) {
 }
 
 }  // namespace
+
+// Axis ticks: never a lone tick (the drift plot's 0.04 … 1.25 s axis showed only "1.000000"),
+// and labels with no more digits than the step needs.
+TEST(PlotTicks, AtLeastTwoTicksAndShortLabels) {
+  using apiclab::gui::nice_ticks;
+  using apiclab::gui::tick_label;
+  for (auto [lo, hi] : {std::pair{0.04, 1.25}, {0.9, 1.1}, {1e-3, 2.0}, {-0.3, 0.2}, {5.0, 7.0}})
+    for (int target : {1, 2, 4}) {
+      const std::vector<double> t = nice_ticks(lo, hi, target);
+      ASSERT_GE(t.size(), 2u) << lo << " … " << hi << ", target " << target;
+      for (double v : t) EXPECT_TRUE(v >= lo - 1e-12 && v <= hi + 1e-12) << v;
+    }
+  const std::vector<double> t = nice_ticks(0.04, 1.25, 2);
+  for (double v : t) EXPECT_LE(tick_label(v, t[1] - t[0]).size(), 4u) << tick_label(v, t[1] - t[0]);
+  EXPECT_EQ(tick_label(0.25, 0.25), "0.25");
+  EXPECT_EQ(tick_label(2, 1), "2");
+}

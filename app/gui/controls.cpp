@@ -171,8 +171,9 @@ void playback_section(ViewerState& st, const Published& pub, SimWorker& worker) 
       (std::to_string(t).substr(0, 7) + " / " + std::to_string(end).substr(0, 7) + " s").c_str());
   ImGui::Text("%s sim s / wall s", human(pub.sim_seconds_per_wall_second, "").c_str());
   ImGui::Text("%s particle-steps/s", human(pub.particle_steps_per_second, "").c_str());
-  ImGui::Text("display %.0f fps (%.1f ms/frame, GUI CPU %.1f ms)",
-              st.frame_ms > 0 ? 1000 / st.frame_ms : 0, st.frame_ms, st.frame_cpu_ms);
+  // Wrapped: a slow frame's long numbers must not run past a narrow panel.
+  ImGui::TextWrapped("display %.0f fps (%.1f ms/frame, GUI CPU %.1f ms)",
+                     st.frame_ms > 0 ? 1000 / st.frame_ms : 0, st.frame_ms, st.frame_cpu_ms);
   if (!pub.error.empty()) {
     ImGui::PushStyleColor(ImGuiCol_Text, kError);
     ImGui::TextWrapped("%s", pub.error.c_str());

@@ -60,6 +60,8 @@ std::vector<double> nice_ticks(double lo, double hi, int target) {
     }
   for (double v = std::ceil(lo / step) * step; v <= hi + step * 1e-9; v += step)
     out.push_back(std::abs(v) < step * 1e-9 ? 0.0 : v);
+  // A lone tick (0.04 … 1.25 with step 1) neither shows the scale nor the step its label needs.
+  if (out.size() < 2) return nice_ticks(lo, hi, 2 * target + 1);
   return out;
 }
 
