@@ -54,6 +54,24 @@ std::string error_label(const std::string& error) {
   return "max |dL|/|L0|";
 }
 
+// A 900×520 log-log chart under a heading, written to DIR/BASE.png; returns "BASE.png".
+std::string write_log_log_chart(ChartCanvas& canvas, const std::string& heading, gui::PlotOptions o,
+                                const std::vector<gui::PlotSeries>& plots, const std::string& dir,
+                                const std::string& base) {
+  o.log_x = o.log_y = true;
+  o.minor_log_grid = true;
+  o.interactive = false;
+  o.legend_corner = gui::PlotOptions::Corner::best;
+  const int W = 900, H = 520;
+  render::Image image = canvas.draw(W, H, [&] {
+    const float top = figures::heading(canvas, heading, W);
+    ImGui::SetCursorScreenPos(ImVec2(10, top));
+    gui::plot(base.c_str(), ImVec2(W - 20, H - top - 6), o, plots);
+  });
+  render::write_png(image, (fs::path(dir) / (base + ".png")).string());
+  return base + ".png";
+}
+
 std::string file_part(const std::string& scene) {
   std::string s = fs::path(scene).stem().string();
   for (char& ch : s)
@@ -100,23 +118,12 @@ std::string error_vs_cost(ChartCanvas& canvas, const Spec& spec,
   pareto.dashed = true;
   pareto.thickness = 1.4f;
   plots.push_back(pareto);
-  const int W = 900, H = 520;
-  render::Image image = canvas.draw(W, H, [&] {
-    const float top =
-        figures::heading(canvas, "Sweep " + spec.name + ", " + scene + ": error against cost", W);
-    gui::PlotOptions o;
-    o.title = "each point one run; reference runs left out";
-    o.x_label = "cost: wall seconds inside the steps";
-    o.y_label = error_label(error);
-    o.log_x = o.log_y = true;
-    o.minor_log_grid = true;
-    o.interactive = false;
-    o.legend_corner = gui::PlotOptions::Corner::best;
-    ImGui::SetCursorScreenPos(ImVec2(10, top));
-    gui::plot("cost", ImVec2(W - 20, H - top - 6), o, plots);
-  });
-  render::write_png(image, (fs::path(dir) / (base + ".png")).string());
-  return base + ".png";
+  gui::PlotOptions o;
+  o.title = "each point one run; reference runs left out";
+  o.x_label = "cost: wall seconds inside the steps";
+  o.y_label = error_label(error);
+  return write_log_log_chart(canvas, "Sweep " + spec.name + ", " + scene + ": error against cost",
+                             o, plots, dir, base);
 }
 
 ImU32 outcome_color(const std::string& outcome) {
@@ -203,7 +210,10 @@ std::string convergence(ChartCanvas& canvas, const Spec& spec,
   for (std::size_t k = 0; k < series.size(); ++k) {
     const Series& s = series[k];
     char label[160];
-    std::snprintf(label, sizeof label, "%s (slope %.2f)", s.label.c_str(), s.slope);
+    if (std::isfinite(s.slope))
+      std::snprintf(label, sizeof label, "%s (slope %.2f)", s.label.c_str(), s.slope);
+    else  // one resolution: no slope to fit
+      std::snprintf(label, sizeof label, "%s (one dx, no slope)", s.label.c_str());
     gui::PlotSeries p;
     p.label = label;
     p.color = render::packed_abgr(render::palette_color(int(k)));
@@ -214,23 +224,12 @@ std::string convergence(ChartCanvas& canvas, const Spec& spec,
     p.thickness = 1.8f;
     plots.push_back(std::move(p));
   }
-  const int W = 900, H = 520;
-  render::Image image = canvas.draw(W, H, [&] {
-    const float top =
-        figures::heading(canvas, "Sweep " + spec.name + ", " + scene + ": convergence", W);
-    gui::PlotOptions o;
-    o.title = "error against grid spacing, fitted log-log slopes";
-    o.x_label = "grid spacing dx";
-    o.y_label = error_label(error);
-    o.log_x = o.log_y = true;
-    o.minor_log_grid = true;
-    o.interactive = false;
-    o.legend_corner = gui::PlotOptions::Corner::best;
-    ImGui::SetCursorScreenPos(ImVec2(10, top));
-    gui::plot("convergence", ImVec2(W - 20, H - top - 6), o, plots);
-  });
-  render::write_png(image, (fs::path(dir) / (base + ".png")).string());
-  return base + ".png";
+  gui::PlotOptions o;
+  o.title = "error against grid spacing, fitted log-log slopes";
+  o.x_label = "grid spacing dx";
+  o.y_label = error_label(error);
+  return write_log_log_chart(canvas, "Sweep " + spec.name + ", " + scene + ": convergence", o,
+                             plots, dir, base);
 }
 
 }  // namespace

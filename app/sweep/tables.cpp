@@ -98,6 +98,18 @@ std::vector<std::string> scenes(const Spec& spec) {
   return out;
 }
 
+namespace {
+
+// The series of that label, appended empty when it is new.
+Series& series_named(std::vector<Series>& out, const std::string& label) {
+  auto s = std::find_if(out.begin(), out.end(), [&](auto& x) { return x.label == label; });
+  if (s != out.end()) return *s;
+  out.push_back({label, {}, {}, {}, 0});
+  return out.back();
+}
+
+}  // namespace
+
 std::string config_text(const Spec& spec, const PlannedRun& run) {
   std::string s;
   for (const std::string& k : varying_axes(spec))
@@ -117,12 +129,7 @@ std::vector<Series> cost_series(const Spec& spec, const std::vector<RunResult>& 
     if (!(e > 0) || !(r.cost() > 0)) continue;
     std::string label = r.run->value_text(spec.series);
     if (label.empty()) label = "all";
-    auto s = std::find_if(out.begin(), out.end(), [&](auto& x) { return x.label == label; });
-    if (s == out.end()) {
-      out.push_back({label, {}, {}, {}, 0});
-      s = out.end() - 1;
-    }
-    s->runs.push_back(i);
+    series_named(out, label).runs.push_back(i);
   }
   for (Series& s : out) {
     std::sort(s.runs.begin(), s.runs.end(),
@@ -157,12 +164,7 @@ std::vector<Series> convergence_series(const Spec& spec, const std::vector<RunRe
     std::string label;
     for (const std::string& k : keys) label += (label.empty() ? "" : " ") + r.run->value_text(k);
     if (label.empty()) label = "all";
-    auto s = std::find_if(out.begin(), out.end(), [&](auto& x) { return x.label == label; });
-    if (s == out.end()) {
-      out.push_back({label, {}, {}, {}, 0});
-      s = out.end() - 1;
-    }
-    s->runs.push_back(i);
+    series_named(out, label).runs.push_back(i);
   }
   for (Series& s : out) {
     std::sort(s.runs.begin(), s.runs.end(),
@@ -183,7 +185,7 @@ std::optional<std::size_t> cheapest_meeting(const Spec& spec, const std::vector<
     if (results[i].run->value_text("scene") != scene) continue;
     const RunResult& r = results[i];
     // The reference meets any target trivially (its error against itself is 0).
-    if (r.outcome != "completed" || r.run->reference == i) continue;
+    if (r.outcome != "completed" || is_reference(results, i)) continue;
     const bool meets = std::all_of(spec.errors.begin(), spec.errors.end(), [&](auto& e) {
       return r.error(e) <= target;  // NaN never meets
     });

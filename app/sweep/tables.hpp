@@ -43,7 +43,7 @@ std::vector<Series> convergence_series(const Spec& spec, const std::vector<RunRe
                                        const std::string& error, const std::string& scene);
 
 // The cheapest completed run whose every selected error is at most `target`; reference runs
-// are candidates too (they meet any target).
+// are not candidates (their error against themselves is 0: they would answer every target).
 std::optional<std::size_t> cheapest_meeting(const Spec& spec, const std::vector<RunResult>& results,
                                             double target, const std::string& scene);
 
