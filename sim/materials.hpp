@@ -93,6 +93,36 @@ struct FixedCorotated {
   }
 };
 
+// The stress P and the energy density Ψ of one F together, from the same R and J: the explicit
+// step's stress pass also yields the diagnostics' elastic energy at no extra decomposition.
+template <class T, int D>
+Mat<T, D> first_piola_and_energy(MaterialModel m, const Mat<T, D>& F, Lame<T> l, T& psi) {
+  const T J = F.determinant();
+  switch (m) {
+    case MaterialModel::neo_hookean: {
+      if (!(J > T(0))) {
+        psi = std::numeric_limits<T>::infinity();
+        return l.mu * F;  // as NeoHookean::stress
+      }
+      const T logJ = std::log(J);
+      psi =
+          T(0.5) * l.mu * (F.squaredNorm() - T(D)) - l.mu * logJ + T(0.5) * l.lambda * logJ * logJ;
+      return l.mu * F + ((l.lambda * logJ - l.mu) / J) * cofactor<T, D>(F);
+    }
+    case MaterialModel::fixed_corotated:
+      break;
+  }
+  Mat<T, D> R;
+  if constexpr (D == 2) {
+    R = rotation_2d(F);
+  } else {
+    Mat<T, D> S;
+    polar_decomposition<T, D>(F, R, S);
+  }
+  psi = l.mu * (F - R).squaredNorm() + T(0.5) * l.lambda * (J - T(1)) * (J - T(1));
+  return T(2) * l.mu * (F - R) + l.lambda * (J - T(1)) * cofactor<T, D>(F);
+}
+
 // Runtime dispatch on the registry key. Switches without a default, so a model added to the
 // registry and not here is a -Wswitch warning instead of silently becoming another model.
 template <class T, int D>

@@ -68,7 +68,11 @@ class MpmSimulation final : public Simulation, public TransferControls {
   void write_particles_csv(std::ostream& out) const override;
 
   // Direct access for tests, the reference step and the round-trip probe.
-  Particles<T, D>& particles() { return p_; }
+  // Writable access (tests, setup) may change F: the cached stress and energy are dropped.
+  Particles<T, D>& particles() {
+    stress_of_current_F_ = false;
+    return p_;
+  }
   const Particles<T, D>& particles() const { return p_; }
   Grid<T, D>& grid() { return grid_; }
   const Grid<T, D>& grid() const { return grid_; }
@@ -172,8 +176,12 @@ class MpmSimulation final : public Simulation, public TransferControls {
   TriangleMesh<T> mesh_;
   std::vector<std::uint32_t> index_of_id_;
   std::vector<Vec<T, 2>> mesh_x_, mesh_g_, mesh_dx_, mesh_kx_;
-  // −V_p P(F_p) F_pᵀ per particle for the explicit forces (compute_stress).
+  // −V_p P(F_p) F_pᵀ per particle for the explicit forces (compute_stress), and the particles'
+  // elastic energy Σ V_p Ψ(F_p) of the same pass. Valid while stress_of_current_F_: any change
+  // of F (G2P, setup) or of the particle order (the sort) clears it.
   std::vector<Mat<T, D>> stress_;
+  double particle_elastic_energy_ = 0;
+  bool stress_of_current_F_ = false;
   // Stencils P2G keeps for the implicit solve and mesh forces (keeps_stencils).
   std::vector<Stencil<T, D, LinearKernel>> stencils_linear_;
   std::vector<Stencil<T, D, QuadraticKernel>> stencils_quadratic_;

@@ -8,12 +8,16 @@ namespace apiclab {
 template <class T, int D>
 double MpmSimulation<T, D>::elastic_energy() const {
   double e = 0;
-  const std::ptrdiff_t n = std::ptrdiff_t(p_.size());
+  if (stress_of_current_F_) {
+    e = particle_elastic_energy_;  // summed by the explicit step's stress pass
+  } else {
+    const std::ptrdiff_t n = std::ptrdiff_t(p_.size());
 #pragma omp parallel for reduction(+ : e) if (parallel_worthwhile())
-  for (std::ptrdiff_t q = 0; q < n; ++q) {
-    if (p_.volume0[q] == T(0)) continue;  // mesh vertices: their elasticity is on the triangles
-    const MaterialParams<T>& mat = materials_[std::size_t(p_.material[q])];
-    e += double(p_.volume0[q]) * double(energy_density<T, D>(mat.model, p_.F[q], mat.lame));
+    for (std::ptrdiff_t q = 0; q < n; ++q) {
+      if (p_.volume0[q] == T(0)) continue;  // mesh vertices: their elasticity is on the triangles
+      const MaterialParams<T>& mat = materials_[std::size_t(p_.material[q])];
+      e += double(p_.volume0[q]) * double(energy_density<T, D>(mat.model, p_.F[q], mat.lame));
+    }
   }
   if constexpr (D == 2)
     if (!mesh_.empty()) e += mesh_.energy(p_.x, index_of_id_, nullptr);

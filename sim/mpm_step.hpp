@@ -12,8 +12,15 @@ namespace apiclab {
 // Block sort for the coloured parallel P2G (sim/block_partition.hpp).
 template <class T, int D>
 void MpmSimulation<T, D>::sort_particles() {
-  if (blocks_.sort(p_, scratch_, grid_, constraints_, scene_.solver.kernel, parallel_worthwhile()))
+  if (blocks_.sort(p_, scratch_, grid_, constraints_, scene_.solver.kernel,
+                   parallel_worthwhile())) {
     rebuild_index_of_id();
+    if (stress_of_current_F_) {  // the stress follows its particles; the energy sum stands
+      const double energy = particle_elastic_energy_;
+      compute_stress();
+      particle_elastic_energy_ = energy;
+    }
+  }
 }
 
 template <class T, int D>
@@ -36,6 +43,10 @@ void MpmSimulation<T, D>::step_fixed(double dt) {
   }
   apply_boundary_conditions();
   grid_to_particles(T(dt));
+  stress_of_current_F_ = false;
+  // An explicit step computes the next step's stress now: its pass also sums the elastic energy
+  // that measure() reports after this step, so the diagnostics need no decomposition of their own.
+  if (!uses_implicit_solve() && !non_finite_) compute_stress();
   time_ += dt;
   ++steps_;
 }

@@ -29,17 +29,25 @@ void MpmSimulation<T, D>::clear_grid() {
 
 // −V_p P(F_p) F_pᵀ per particle, so that f_i = Σ_p (this) ∇w_ip (eq 34 at λ = 0). A pass of
 // its own: without the scatter in the loop, the CPU overlaps the square roots and divisions of
-// neighbouring particles instead of waiting on each.
+// neighbouring particles instead of waiting on each. The same pass sums the elastic energy
+// Σ V_p Ψ(F_p) for measure() (run at the end of an explicit step, see step_fixed).
 template <class T, int D>
 void MpmSimulation<T, D>::compute_stress() {
   stress_.resize(p_.size());
   const std::ptrdiff_t n = std::ptrdiff_t(p_.size());
-#pragma omp parallel for schedule(static) if (parallel_worthwhile())
+  double energy = 0;
+#pragma omp parallel for schedule(static) reduction(+ : energy) if (parallel_worthwhile())
   for (std::ptrdiff_t q = 0; q < n; ++q) {
     const MaterialParams<T>& mat = materials_[std::size_t(p_.material[q])];
     const Mat<T, D>& F = p_.F[q];
-    stress_[q] = -p_.volume0[q] * first_piola<T, D>(mat.model, F, mat.lame) * F.transpose();
+    T psi;
+    stress_[q] =
+        -p_.volume0[q] * first_piola_and_energy<T, D>(mat.model, F, mat.lame, psi) * F.transpose();
+    // Mesh vertices (volume 0) carry no elasticity: theirs is on the triangles.
+    if (p_.volume0[q] != T(0)) energy += double(p_.volume0[q]) * double(psi);
   }
+  stress_of_current_F_ = true;
+  particle_elastic_energy_ = energy;
 }
 
 template <class T, int D>
@@ -125,7 +133,7 @@ void MpmSimulation<T, D>::unpack_accumulator() {
 template <class T, int D>
 void MpmSimulation<T, D>::particles_to_grid(bool with_forces) {
   const bool affine = is_affine(scene_.solver.scheme);
-  if (with_forces) compute_stress();
+  if (with_forces && !stress_of_current_F_) compute_stress();
   with_kernel(scene_.solver.kernel, [&](auto kernel) {
     using K = decltype(kernel);
     if (affine)
