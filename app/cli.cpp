@@ -67,6 +67,10 @@ void add_run_options(CLI::App* cmd, RunOptions& o, RunOptionSet which) {
                     "diagnostics CSV, one row per step [default: apiclab-out/SCENE-SCHEME.csv]");
     cmd->add_option("--dump", o.dump,
                     "directory for particle state per frame (frame_0000.csv, ...) [default: none]");
+    cmd->add_option("--dump-format", o.dump_format,
+                    "formats of --dump, several allowed: csv (the contract), vtk (.vtp + "
+                    "series.pvd for ParaView), ply (binary, Houdini/Blender), obj (vertices) "
+                    "[default: csv]");
   }
   cmd->add_option(
          "--set", o.sets,
@@ -84,6 +88,16 @@ void add_run_options(CLI::App* cmd, RunOptions& o, RunOptionSet which) {
                   "available memory]");
   if (which.quiet) cmd->add_flag("--quiet", o.quiet, "no progress line [default: off]");
   cmd->footer(parameter_table());
+}
+
+std::vector<DumpFormat> dump_formats_of(const RunOptions& o) {
+  if (o.dump.empty() && o.dump_format != "csv")
+    throw UsageError("--dump-format " + o.dump_format + " needs --dump DIR");
+  try {
+    return parse_dump_formats(o.dump_format);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(std::string("--dump-format: ") + e.what());
+  }
 }
 
 Precision precision_of(const RunOptions& o) {

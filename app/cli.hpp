@@ -9,6 +9,7 @@
 
 #include "app/assets.hpp"
 #include "app/clock.hpp"  // now_seconds
+#include "app/particle_export.hpp"
 #include "sim/scene.hpp"
 #include "sim/simulation.hpp"
 
@@ -26,6 +27,7 @@ struct RunOptions {
   std::optional<double> flip_alpha, lambda, t_end, fps, dt;
   std::optional<int> frames;
   std::string csv, dump;
+  std::string dump_format = "csv";  // --dump-format: csv,vtk,ply,obj
   std::vector<std::string> sets;
   int threads = 0;  // 0: OpenMP default
   bool quiet = false;
@@ -52,6 +54,8 @@ std::vector<std::string> option_overrides(const RunOptions& o);
 // UsageError; warns about overlapping objects.
 SceneDesc load_scene_with_options(const RunOptions& o);
 Precision precision_of(const RunOptions& o);
+// --dump-format as a list; UsageError for an unknown or repeated format, or formats without --dump.
+std::vector<DumpFormat> dump_formats_of(const RunOptions& o);
 void apply_threads(int threads);
 
 // Creates `dir` (and parents) and checks that a file can be written there; throws UsageError.

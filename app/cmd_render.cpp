@@ -64,6 +64,7 @@ int render(const RenderOptions& o) {
   const std::string csv_path = o.run.csv.empty() ? o.out + "/" + scheme + ".csv" : o.run.csv;
   std::ofstream csv = open_csv(csv_path, scene, o);
   if (!o.run.dump.empty()) ensure_writable_dir(o.run.dump);
+  ParticleDump dump(o.run.dump, dump_formats_of(o.run));
   print_time_step_note(scene, o.run.quiet);
   // The real time of every frame: PNGs in --out, particle dumps in --dump.
   FrameIndex frame_times(o.out), dump_times;
@@ -85,10 +86,9 @@ int render(const RenderOptions& o) {
   const auto on_row = [&](std::size_t, const DiagnosticsRow& r) { write_diagnostics_row(csv, r); };
   run_frame_loop(times, panes, on_row, [&](int f) {
     if (!o.run.dump.empty()) {
-      std::ofstream dump(frame_path(o.run.dump, f, "csv"));
       if (!sim->transfers())
         throw UsageError("--dump: solver method '" + scene.solver.method + "' has no particles");
-      sim->transfers()->write_particles_csv(dump);
+      dump.write(*sim, f);
       dump_times.add(f, sim->time(), {sim->steps()});
     }
     frame_times.add(f, sim->time(), {sim->steps()});
@@ -144,7 +144,8 @@ int compare(const RenderOptions& o) {
   }
   if (specs.empty()) throw UsageError("--schemes needs at least one scheme, e.g. pic,flip,apic");
   if (!o.run.scheme.empty()) throw UsageError("compare takes --schemes (a list), not --scheme");
-  if (!o.run.dump.empty()) throw UsageError("compare does not take --dump; use run or render");
+  if (!o.run.dump.empty() || o.run.dump_format != "csv")
+    throw UsageError("compare does not take --dump; use run or render");
   if (!o.run.csv.empty())
     throw UsageError("compare writes one CSV per scheme into --out; drop --csv");
   RenderSession session(o);
@@ -242,7 +243,8 @@ void register_render(CLI::App& root, CommandTable& table) {
       "schemes side by side from the same initial particles: PNG frames, one CSV per scheme");
   add_render_options(cmp, *c);
   // Refused by compare with a message of its own; left out of compare --help.
-  for (const char* name : {"--scheme", "--csv", "--dump"}) cmp->get_option(name)->group("");
+  for (const char* name : {"--scheme", "--csv", "--dump", "--dump-format"})
+    cmp->get_option(name)->group("");
   cmp->add_option("--schemes", c->schemes,
                   "comma-separated panes: MPM schemes (" + choice_keys(scheme_choices()) +
                       "), or solver methods eol and eulerian (mpm:apic for an MPM scheme "

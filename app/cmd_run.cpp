@@ -18,14 +18,6 @@
 namespace apiclab::cli {
 namespace {
 
-void write_dump(const Simulation& sim, const std::string& dir, int frame) {
-  char name[32];
-  std::snprintf(name, sizeof name, "frame_%04d.csv", frame);
-  std::ofstream out(std::filesystem::path(dir) / name);
-  if (!out) throw UsageError("cannot write particle dump in '" + dir + "'");
-  sim.transfers()->write_particles_csv(out);  // run() refused --dump without particles
-}
-
 // run's own options beyond the common ones.
 struct RunCommandOptions {
   RunOptions run;
@@ -39,6 +31,7 @@ int run(const RunCommandOptions& command) {
   const double cpu_start = cpu_seconds();
   SceneDesc scene = load_scene_with_options(o);
   check_flip_alpha(o, {scene.solver.scheme});
+  const std::vector<DumpFormat> formats = dump_formats_of(o);
   apply_threads(o.threads);
   // The transfer scheme names an MPM run; a method without schemes (eol, eulerian) names itself.
   const std::string scheme =
@@ -50,6 +43,7 @@ int run(const RunCommandOptions& command) {
   if (!o.dump.empty() && !sim->transfers())
     throw UsageError("--dump: solver method '" + scene.solver.method + "' has no particles");
   if (!o.dump.empty()) ensure_writable_dir(o.dump);
+  ParticleDump dump(o.dump, formats);
   std::ofstream out(csv);
   out << diagnostics_header() << '\n';
   const nlohmann::json settings = run_settings(scene, precision_of(o), o.sets);
@@ -97,7 +91,7 @@ int run(const RunCommandOptions& command) {
   run_frame_loop(FrameTimes(scene), panes, on_row, [&](int f) {
     if (sim->failure()) return false;
     if (!o.dump.empty()) {
-      write_dump(*sim, o.dump, f);
+      dump.write(*sim, f);
       frames.add(f, sim->time(), {sim->steps()});  // the frame's real time
     }
     return true;

@@ -66,6 +66,7 @@ class MpmSimulation final : public Simulation, public TransferControls {
   void set_scheme(Scheme scheme, double flip_alpha) override;
   void fill_velocity_noise(Snapshot& s) const override;
   void write_particles_csv(std::ostream& out) const override;
+  ParticleTable particle_table() const override;
 
   // Direct access for tests, the reference step and the round-trip probe.
   // Writable access (tests, setup) may change F: the cached stress and energy are dropped.

@@ -93,28 +93,55 @@ void MpmSimulation<T, D>::fill_velocity_noise(Snapshot& s) const {
 }
 
 template <class T, int D>
-void MpmSimulation<T, D>::write_particles_csv(std::ostream& out) const {
-  out << "id,object,x,y" << (D == 3 ? ",z" : "") << ",vx,vy" << (D == 3 ? ",vz" : "")
-      << ",mass,volume0";
-  for (int i = 0; i < D; ++i)
-    for (int j = 0; j < D; ++j) out << ",F" << i << j;
-  for (int i = 0; i < D; ++i)
-    for (int j = 0; j < D; ++j) out << ",C" << i << j;
-  out << "\n";
+ParticleTable MpmSimulation<T, D>::particle_table() const {
+  ParticleTable t;
+  t.dim = D;
+  t.digits = std::numeric_limits<T>::max_digits10;
+  t.count = p_.size();
   std::vector<std::size_t> by_id(p_.size());
   for (std::size_t q = 0; q < p_.size(); ++q) by_id[std::size_t(p_.id[q])] = q;
-  out << std::setprecision(std::numeric_limits<T>::max_digits10);
-  for (std::size_t q : by_id) {
-    out << p_.id[q] << ',' << p_.object[q];
-    for (int a = 0; a < D; ++a) out << ',' << p_.x[q][a];
-    for (int a = 0; a < D; ++a) out << ',' << p_.v[q][a];
-    out << ',' << p_.mass[q] << ',' << p_.volume0[q];
-    for (int i = 0; i < D; ++i)
-      for (int j = 0; j < D; ++j) out << ',' << p_.F[q](i, j);
-    for (int i = 0; i < D; ++i)
-      for (int j = 0; j < D; ++j) out << ',' << p_.C[q](i, j);
-    out << '\n';
+  const char* axis = "xyz";
+  auto column = [&](std::string name, std::vector<std::string> csv, bool integer, auto get) {
+    ParticleColumn c{std::move(name), std::move(csv), integer, {}};
+    c.values.reserve(t.count * c.csv_names.size());
+    for (std::size_t q : by_id) get(q, c.values);
+    t.columns.push_back(std::move(c));
+  };
+  std::vector<std::string> x, v, F, C;
+  for (int a = 0; a < D; ++a) {
+    x.push_back(std::string(1, axis[a]));
+    v.push_back("v" + std::string(1, axis[a]));
   }
+  for (int i = 0; i < D; ++i)
+    for (int j = 0; j < D; ++j) {
+      F.push_back("F" + std::to_string(i) + std::to_string(j));
+      C.push_back("C" + std::to_string(i) + std::to_string(j));
+    }
+  column("id", {"id"}, true, [&](std::size_t q, auto& o) { o.push_back(p_.id[q]); });
+  column("object", {"object"}, true, [&](std::size_t q, auto& o) { o.push_back(p_.object[q]); });
+  column("position", x, false, [&](std::size_t q, auto& o) {
+    for (int a = 0; a < D; ++a) o.push_back(double(p_.x[q][a]));
+  });
+  column("velocity", v, false, [&](std::size_t q, auto& o) {
+    for (int a = 0; a < D; ++a) o.push_back(double(p_.v[q][a]));
+  });
+  column("mass", {"mass"}, false, [&](std::size_t q, auto& o) { o.push_back(double(p_.mass[q])); });
+  column("volume0", {"volume0"}, false,
+         [&](std::size_t q, auto& o) { o.push_back(double(p_.volume0[q])); });
+  column("F", F, false, [&](std::size_t q, auto& o) {
+    for (int i = 0; i < D; ++i)
+      for (int j = 0; j < D; ++j) o.push_back(double(p_.F[q](i, j)));
+  });
+  column("C", C, false, [&](std::size_t q, auto& o) {
+    for (int i = 0; i < D; ++i)
+      for (int j = 0; j < D; ++j) o.push_back(double(p_.C[q](i, j)));
+  });
+  return t;
+}
+
+template <class T, int D>
+void MpmSimulation<T, D>::write_particles_csv(std::ostream& out) const {
+  apiclab::write_particles_csv(out, particle_table());
 }
 
 }  // namespace apiclab

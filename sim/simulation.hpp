@@ -9,6 +9,7 @@
 #include <string>
 
 #include "diagnostics.hpp"
+#include "particle_table.hpp"
 #include "scene.hpp"
 #include "snapshot.hpp"
 
@@ -68,6 +69,8 @@ class TransferControls {
   virtual void fill_velocity_noise(Snapshot& s) const = 0;
   // Particle state as CSV (docs/architecture.md, --dump), one row per particle ordered by id.
   virtual void write_particles_csv(std::ostream& out) const = 0;
+  // The same state as named columns, for the other --dump formats (sim/particle_table.hpp).
+  virtual ParticleTable particle_table() const = 0;
 };
 
 // Particles of a solver with particle transfers, 0 for one without (for reports and titles).

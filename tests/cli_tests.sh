@@ -434,5 +434,8 @@ expect_error "MPM key in an EoL scene" "'solver.scheme'" "unknown key" -- run eo
 expect_error "rest shape outside its EoL grid" "'objects.0.shape'" "solver.grid_extent" -- run eol-spin --set solver.grid_extent=0.3
 expect_error "EoL has no particles to dump" "--dump" "eol" -- run eol-spin --t-end 0.01 --dump "$TMP/eoldump"
 
+expect_error "unknown dump format" "--dump-format" "xyz" -- run rotating-disk --dump "$TMP/fmt" --dump-format csv,xyz
+expect_error "dump format without --dump" "--dump-format" "needs --dump" -- run rotating-disk --dump-format vtk
+
 echo "cli_tests: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -37,6 +37,12 @@ target_link_libraries(test_outputs PRIVATE apiclab_app_core GTest::gtest_main)
 target_compile_definitions(test_outputs PRIVATE APICLAB_SOURCE_DIR="${CMAKE_SOURCE_DIR}")
 gtest_discover_tests(test_outputs DISCOVERY_TIMEOUT 60 TEST_PREFIX "app." PROPERTIES LABELS "unit")
 
+# --dump formats read back: VTK, PLY, OBJ, CSV, series.pvd (issue 16).
+add_executable(test_particle_export test_particle_export.cpp)
+target_link_libraries(test_particle_export PRIVATE apiclab_app_core GTest::gtest_main)
+target_compile_definitions(test_particle_export PRIVATE APICLAB_SOURCE_DIR="${CMAKE_SOURCE_DIR}")
+gtest_discover_tests(test_particle_export DISCOVERY_TIMEOUT 60 TEST_PREFIX "app." PROPERTIES LABELS "unit")
+
 # The plot widget headless: its legend never covers a curve (ImGui without a renderer).
 if(TARGET apiclab_charts)
   add_executable(test_plot_legend test_plot_legend.cpp)
