@@ -144,8 +144,11 @@ int compare(const RenderOptions& o) {
   }
   if (specs.empty()) throw UsageError("--schemes needs at least one scheme, e.g. pic,flip,apic");
   if (!o.run.scheme.empty()) throw UsageError("compare takes --schemes (a list), not --scheme");
-  if (!o.run.dump.empty() || o.run.dump_format != "csv")
-    throw UsageError("compare does not take --dump; use run or render");
+  const std::vector<DumpFormat> formats = dump_formats_of(o.run);
+  for (const PaneSpec& spec : specs)  // before any output: only MPM panes have particles
+    if (!o.run.dump.empty() && spec.method != "mpm")
+      throw UsageError("--dump: solver method '" + spec.method + "' has no particles (pane '" +
+                       spec.key + "')");
   if (!o.run.csv.empty())
     throw UsageError("compare writes one CSV per scheme into --out; drop --csv");
   RenderSession session(o);
@@ -157,6 +160,8 @@ int compare(const RenderOptions& o) {
     std::unique_ptr<Simulation> sim;
     std::ofstream csv;
     bool reported = false;
+    std::unique_ptr<ParticleDump> dump;  // --dump DIR/KEY, one folder per pane
+    FrameIndex dump_times;
   };
   std::vector<Pane> panes;
   std::size_t particles = 0;
@@ -169,6 +174,15 @@ int compare(const RenderOptions& o) {
     DiagnosticsRow first = p.sim->measure();
     first.dt = 0;
     write_diagnostics_row(p.csv, first);
+    if (!o.run.dump.empty()) {
+      if (!p.sim->transfers())
+        throw UsageError("--dump: solver method '" + spec.method + "' has no particles (pane '" +
+                         spec.key + "')");
+      const std::string dir = o.run.dump + "/" + spec.key;
+      ensure_writable_dir(dir);
+      p.dump = std::make_unique<ParticleDump>(dir, formats);
+      p.dump_times = FrameIndex(dir);
+    }
     particles = std::max(particles, particle_count(*p.sim));
     panes.push_back(std::move(p));
   }
@@ -204,6 +218,10 @@ int compare(const RenderOptions& o) {
         p.reported = true;
         ++failed;
         failures += "\n" + p.key + ": " + p.sim->failure()->message;
+      }
+      if (p.dump) {
+        p.dump->write(*p.sim, f);
+        p.dump_times.add(f, p.sim->time(), {p.sim->steps()});
       }
       snapshots.push_back(p.sim->snapshot());
       if (noise && p.sim->transfers()) p.sim->transfers()->fill_velocity_noise(*snapshots.back());
@@ -243,8 +261,7 @@ void register_render(CLI::App& root, CommandTable& table) {
       "schemes side by side from the same initial particles: PNG frames, one CSV per scheme");
   add_render_options(cmp, *c);
   // Refused by compare with a message of its own; left out of compare --help.
-  for (const char* name : {"--scheme", "--csv", "--dump", "--dump-format"})
-    cmp->get_option(name)->group("");
+  for (const char* name : {"--scheme", "--csv"}) cmp->get_option(name)->group("");
   cmp->add_option("--schemes", c->schemes,
                   "comma-separated panes: MPM schemes (" + choice_keys(scheme_choices()) +
                       "), or solver methods eol and eulerian (mpm:apic for an MPM scheme "
