@@ -86,8 +86,9 @@ int render(const RenderOptions& o) {
   const auto on_row = [&](std::size_t, const DiagnosticsRow& r) { write_diagnostics_row(csv, r); };
   run_frame_loop(times, panes, on_row, [&](int f) {
     if (!o.run.dump.empty()) {
-      if (!sim->transfers())
-        throw UsageError("--dump: solver method '" + scene.solver.method + "' has no particles");
+      if (!sim->transfers() && formats_need_particles(dump_formats_of(o.run)))
+        throw UsageError("--dump: solver method '" + scene.solver.method +
+                         "' has no particles (--dump-format vtk writes its grids)");
       dump.write(*sim, f);
       dump_times.add(f, sim->time(), {sim->steps()});
     }
@@ -146,9 +147,9 @@ int compare(const RenderOptions& o) {
   if (!o.run.scheme.empty()) throw UsageError("compare takes --schemes (a list), not --scheme");
   const std::vector<DumpFormat> formats = dump_formats_of(o.run);
   for (const PaneSpec& spec : specs)  // before any output: only MPM panes have particles
-    if (!o.run.dump.empty() && spec.method != "mpm")
+    if (!o.run.dump.empty() && spec.method != "mpm" && formats_need_particles(formats))
       throw UsageError("--dump: solver method '" + spec.method + "' has no particles (pane '" +
-                       spec.key + "')");
+                       spec.key + "'; --dump-format vtk writes its grids)");
   if (!o.run.csv.empty())
     throw UsageError("compare writes one CSV per scheme into --out; drop --csv");
   RenderSession session(o);
@@ -175,9 +176,9 @@ int compare(const RenderOptions& o) {
     first.dt = 0;
     write_diagnostics_row(p.csv, first);
     if (!o.run.dump.empty()) {
-      if (!p.sim->transfers())
+      if (!p.sim->transfers() && formats_need_particles(formats))
         throw UsageError("--dump: solver method '" + spec.method + "' has no particles (pane '" +
-                         spec.key + "')");
+                         spec.key + "'; --dump-format vtk writes its grids)");
       const std::string dir = o.run.dump + "/" + spec.key;
       ensure_writable_dir(dir);
       p.dump = std::make_unique<ParticleDump>(dir, formats);

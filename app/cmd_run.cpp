@@ -40,8 +40,9 @@ int run(const RunCommandOptions& command) {
   ensure_writable_file(csv);
   if (!command.summary.empty()) ensure_writable_file(command.summary);
   auto sim = make_simulation(scene, precision_of(o));
-  if (!o.dump.empty() && !sim->transfers())
-    throw UsageError("--dump: solver method '" + scene.solver.method + "' has no particles");
+  if (!o.dump.empty() && !sim->transfers() && formats_need_particles(formats))
+    throw UsageError("--dump: solver method '" + scene.solver.method +
+                     "' has no particles (--dump-format vtk writes its grids)");
   if (!o.dump.empty()) ensure_writable_dir(o.dump);
   ParticleDump dump(o.dump, formats);
   std::ofstream out(csv);
@@ -127,9 +128,15 @@ int run(const RunCommandOptions& command) {
   if (unconverged)
     s << "\nwarning: " << steps_text(unconverged)
       << " ended with a non-converged implicit solve (see residual)";
-  if (!o.dump.empty())
-    s << "\nparticle dumps: " << o.dump << "/frame_0000.csv ... (real frame times in " << o.dump
-      << "/frames.csv)";
+  if (!o.dump.empty()) {
+    std::string ext;
+    for (DumpFormat f : formats) ext += (ext.empty() ? "" : ",") + std::string(extension_of(f));
+    s << "\ndumps: " << o.dump << "/frame_0000." << (formats.size() > 1 ? "{" + ext + "}" : ext)
+      << " ... (real frame times in " << o.dump << "/frames.csv";
+    if (o.dump_format.find("vtk") != std::string::npos)
+      s << "; ParaView opens " << o.dump << "/series.pvd";
+    s << ")";
+  }
   if (!command.summary.empty()) s << "\nrun summary: " << command.summary;
   progress.finish(s.str());
   return 0;

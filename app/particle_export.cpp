@@ -177,15 +177,52 @@ void write_obj(const std::string& path, const ParticleTable& t) {
   if (!out) throw std::runtime_error("cannot write '" + path + "'");
 }
 
-void PvdSeries::add(double t, const std::string& file) {
-  frames_.emplace_back(t, file);
+void write_vti(const std::string& path, const GridLayer& g) {
+  std::ostringstream xml;
+  std::string data;
+  const std::size_t n = g.node_count();
+  xml << std::setprecision(17) << "<?xml version=\"1.0\"?>\n"
+      << "<VTKFile type=\"ImageData\" version=\"1.0\" byte_order=\"LittleEndian\" "
+         "header_type=\"UInt64\">\n";
+  std::ostringstream extent;
+  extent << "0 " << g.nodes[0] - 1 << " 0 " << g.nodes[1] - 1 << " 0 " << g.nodes[2] - 1;
+  xml << "  <ImageData WholeExtent=\"" << extent.str() << "\" Origin=\"" << g.translation[0] << ' '
+      << g.translation[1] << ' ' << g.translation[2] << "\" Spacing=\"" << g.dx << ' ' << g.dx
+      << ' ' << g.dx << "\" Direction=\"";
+  for (int k = 0; k < 9; ++k) xml << (k ? " " : "") << g.rotation[std::size_t(k)];
+  xml << "\">\n    <Piece Extent=\"" << extent.str() << "\">\n      <PointData>\n";
+  for (const GridLayer::Field& f : g.fields) {
+    xml << "        <DataArray type=\"Float32\" Name=\"" << f.name
+        << "\" NumberOfComponents=\"1\" format=\"appended\" offset=\"" << data.size() << "\"/>\n";
+    put<std::uint64_t>(data, n * 4);
+    for (std::size_t i = 0; i < n; ++i) put<float>(data, f.values[i]);
+  }
+  xml << "      </PointData>\n    </Piece>\n  </ImageData>\n  <AppendedData encoding=\"raw\">\n   "
+         "_";
+  std::ofstream out = open_binary(path);
+  const std::string head = xml.str();
+  out.write(head.data(), std::streamsize(head.size()));
+  out.write(data.data(), std::streamsize(data.size()));
+  out << "\n  </AppendedData>\n</VTKFile>\n";
+  if (!out) throw std::runtime_error("cannot write '" + path + "'");
+}
+
+bool formats_need_particles(const std::vector<DumpFormat>& formats) {
+  for (DumpFormat f : formats)
+    if (f != DumpFormat::vtk) return true;
+  return false;
+}
+
+void PvdSeries::add(double t, const std::string& file, int part) {
+  frames_.push_back({t, part, file});
   std::ofstream out(dir_ + "/series.pvd");
   if (!out) throw std::runtime_error("cannot write '" + dir_ + "/series.pvd'");
   out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\" "
          "byte_order=\"LittleEndian\">\n  <Collection>\n"
       << std::setprecision(17);
-  for (const auto& [time, name] : frames_)
-    out << "    <DataSet timestep=\"" << time << "\" part=\"0\" file=\"" << name << "\"/>\n";
+  for (const Entry& e : frames_)
+    out << "    <DataSet timestep=\"" << e.t << "\" part=\"" << e.part << "\" file=\"" << e.file
+        << "\"/>\n";
   out << "  </Collection>\n</VTKFile>\n";
 }
 
@@ -194,34 +231,45 @@ void PvdSeries::add(double t, const std::string& file) {
 namespace apiclab {
 
 void ParticleDump::write(const Simulation& sim, int frame) {
-  const TransferControls* particles = sim.transfers();  // callers refuse --dump without them
-  const ParticleTable table = particles->particle_table();
+  const TransferControls* particles = sim.transfers();  // callers refuse other formats without
   char base[32];
-  std::snprintf(base, sizeof base, "frame_%04d.", frame);
+  std::snprintf(base, sizeof base, "frame_%04d", frame);
   for (DumpFormat f : formats_) {
-    const std::string name = std::string(base) + extension_of(f);
+    const std::string name = std::string(base) + "." + extension_of(f);
     const std::string path = dir_ + "/" + name;
+    if (f == DumpFormat::vtk) {
+      auto snap = sim.snapshot();
+      int part = 0;
+      if (particles) {
+        // Speed and velocity noise as scalars (the noise is a fresh P2G: only when VTK asks).
+        particles->fill_velocity_noise(*snap);
+        const ParticleTable table = particles->particle_table();
+        ExtraScalars extra;
+        std::vector<float> speed(table.count);
+        const ParticleColumn* v = table.find("velocity");
+        for (std::size_t q = 0; q < table.count; ++q) {
+          double s2 = 0;
+          for (int a = 0; a < table.dim; ++a)
+            s2 += std::pow(v->values[q * std::size_t(table.dim) + std::size_t(a)], 2);
+          speed[q] = float(std::sqrt(s2));
+        }
+        extra.fields.emplace_back("speed", std::move(speed));
+        if (snap->noise.size() == table.count) extra.fields.emplace_back("noise", snap->noise);
+        write_vtp(path, table, extra);
+        series_.add(sim.time(), name, part++);
+      }
+      for (std::size_t k = 0; k < snap->grids.size(); ++k) {
+        const std::string grid = std::string(base) + "_grid" + std::to_string(k) + ".vti";
+        write_vti(dir_ + "/" + grid, snap->grids[k]);
+        series_.add(sim.time(), grid, part++);
+      }
+      continue;
+    }
+    const ParticleTable table = particles->particle_table();
     if (f == DumpFormat::csv) {
       std::ofstream out(path);
       if (!out) throw std::runtime_error("cannot write '" + path + "'");
       write_particles_csv(out, table);
-    } else if (f == DumpFormat::vtk) {
-      // Speed and velocity noise as scalars (the noise is a fresh P2G: only when VTK asks).
-      auto snap = sim.snapshot();
-      particles->fill_velocity_noise(*snap);
-      ExtraScalars extra;
-      std::vector<float> speed(table.count);
-      const ParticleColumn* v = table.find("velocity");
-      for (std::size_t q = 0; q < table.count; ++q) {
-        double s2 = 0;
-        for (int a = 0; a < table.dim; ++a)
-          s2 += std::pow(v->values[q * std::size_t(table.dim) + std::size_t(a)], 2);
-        speed[q] = float(std::sqrt(s2));
-      }
-      extra.fields.emplace_back("speed", std::move(speed));
-      if (snap->noise.size() == table.count) extra.fields.emplace_back("noise", snap->noise);
-      write_vtp(path, table, extra);
-      series_.add(sim.time(), name);
     } else if (f == DumpFormat::ply) {
       write_ply(path, table);
     } else {

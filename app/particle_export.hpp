@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "sim/particle_table.hpp"
+#include "sim/snapshot.hpp"
 
 namespace apiclab {
 
@@ -26,16 +27,26 @@ struct ExtraScalars {
 void write_vtp(const std::string& path, const ParticleTable& t, const ExtraScalars& extra = {});
 void write_ply(const std::string& path, const ParticleTable& t);
 void write_obj(const std::string& path, const ParticleTable& t);
+// A snapshot's grid layer (an EoL object grid riding its frame) as VTK ImageData: origin = the
+// layer's translation, Direction = its rotation, one Float32 point array per field.
+void write_vti(const std::string& path, const GridLayer& layer);
+// Whether the formats can be written for a solver without particles: VTK only (its grids).
+bool formats_need_particles(const std::vector<DumpFormat>& formats);
 
 // DIR/series.pvd: every frame's .vtp with its simulation time, rewritten after each frame so a
 // run stopped early still opens.
 class PvdSeries {
  public:
   explicit PvdSeries(std::string dir) : dir_(std::move(dir)) {}
-  void add(double t, const std::string& file);  // file relative to DIR
+  void add(double t, const std::string& file, int part = 0);  // file relative to DIR
  private:
   std::string dir_;
-  std::vector<std::pair<double, std::string>> frames_;
+  struct Entry {
+    double t;
+    int part;
+    std::string file;
+  };
+  std::vector<Entry> frames_;
 };
 
 }  // namespace apiclab
@@ -44,8 +55,9 @@ namespace apiclab {
 
 class Simulation;
 
-// Writes frame `frame` of a simulation with particles into DIR in every format
-// (frame_0000.csv, frame_0000.vtp, …) and keeps DIR/series.pvd current when VTK is among them.
+// Writes frame `frame` into DIR in every format (frame_0000.csv, frame_0000.vtp, …; with VTK
+// also each grid layer of the snapshot, frame_0000_grid0.vti, …) and keeps DIR/series.pvd
+// current when VTK is among them. A solver without particles writes its grids only.
 class ParticleDump {
  public:
   ParticleDump(std::string dir, std::vector<DumpFormat> formats)

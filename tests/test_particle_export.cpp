@@ -14,6 +14,7 @@
 #include "app/particle_export.hpp"
 #include "sim/scene.hpp"
 #include "sim/simulation.hpp"
+#include "sim/snapshot.hpp"
 
 namespace apiclab {
 namespace {
@@ -201,6 +202,57 @@ TEST(ParticleExport, PvdListsEveryFrameWithItsTime) {
   }
   EXPECT_EQ(k, 3);
   std::filesystem::remove_all(dir);
+}
+
+// An EoL object grid riding its rotated frame: origin, spacing and Direction in the header,
+// each field bit for bit (NaN for empty nodes stays NaN).
+TEST(ParticleExport, GridLayerAsImageData) {
+  auto sim = make_simulation(load_scene(kDir + "eol-spin.json"));
+  for (int k = 0; k < 20; ++k) sim->step(1e9);
+  const auto snap = sim->snapshot();
+  ASSERT_FALSE(snap->grids.empty());
+  const GridLayer& g = snap->grids[0];
+  const std::string path = temp_path("grid.vti");
+  write_vti(path, g);
+  const std::string file = read_all(path);
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(file, m, std::regex("WholeExtent=\"0 (\\d+) 0 (\\d+) 0 (\\d+)\"")));
+  for (int a = 0; a < 3; ++a)
+    EXPECT_EQ(std::stoi(m[std::size_t(a) + 1]), g.nodes[std::size_t(a)] - 1);
+  ASSERT_TRUE(std::regex_search(
+      file, m, std::regex("Origin=\"([^\"]+)\" Spacing=\"([^\"]+)\" Direction=\"([^\"]+)\"")));
+  std::istringstream origin(m[1].str()), spacing(m[2].str()), direction(m[3].str());
+  for (int a = 0; a < 3; ++a) {
+    double o, h;
+    origin >> o;
+    spacing >> h;
+    EXPECT_EQ(o, g.translation[a]);
+    EXPECT_EQ(h, g.dx);
+  }
+  for (int k = 0; k < 9; ++k) {
+    double r;
+    direction >> r;
+    EXPECT_EQ(r, g.rotation[std::size_t(k)]);
+  }
+  EXPECT_NE(g.rotation[1], 0.0);  // the frame has turned: Direction is not the identity
+  const std::size_t base = file.find('_', file.find("<AppendedData")) + 1;
+  const std::regex array(
+      "Name=\"(\\w+)\" NumberOfComponents=\"1\" format=\"appended\" offset=\"(\\d+)\"");
+  std::size_t k = 0;
+  const std::string head = file.substr(0, base);
+  for (auto it = std::sregex_iterator(head.begin(), head.end(), array);
+       it != std::sregex_iterator(); ++it, ++k) {
+    ASSERT_LT(k, g.fields.size());
+    EXPECT_EQ((*it)[1], g.fields[k].name);
+    const std::size_t at = base + std::stoul((*it)[2]);
+    ASSERT_EQ(get<std::uint64_t>(file, at), g.node_count() * 4);
+    for (std::size_t i = 0; i < g.node_count(); ++i) {
+      const float want = g.fields[k].values[i], got = get<float>(file, at + 8 + 4 * i);
+      ASSERT_TRUE(std::memcmp(&want, &got, 4) == 0) << g.fields[k].name << " node " << i;
+    }
+  }
+  EXPECT_EQ(k, g.fields.size());
+  std::filesystem::remove(path);
 }
 
 TEST(ParticleExport, FormatsParseOrSayWhy) {
