@@ -170,6 +170,8 @@ int compare(const RenderOptions& o) {
     SceneDesc scene = session.scene;
     scene.solver.method = spec.method;
     scene.solver.scheme = spec.scheme;
+    if (const std::string why = scheme_conflict(scene.solver); !why.empty() && spec.method == "mpm")
+      throw UsageError("--schemes " + spec.key + ": " + why);
     Pane p{spec.key, make_simulation(scene, precision_of(o.run)),
            open_csv(o.out + "/" + spec.key + ".csv", scene, o)};
     DiagnosticsRow first = p.sim->measure();

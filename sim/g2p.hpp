@@ -144,6 +144,8 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
       }
     }
     p_.x[q] = x;
+    // MLS-MPM (Hu et al. 2018): the new C is the velocity gradient, F^{n+1} = (I + Δt C) F.
+    if constexpr (S == Scheme::mls) gradu = p_.C[q];
     const Mat<T, D> F0 = p_.F[q];
     for (int b = 0; b < D; ++b)
       for (int a = 0; a < D; ++a) {
@@ -173,6 +175,9 @@ void MpmSimulation<T, D>::grid_to_particles(T dt) {
         break;
       case Scheme::rpic:
         g2p_impl<K, Scheme::rpic>(dt);
+        break;
+      case Scheme::mls:
+        g2p_impl<K, Scheme::mls>(dt);
         break;
     }
   });

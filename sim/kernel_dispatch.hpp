@@ -23,6 +23,8 @@ decltype(auto) with_kernel(KernelType type, Fn&& f) {
 }
 
 // APIC and RPIC transfer v_p + C_p (x_i − x_p) (eq 24); PIC and FLIP transfer v_p alone.
-constexpr bool is_affine(Scheme s) { return s == Scheme::apic || s == Scheme::rpic; }
+constexpr bool is_affine(Scheme s) {
+  return s == Scheme::apic || s == Scheme::rpic || s == Scheme::mls;
+}
 
 }  // namespace apiclab

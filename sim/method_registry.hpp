@@ -31,6 +31,11 @@ const SolverMethod* find_method(const std::string& name);
 // All registered method names, sorted, for error messages and help.
 std::vector<std::string> method_names();
 
+// Why an MPM scheme cannot run with the rest of these solver settings ("" when it can): MLS-MPM
+// needs the quadratic or cubic kernel and symplectic Euler. The scene reader and compare's panes
+// check it.
+std::string scheme_conflict(const SolverDesc& solver);
+
 // The built-in methods, each defined with its solver.
 SolverMethod mpm_method();       // sim/mpm_method.cpp
 SolverMethod eol_method();       // sim/eol/eol_method.cpp

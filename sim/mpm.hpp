@@ -118,7 +118,7 @@ class MpmSimulation final : public Simulation, public TransferControls {
   const std::vector<double>& newton_residuals() const { return imp_.residuals; }
 
  private:
-  template <class K, bool affine, bool with_forces>
+  template <class K, bool affine, bool with_forces, bool mls_forces = false>
   void p2g_impl();
   void unpack_accumulator();
   void compute_stress();

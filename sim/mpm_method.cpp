@@ -31,6 +31,7 @@ void validate_mpm(SceneSection& r, SceneDesc& s) {
   v.apic_linear_form = r.choice("apic_linear_form", apic_linear_form_choices(), v.apic_linear_form,
                                 "APIC linear form");
   v.integrator = r.choice("integrator", integrator_choices(), v.integrator, "integrator");
+  if (const std::string why = scheme_conflict(v); !why.empty()) r.fail("scheme", why);
   if (r.has("lambda")) v.lambda = r.number("lambda", 0);
   v.newton_tolerance = r.number("newton_tolerance", v.newton_tolerance);
   v.newton_max_iterations = r.integer("newton_max_iterations", v.newton_max_iterations);
@@ -42,6 +43,15 @@ void validate_mpm(SceneSection& r, SceneDesc& s) {
 }
 
 }  // namespace
+
+std::string scheme_conflict(const SolverDesc& v) {
+  if (v.scheme != Scheme::mls) return "";
+  if (v.kernel == KernelType::linear)
+    return "mls needs the quadratic or cubic kernel (its force uses D_p^-1 = 1/(k dx^2))";
+  if (v.integrator != Integrator::symplectic)
+    return "mls runs with the symplectic integrator only (Hu et al. 2018's explicit form)";
+  return "";
+}
 
 SolverMethod mpm_method() {
   return {"mpm", "Material Point Method with PIC/FLIP/APIC/RPIC transfers (Jiang et al. 2017)",

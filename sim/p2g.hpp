@@ -51,7 +51,7 @@ void MpmSimulation<T, D>::compute_stress() {
 }
 
 template <class T, int D>
-template <class K, bool affine, bool with_forces>
+template <class K, bool affine, bool with_forces, bool mls_forces>
 void MpmSimulation<T, D>::p2g_impl() {
   // The implicit solve and mesh forces reuse these weights (same x_p^n); G2P recomputes them,
   // which is cheaper than storing and reloading them.
@@ -60,6 +60,8 @@ void MpmSimulation<T, D>::p2g_impl() {
   if (keep) cache.resize(p_.size());
   constexpr int W = K::width;
   auto* acc = grid_.accumulator.data();
+  // MLS-MPM: f_i = −Σ V P Fᵀ D⁻¹ w (x_i − x_p), the stress riding the affine weights.
+  const T inv_k = mls_forces ? T(1) / inertia_scale() : T(0);
   blocks_.for_each_block_coloured(
       [&](std::uint32_t begin, std::uint32_t end) {
         for (std::uint32_t q = begin; q < end; ++q) {
@@ -69,8 +71,9 @@ void MpmSimulation<T, D>::p2g_impl() {
           const T m = p_.mass[q];
           const Vec<T, D> mv = m * p_.v[q];
           const Mat<T, D> mC = m * p_.C[q];
-          Mat<T, D> stress = Mat<T, D>::Zero();
+          Mat<T, D> stress = Mat<T, D>::Zero(), mls = Mat<T, D>::Zero();
           if constexpr (with_forces) stress = stress_[q];
+          if constexpr (mls_forces) mls = inv_k * stress_[q];
           // Node i of a row gets w = wx_i row.w and ∇w = (dwx_i row.w, wx_i row.dw[1..]), so with
           // the lanes [m, m v, f]
           //   node_i += row.w (wx_i (mass_mom + r0_i affine[0]) + dwx_i stress_lanes[0])
@@ -83,13 +86,16 @@ void MpmSimulation<T, D>::p2g_impl() {
           if constexpr (D == 2) {
             mass_mom = Lanes::of(m, mv[0], mv[1]);
             for (int c = 0; c < D; ++c) {
-              affine_lanes[c] = affine ? Lanes::of(T(0), mC(0, c), mC(1, c)) : Lanes{};
+              affine_lanes[c] =
+                  affine ? Lanes::of(T(0), mC(0, c), mC(1, c), mls(0, c), mls(1, c)) : Lanes{};
               stress_lanes[c] = Lanes::of(T(0), T(0), T(0), stress(0, c), stress(1, c));
             }
           } else {
             mass_mom = Lanes::of(m, mv[0], mv[1], mv[2]);
             for (int c = 0; c < D; ++c) {
-              affine_lanes[c] = affine ? Lanes::of(T(0), mC(0, c), mC(1, c), mC(2, c)) : Lanes{};
+              affine_lanes[c] = affine ? Lanes::of(T(0), mC(0, c), mC(1, c), mC(2, c), mls(0, c),
+                                                   mls(1, c), mls(2, c))
+                                       : Lanes{};
               stress_lanes[c] =
                   Lanes::of(T(0), T(0), T(0), T(0), stress(0, c), stress(1, c), stress(2, c));
             }
@@ -133,10 +139,13 @@ void MpmSimulation<T, D>::unpack_accumulator() {
 template <class T, int D>
 void MpmSimulation<T, D>::particles_to_grid(bool with_forces) {
   const bool affine = is_affine(scene_.solver.scheme);
+  const bool mls = scene_.solver.scheme == Scheme::mls;
   if (with_forces && !stress_of_current_F_) compute_stress();
   with_kernel(scene_.solver.kernel, [&](auto kernel) {
     using K = decltype(kernel);
-    if (affine)
+    if (mls && with_forces)
+      p2g_impl<K, true, false, true>();  // the force in the affine term, no ∇w term
+    else if (affine)
       with_forces ? p2g_impl<K, true, true>() : p2g_impl<K, true, false>();
     else
       with_forces ? p2g_impl<K, false, true>() : p2g_impl<K, false, false>();

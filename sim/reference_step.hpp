@@ -138,11 +138,19 @@ void constrain(Vec<T, D>& v, const Vec<T, D>& n, BoundaryCondition condition) {
     v -= vn * n;
 }
 
+// D_p = kΔx² I of the quadratic (k = ¼) and cubic (k = ⅓) B-splines (eq 25 evaluated).
+template <class T, int D>
+T inertia_k(const Setup<T, D>& s) {
+  return (s.kernel == KernelType::cubic ? T(1) / 3 : T(0.25)) * s.dx * s.dx;
+}
+
 // One step of size dt; the particles are updated in place.
 template <class T, int D>
 void step(const Setup<T, D>& s, ParticleState<T, D>& ps, T dt) {
   Nodes<T, D> g(s);  // clear grid
-  const bool affine = s.scheme == Scheme::apic || s.scheme == Scheme::rpic;
+  const bool affine =
+      s.scheme == Scheme::apic || s.scheme == Scheme::rpic || s.scheme == Scheme::mls;
+  const bool mls = s.scheme == Scheme::mls;
 
   // P2G. Eq 34 with the sign of a force, f = −∂Φ/∂x̃ (the paper prints it without the minus).
   for (std::size_t p = 0; p < ps.x.size(); ++p) {
@@ -154,7 +162,8 @@ void step(const Setup<T, D>& s, ParticleState<T, D>& ps, T dt) {
           const Vec<T, D> r = xi - ps.x[p];
           // eq 26 (APIC; RPIC's eq 43 with C_p = ω_p*), or eq 1 (PIC, FLIP)
           g.momentum[i] += w * ps.mass[p] * (affine ? Vec<T, D>(ps.v[p] + ps.C[p] * r) : ps.v[p]);
-          g.force[i] += stress * grad;  // eq 34
+          // eq 34, or MLS-MPM (Hu et al. 2018): ∇w ≈ D⁻¹ w (x_i − x_p), D = kΔx² I
+          g.force[i] += mls ? Vec<T, D>(stress * (w / inertia_k(s) * r)) : Vec<T, D>(stress * grad);
         });
   }
 
@@ -210,8 +219,8 @@ void step(const Setup<T, D>& s, ParticleState<T, D>& ps, T dt) {
     } else if (s.scheme == Scheme::flip) {
       ps.v[p] =
           s.flip_alpha * (ps.v[p] + flip_change) + (1 - s.flip_alpha) * v_pic;  // eq 3, blended
-    } else if (s.scheme == Scheme::apic) {
-      ps.v[p] = v_pic;  // eq 37
+    } else if (s.scheme == Scheme::apic || mls) {
+      ps.v[p] = v_pic;  // eq 37 (MLS-MPM: APIC's transfers)
       if (s.kernel == KernelType::linear) {
         ps.C[p] = grad_v;  // Sec 5.9: C^{n+1} = Σ ṽ_i ∇w_ipᵀ = B^{n+1} (D_p^n)⁻¹, lagged
       } else {
@@ -234,7 +243,8 @@ void step(const Setup<T, D>& s, ParticleState<T, D>& ps, T dt) {
         ps.C[p] << 0, -omega[2], omega[1], omega[2], 0, -omega[0], -omega[1], omega[0], 0;
     }
 
-    ps.F[p] = (Mat<T, D>::Identity() + dt * grad_v) * ps.F[p];  // eq 40
+    // eq 40; MLS-MPM: the new C is the velocity gradient
+    ps.F[p] = (Mat<T, D>::Identity() + dt * (mls ? ps.C[p] : grad_v)) * ps.F[p];
 
     // Positions: a wall keeps the particle in the domain, a periodic axis wraps it.
     for (int a = 0; a < D; ++a) {

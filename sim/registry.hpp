@@ -11,7 +11,7 @@
 
 namespace apiclab {
 
-enum class Scheme { pic, flip, apic, rpic };
+enum class Scheme { pic, flip, apic, rpic, mls };
 enum class Integrator { symplectic, midpoint, backward };
 enum class MaterialModel { neo_hookean, fixed_corotated };
 enum class ShapeType { box, ball, annulus, torus, mesh };
@@ -37,7 +37,11 @@ inline const std::vector<Choice<Scheme>>& scheme_choices() {
       {"pic", Scheme::pic, "PIC, eqs 1-2: grid velocity interpolated back; dissipative"},
       {"flip", Scheme::flip, "FLIP/PIC blend, eq 3: particles keep grid velocity increments"},
       {"apic", Scheme::apic, "APIC, eqs 24-26 and 37-40: affine velocity per particle"},
-      {"rpic", Scheme::rpic, "RPIC, Secs 2.1 and 5.1: rigid (skew) velocity per particle"}};
+      {"rpic", Scheme::rpic, "RPIC, Secs 2.1 and 5.1: rigid (skew) velocity per particle"},
+      {"mls", Scheme::mls,
+       "MLS-MPM (Hu et al. 2018, Sec 4): APIC's transfers, C as the velocity gradient: the force "
+       "-V P F^T D^-1 fused into P2G's affine term, F <- (I + dt C) F; quadratic or cubic, "
+       "symplectic Euler"}};
   return c;
 }
 inline const std::vector<Choice<KernelType>>& kernel_choices() {

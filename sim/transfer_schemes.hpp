@@ -53,8 +53,8 @@ inline void update_particle_velocity(const GatheredVelocity<T, D>& g, T flip_alp
     v = g.pic;  // eq 2
   } else if constexpr (S == Scheme::flip) {
     v = flip_alpha * (v + g.pic - g.old) + (T(1) - flip_alpha) * g.pic;  // eq 3, PIC blend
-  } else if constexpr (S == Scheme::apic) {
-    v = g.pic;  // eq 37
+  } else if constexpr (S == Scheme::apic || S == Scheme::mls) {
+    v = g.pic;  // eq 37 (MLS-MPM keeps APIC's transfers)
     C = g.apic_C;
   } else {
     v = g.pic;

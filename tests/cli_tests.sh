@@ -439,5 +439,7 @@ expect_error "dump format without --dump" "--dump-format" "needs --dump" -- run 
 
 expect_error "compare --dump with a pane without particles" "--dump" "eol" -- compare eol-spin --schemes apic,eol --out "$TMP/cmpdump" --dump "$TMP/cmpdump/d"
 
+expect_error "mls with an implicit integrator" "'solver.scheme'" "symplectic" -- run rotating-disk --scheme mls
+
 echo "cli_tests: $pass passed, $fail failed"
 [ "$fail" -eq 0 ]

@@ -67,6 +67,16 @@ void conserves(const std::string& scheme) {
 
 TEST(Simulation, ApicConservesMomentumRotatingDisk) { conserves("apic"); }
 TEST(Simulation, RpicConservesMomentumRotatingDisk) { conserves("rpic"); }
+// MLS-MPM (Hu et al. 2018): APIC's transfers with the force −V P Fᵀ D⁻¹ w (x_i − x_p), whose sum
+// over nodes is zero (Σ w r = 0) and whose torque is zero (P Fᵀ symmetric): the same round-off.
+TEST(Simulation, MlsConservesMomentumRotatingDisk) { conserves("mls"); }
+
+// MLS-MPM's force needs D_p⁻¹ (quadratic or cubic) and its form here is explicit.
+TEST(Simulation, MlsRefusesTheLinearKernelAndImplicitSteps) {
+  EXPECT_THROW(disk("mls", {"solver.kernel=linear"}), SceneError);
+  EXPECT_THROW(load_scene(kDisk, {"solver.scheme=mls"}), SceneError);  // the scene's midpoint
+  EXPECT_NO_THROW(disk("mls", {"solver.kernel=cubic"}));
+}
 
 // PIC (eq 2) discards each particle's affine velocity on every G2P and damps the rotation.
 TEST(Simulation, PicLosesAngularMomentum) {
