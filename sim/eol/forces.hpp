@@ -123,18 +123,28 @@ class ElasticForces {
   // ρ₀ V₀ shared by N_k. Mass and force come from the same points, so a node at the surface
   // gets as little force as it has mass (a node mass from its own fill alone would leave
   // nearly empty nodes with large accelerations and break the explicit step).
+  // keep (optional, may alias mass: read before mass is written): cells whose corners all have
+  // keep > 0 keep their point masses from the previous call, as their X and H are unchanged
+  // (the second pass of a step, after extrapolation wrote only the empty nodes).
   void lumped_mass(const EulerianGrid<T, D>& g, const std::vector<T>& density, std::vector<T>& mass,
-                   bool parallel) {
-    ensure_cells(g);
+                   bool parallel, const std::vector<T>* keep = nullptr) {
+    if (ensure_cells(g)) keep = nullptr;
     const std::ptrdiff_t ncell = std::ptrdiff_t(cells_.size());
 #pragma omp parallel for if (parallel)
     for (std::ptrdiff_t c = 0; c < ncell; ++c) {
       const std::size_t base = cells_[std::size_t(c)];
+      if (keep) {
+        bool kept = true;
+        for (int k = 0; k < quad_.corners && kept; ++k)
+          kept = (*keep)[corner_node(g, base, k)] > T(0);
+        if (kept) continue;
+      }
       const int m = cell_material(g, base);
+      mass_active_[std::size_t(c)] = m >= 0;
+      if (m < 0) continue;  // empty cell: skipped by the gather, no point masses written
       for (int q = 0; q < quad_.points; ++q) {
         T& mq = point_mass_[std::size_t(c) * quad_.points + std::size_t(q)];
         mq = T(0);
-        if (m < 0) continue;
         Mat<T, D> A = Mat<T, D>::Zero();
         T fill = T(0);
         for (int k = 0; k < quad_.corners; ++k) {
@@ -147,7 +157,7 @@ class ElasticForces {
       }
     }
     gather(
-        g,
+        g, mass_active_,
         [&](std::size_t cell, int k) {
           T sum = T(0);
           for (int q = 0; q < quad_.points; ++q)
@@ -167,10 +177,11 @@ class ElasticForces {
     for (std::ptrdiff_t c = 0; c < ncell; ++c) {
       const std::size_t base = cells_[std::size_t(c)];
       const int m = cell_material(g, base);
-      for (int q = 0; q < quad_.points; ++q) {
+      force_active_[std::size_t(c)] = m >= 0;
+      double energy = 0;
+      for (int q = 0; q < quad_.points && m >= 0; ++q) {
         Mat<T, D>& tau = tau_[std::size_t(c) * quad_.points + std::size_t(q)];
         tau.setZero();
-        if (m < 0) continue;
         Mat<T, D> A = Mat<T, D>::Zero();
         T fill = T(0);
         for (int k = 0; k < quad_.corners; ++k) {
@@ -184,10 +195,15 @@ class ElasticForces {
         const ElasticMaterial<T>& mat = materials[std::size_t(m)];
         tau = (detA * quad_.weight * fill) * first_piola<T, D>(mat.model, F, mat.lame) *
               F.transpose();
+        // Ψ at the same point for the diagnostics: elastic_energy_moved's sum, F there being
+        // (∂y/∂ξ) A⁻¹ with ∂y/∂ξ = Δx I up to round-off.
+        energy += double(detA * quad_.weight * fill) *
+                  double(energy_density<T, D>(mat.model, F, mat.lame));
       }
+      cell_energy_[std::size_t(c)] = energy;
     }
     gather(
-        g,
+        g, force_active_,
         [&](std::size_t cell, int k) {
           Vec<T, D> f = Vec<T, D>::Zero();
           for (int q = 0; q < quad_.points; ++q)
@@ -197,22 +213,35 @@ class ElasticForces {
         },
         force, parallel);
   }
+  // E = Σ V₀ Ψ(F) of the last compute(), summed in cell order (the same for any thread count).
+  double energy() const {
+    double e = 0;
+    for (double x : cell_energy_) e += x;
+    return e;
+  }
 
  private:
-  void ensure_cells(const EulerianGrid<T, D>& g) {
-    if (!cells_.empty() && grid_nodes_ == g.size()) return;
+  // Whether the cell list was (re)built.
+  bool ensure_cells(const EulerianGrid<T, D>& g) {
+    if (!cells_.empty() && grid_nodes_ == g.size()) return false;
     cells_.clear();
     for (std::size_t i = 0; i < g.size(); ++i)
       if (is_cell_base(g, i)) cells_.push_back(i);
     grid_nodes_ = g.size();
     tau_.assign(cells_.size() * quad_.points, Mat<T, D>::Zero());
     point_mass_.assign(cells_.size() * quad_.points, T(0));
+    cell_energy_.assign(cells_.size(), 0.0);
+    mass_active_.assign(cells_.size(), 0);
+    force_active_.assign(cells_.size(), 0);
     cell_of_.assign(g.size(), -1);
     for (std::size_t c = 0; c < cells_.size(); ++c) cell_of_[cells_[c]] = std::ptrdiff_t(c);
+    return true;
   }
-  // out[i] = Σ over the cells around node i of part(cell, k), node i being the cell's corner k.
+  // out[i] = Σ over the active cells around node i of part(cell, k), node i being the cell's
+  // corner k.
   template <class V, class Part>
-  void gather(const EulerianGrid<T, D>& g, Part&& part, std::vector<V>& out, bool parallel) {
+  void gather(const EulerianGrid<T, D>& g, const std::vector<char>& active, Part&& part,
+              std::vector<V>& out, bool parallel) {
     const std::ptrdiff_t nnode = std::ptrdiff_t(g.size());
 #pragma omp parallel for if (parallel)
     for (std::ptrdiff_t ii = 0; ii < nnode; ++ii) {
@@ -233,7 +262,7 @@ class ElasticForces {
             else
               base -= g.stride(a);
           }
-        if (!valid || cell_of_[base] < 0) continue;
+        if (!valid || cell_of_[base] < 0 || !active[std::size_t(cell_of_[base])]) continue;
         sum += part(std::size_t(cell_of_[base]), k);
       }
       out[i] = sum;
@@ -245,6 +274,8 @@ class ElasticForces {
   std::vector<std::ptrdiff_t> cell_of_;
   std::vector<Mat<T, D>> tau_;
   std::vector<T> point_mass_;
+  std::vector<double> cell_energy_;
+  std::vector<char> mass_active_, force_active_;  // per cell: holds material
   std::size_t grid_nodes_ = 0;
 };
 
