@@ -136,24 +136,22 @@ class ElasticForces {
       if (keep) {
         bool kept = true;
         for (int k = 0; k < quad_.corners && kept; ++k)
-          kept = (*keep)[corner_node(g, base, k)] > T(0);
+          kept = (*keep)[base + offset_[std::size_t(k)]] > T(0);
         if (kept) continue;
       }
-      const int m = cell_material(g, base);
+      const int m = material_of(g, base);
       mass_active_[std::size_t(c)] = m >= 0;
       if (m < 0) continue;  // empty cell: skipped by the gather, no point masses written
+      Corners corners;
+      load(g, base, corners);
       for (int q = 0; q < quad_.points; ++q) {
-        T& mq = point_mass_[std::size_t(c) * quad_.points + std::size_t(q)];
-        mq = T(0);
-        Mat<T, D> A = Mat<T, D>::Zero();
-        T fill = T(0);
-        for (int k = 0; k < quad_.corners; ++k) {
-          const std::size_t i = corner_node(g, base, k);
-          A += g.X[i] * quad_.dN[std::size_t(q)][std::size_t(k)].transpose();
-          fill += quad_.N[std::size_t(q)][std::size_t(k)] * g.fill[i];
-        }
+        Mat<T, D> A;
+        T fill;
+        at_point(corners, q, A, fill);
         const T detA = A.determinant();
-        if (fill > T(0) && detA > T(0)) mq = density[std::size_t(m)] * detA * quad_.weight * fill;
+        point_mass_[std::size_t(c) * quad_.points + std::size_t(q)] =
+            fill > T(0) && detA > T(0) ? density[std::size_t(m)] * detA * quad_.weight * fill
+                                       : T(0);
       }
     }
     gather(
@@ -176,19 +174,19 @@ class ElasticForces {
 #pragma omp parallel for if (parallel)
     for (std::ptrdiff_t c = 0; c < ncell; ++c) {
       const std::size_t base = cells_[std::size_t(c)];
-      const int m = cell_material(g, base);
+      const int m = material_of(g, base);
       force_active_[std::size_t(c)] = m >= 0;
+      cell_energy_[std::size_t(c)] = 0;
+      if (m < 0) continue;
+      Corners corners;
+      load(g, base, corners);
       double energy = 0;
-      for (int q = 0; q < quad_.points && m >= 0; ++q) {
+      for (int q = 0; q < quad_.points; ++q) {
         Mat<T, D>& tau = tau_[std::size_t(c) * quad_.points + std::size_t(q)];
         tau.setZero();
-        Mat<T, D> A = Mat<T, D>::Zero();
-        T fill = T(0);
-        for (int k = 0; k < quad_.corners; ++k) {
-          const std::size_t i = corner_node(g, base, k);
-          A += g.X[i] * quad_.dN[std::size_t(q)][std::size_t(k)].transpose();
-          fill += quad_.N[std::size_t(q)][std::size_t(k)] * g.fill[i];
-        }
+        Mat<T, D> A;
+        T fill;
+        at_point(corners, q, A, fill);
         const T detA = A.determinant();
         if (!(fill > T(0)) || !(detA > T(0))) continue;
         const Mat<T, D> F = g.dx * A.inverse();
@@ -221,6 +219,33 @@ class ElasticForces {
   }
 
  private:
+  struct Corners {
+    std::array<Vec<T, D>, 1 << D> X;
+    std::array<T, 1 << D> fill;
+  };
+  void load(const EulerianGrid<T, D>& g, std::size_t base, Corners& out) const {
+    for (int k = 0; k < quad_.corners; ++k) {
+      out.X[std::size_t(k)] = g.X[base + offset_[std::size_t(k)]];
+      out.fill[std::size_t(k)] = g.fill[base + offset_[std::size_t(k)]];
+    }
+  }
+  // A = ∂X/∂ξ and the interpolated fill at Gauss point q (summed in corner order).
+  void at_point(const Corners& cr, int q, Mat<T, D>& A, T& fill) const {
+    A.setZero();
+    fill = T(0);
+    for (int k = 0; k < quad_.corners; ++k) {
+      A += cr.X[std::size_t(k)] * quad_.dN[std::size_t(q)][std::size_t(k)].transpose();
+      fill += quad_.N[std::size_t(q)][std::size_t(k)] * cr.fill[std::size_t(k)];
+    }
+  }
+  // cell_material with the corner offsets.
+  int material_of(const EulerianGrid<T, D>& g, std::size_t base) const {
+    for (int k = 0; k < quad_.corners; ++k) {
+      const int m = g.material[base + offset_[std::size_t(k)]];
+      if (m >= 0) return m;
+    }
+    return -1;
+  }
   // Whether the cell list was (re)built.
   bool ensure_cells(const EulerianGrid<T, D>& g) {
     if (!cells_.empty() && grid_nodes_ == g.size()) return false;
@@ -228,6 +253,7 @@ class ElasticForces {
     for (std::size_t i = 0; i < g.size(); ++i)
       if (is_cell_base(g, i)) cells_.push_back(i);
     grid_nodes_ = g.size();
+    for (int k = 0; k < quad_.corners; ++k) offset_[std::size_t(k)] = corner_node(g, 0, k);
     tau_.assign(cells_.size() * quad_.points, Mat<T, D>::Zero());
     point_mass_.assign(cells_.size() * quad_.points, T(0));
     cell_energy_.assign(cells_.size(), 0.0);
@@ -270,6 +296,7 @@ class ElasticForces {
   }
 
   CellQuadrature<T, D> quad_;
+  std::array<std::size_t, 1 << D> offset_{};  // node index of corner k minus the base's
   std::vector<std::size_t> cells_;
   std::vector<std::ptrdiff_t> cell_of_;
   std::vector<Mat<T, D>> tau_;
