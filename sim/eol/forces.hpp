@@ -114,6 +114,24 @@ double elastic_energy_moved(const EulerianGrid<T, D>& g,
   return energy;
 }
 
+// P(F) and Ψ(F) at once; the neo-Hookean model shares J and log J (materials.hpp's expressions).
+template <class T, int D>
+void stress_and_energy(const ElasticMaterial<T>& mat, const Mat<T, D>& F, Mat<T, D>& P, T& psi) {
+  if (mat.model == MaterialModel::neo_hookean) {
+    const T J = F.determinant();
+    if (J > T(0)) {
+      const Lame<T>& l = mat.lame;
+      const T logJ = std::log(J);
+      P = l.mu * F + ((l.lambda * logJ - l.mu) / J) * cofactor<T, D>(F);
+      psi =
+          T(0.5) * l.mu * (F.squaredNorm() - T(D)) - l.mu * logJ + T(0.5) * l.lambda * logJ * logJ;
+      return;
+    }
+  }
+  P = first_piola<T, D>(mat.model, F, mat.lame);
+  psi = energy_density<T, D>(mat.model, F, mat.lame);
+}
+
 // Per cell and Gauss point, the force density V₀ P Fᵀ (zero where the cell is empty or
 // inverted), then f_k = −Σ V₀ P Fᵀ ∇_y N_k gathered per node. Forces in frame axes.
 template <class T, int D>
@@ -190,13 +208,13 @@ class ElasticForces {
         const T detA = A.determinant();
         if (!(fill > T(0)) || !(detA > T(0))) continue;
         const Mat<T, D> F = g.dx * A.inverse();
-        const ElasticMaterial<T>& mat = materials[std::size_t(m)];
-        tau = (detA * quad_.weight * fill) * first_piola<T, D>(mat.model, F, mat.lame) *
-              F.transpose();
+        Mat<T, D> P;
+        T psi;
+        stress_and_energy<T, D>(materials[std::size_t(m)], F, P, psi);
+        tau = (detA * quad_.weight * fill) * P * F.transpose();
         // Ψ at the same point for the diagnostics: elastic_energy_moved's sum, F there being
         // (∂y/∂ξ) A⁻¹ with ∂y/∂ξ = Δx I up to round-off.
-        energy += double(detA * quad_.weight * fill) *
-                  double(energy_density<T, D>(mat.model, F, mat.lame));
+        energy += double(detA * quad_.weight * fill) * double(psi);
       }
       cell_energy_[std::size_t(c)] = energy;
     }
