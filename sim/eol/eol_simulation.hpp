@@ -58,14 +58,18 @@ class EolSimulation final : public Simulation {
   std::shared_ptr<Snapshot> snapshot() const override;
 
   // The phases, public for tests.
-  void update_mass(EolObject<T, D>& o);          // fill, owner, material, mass from X
-  void spatial_state(EolObject<T, D>& o) const;  // r, x, u from the frame and v
-  void compute_forces(EolObject<T, D>& o);       // f_e + f_b + f_qvv, world axes
+  void update_mass(EolObject<T, D>& o);     // fill, owner, material, mass from X
+  void spatial_state(EolObject<T, D>& o);   // r, x, u from the frame and v
+  void compute_forces(EolObject<T, D>& o);  // f_e + f_b + f_qvv, world axes
   double choose_dt(double t_limit, DtLimit* limit);
   void finish_step(double dt);  // impulse, planes, split, frame, advection, extrapolation
 
   bool lagrangian() const { return lagrangian_; }
-  std::vector<EolObject<T, D>>& objects() { return objects_; }
+  // Mutable access: the state may change, so the forces computed ahead are recomputed.
+  std::vector<EolObject<T, D>>& objects() {
+    forces_ready_ = false;
+    return objects_;
+  }
   const std::vector<EolObject<T, D>>& objects() const { return objects_; }
   const std::vector<ElasticMaterial<T>>& materials() const { return materials_; }
   double elastic_energy() const;
@@ -85,10 +89,16 @@ class EolSimulation final : public Simulation {
   void add_object_grid(const std::vector<int>& shapes, const Vec3d& lo, const Vec3d& hi, double dx,
                        int padding);
   double energy_reference() const;
+  void update_mass(EolObject<T, D>& o, bool after_extrapolation);
+  void update_spatial(EolObject<T, D>& o) const;
+  void forces(EolObject<T, D>& o);
   bool parallel() const { return parallel_; }
 
   SceneDesc scene_;
   bool lagrangian_ = true, parallel_ = false;
+  // step() computed the forces (and their Ψ) for the current state at its end: the next step
+  // and measure() use them. Cleared by every public way to change the state.
+  bool forces_ready_ = false;
   std::vector<EolObject<T, D>> objects_;
   std::vector<ElasticMaterial<T>> materials_;
   std::vector<T> density_;  // ρ₀ per material

@@ -114,6 +114,24 @@ double elastic_energy_moved(const EulerianGrid<T, D>& g,
   return energy;
 }
 
+// P(F) and Ψ(F) at once; the neo-Hookean model shares J and log J (materials.hpp's expressions).
+template <class T, int D>
+void stress_and_energy(const ElasticMaterial<T>& mat, const Mat<T, D>& F, Mat<T, D>& P, T& psi) {
+  if (mat.model == MaterialModel::neo_hookean) {
+    const T J = F.determinant();
+    if (J > T(0)) {
+      const Lame<T>& l = mat.lame;
+      const T logJ = std::log(J);
+      P = l.mu * F + ((l.lambda * logJ - l.mu) / J) * cofactor<T, D>(F);
+      psi =
+          T(0.5) * l.mu * (F.squaredNorm() - T(D)) - l.mu * logJ + T(0.5) * l.lambda * logJ * logJ;
+      return;
+    }
+  }
+  P = first_piola<T, D>(mat.model, F, mat.lame);
+  psi = energy_density<T, D>(mat.model, F, mat.lame);
+}
+
 // Per cell and Gauss point, the force density V₀ P Fᵀ (zero where the cell is empty or
 // inverted), then f_k = −Σ V₀ P Fᵀ ∇_y N_k gathered per node. Forces in frame axes.
 template <class T, int D>
@@ -123,31 +141,39 @@ class ElasticForces {
   // ρ₀ V₀ shared by N_k. Mass and force come from the same points, so a node at the surface
   // gets as little force as it has mass (a node mass from its own fill alone would leave
   // nearly empty nodes with large accelerations and break the explicit step).
+  // keep (optional, may alias mass: read before mass is written): cells whose corners all have
+  // keep > 0 keep their point masses from the previous call, as their X and H are unchanged
+  // (the second pass of a step, after extrapolation wrote only the empty nodes).
   void lumped_mass(const EulerianGrid<T, D>& g, const std::vector<T>& density, std::vector<T>& mass,
-                   bool parallel) {
-    ensure_cells(g);
+                   bool parallel, const std::vector<T>* keep = nullptr) {
+    if (ensure_cells(g)) keep = nullptr;
     const std::ptrdiff_t ncell = std::ptrdiff_t(cells_.size());
 #pragma omp parallel for if (parallel)
     for (std::ptrdiff_t c = 0; c < ncell; ++c) {
       const std::size_t base = cells_[std::size_t(c)];
-      const int m = cell_material(g, base);
+      if (keep) {
+        bool kept = true;
+        for (int k = 0; k < quad_.corners && kept; ++k)
+          kept = (*keep)[base + offset_[std::size_t(k)]] > T(0);
+        if (kept) continue;
+      }
+      const int m = material_of(g, base);
+      mass_active_[std::size_t(c)] = m >= 0;
+      if (m < 0) continue;  // empty cell: skipped by the gather, no point masses written
+      Corners corners;
+      load(g, base, corners);
       for (int q = 0; q < quad_.points; ++q) {
-        T& mq = point_mass_[std::size_t(c) * quad_.points + std::size_t(q)];
-        mq = T(0);
-        if (m < 0) continue;
-        Mat<T, D> A = Mat<T, D>::Zero();
-        T fill = T(0);
-        for (int k = 0; k < quad_.corners; ++k) {
-          const std::size_t i = corner_node(g, base, k);
-          A += g.X[i] * quad_.dN[std::size_t(q)][std::size_t(k)].transpose();
-          fill += quad_.N[std::size_t(q)][std::size_t(k)] * g.fill[i];
-        }
+        Mat<T, D> A;
+        T fill;
+        at_point(corners, q, A, fill);
         const T detA = A.determinant();
-        if (fill > T(0) && detA > T(0)) mq = density[std::size_t(m)] * detA * quad_.weight * fill;
+        point_mass_[std::size_t(c) * quad_.points + std::size_t(q)] =
+            fill > T(0) && detA > T(0) ? density[std::size_t(m)] * detA * quad_.weight * fill
+                                       : T(0);
       }
     }
     gather(
-        g,
+        g, mass_active_,
         [&](std::size_t cell, int k) {
           T sum = T(0);
           for (int q = 0; q < quad_.points; ++q)
@@ -166,28 +192,34 @@ class ElasticForces {
 #pragma omp parallel for if (parallel)
     for (std::ptrdiff_t c = 0; c < ncell; ++c) {
       const std::size_t base = cells_[std::size_t(c)];
-      const int m = cell_material(g, base);
+      const int m = material_of(g, base);
+      force_active_[std::size_t(c)] = m >= 0;
+      cell_energy_[std::size_t(c)] = 0;
+      if (m < 0) continue;
+      Corners corners;
+      load(g, base, corners);
+      double energy = 0;
       for (int q = 0; q < quad_.points; ++q) {
         Mat<T, D>& tau = tau_[std::size_t(c) * quad_.points + std::size_t(q)];
         tau.setZero();
-        if (m < 0) continue;
-        Mat<T, D> A = Mat<T, D>::Zero();
-        T fill = T(0);
-        for (int k = 0; k < quad_.corners; ++k) {
-          const std::size_t i = corner_node(g, base, k);
-          A += g.X[i] * quad_.dN[std::size_t(q)][std::size_t(k)].transpose();
-          fill += quad_.N[std::size_t(q)][std::size_t(k)] * g.fill[i];
-        }
+        Mat<T, D> A;
+        T fill;
+        at_point(corners, q, A, fill);
         const T detA = A.determinant();
         if (!(fill > T(0)) || !(detA > T(0))) continue;
         const Mat<T, D> F = g.dx * A.inverse();
-        const ElasticMaterial<T>& mat = materials[std::size_t(m)];
-        tau = (detA * quad_.weight * fill) * first_piola<T, D>(mat.model, F, mat.lame) *
-              F.transpose();
+        Mat<T, D> P;
+        T psi;
+        stress_and_energy<T, D>(materials[std::size_t(m)], F, P, psi);
+        tau = (detA * quad_.weight * fill) * P * F.transpose();
+        // Ψ at the same point for the diagnostics: elastic_energy_moved's sum, F there being
+        // (∂y/∂ξ) A⁻¹ with ∂y/∂ξ = Δx I up to round-off.
+        energy += double(detA * quad_.weight * fill) * double(psi);
       }
+      cell_energy_[std::size_t(c)] = energy;
     }
     gather(
-        g,
+        g, force_active_,
         [&](std::size_t cell, int k) {
           Vec<T, D> f = Vec<T, D>::Zero();
           for (int q = 0; q < quad_.points; ++q)
@@ -197,22 +229,63 @@ class ElasticForces {
         },
         force, parallel);
   }
+  // E = Σ V₀ Ψ(F) of the last compute(), summed in cell order (the same for any thread count).
+  double energy() const {
+    double e = 0;
+    for (double x : cell_energy_) e += x;
+    return e;
+  }
 
  private:
-  void ensure_cells(const EulerianGrid<T, D>& g) {
-    if (!cells_.empty() && grid_nodes_ == g.size()) return;
+  struct Corners {
+    std::array<Vec<T, D>, 1 << D> X;
+    std::array<T, 1 << D> fill;
+  };
+  void load(const EulerianGrid<T, D>& g, std::size_t base, Corners& out) const {
+    for (int k = 0; k < quad_.corners; ++k) {
+      out.X[std::size_t(k)] = g.X[base + offset_[std::size_t(k)]];
+      out.fill[std::size_t(k)] = g.fill[base + offset_[std::size_t(k)]];
+    }
+  }
+  // A = ∂X/∂ξ and the interpolated fill at Gauss point q (summed in corner order).
+  void at_point(const Corners& cr, int q, Mat<T, D>& A, T& fill) const {
+    A.setZero();
+    fill = T(0);
+    for (int k = 0; k < quad_.corners; ++k) {
+      A += cr.X[std::size_t(k)] * quad_.dN[std::size_t(q)][std::size_t(k)].transpose();
+      fill += quad_.N[std::size_t(q)][std::size_t(k)] * cr.fill[std::size_t(k)];
+    }
+  }
+  // cell_material with the corner offsets.
+  int material_of(const EulerianGrid<T, D>& g, std::size_t base) const {
+    for (int k = 0; k < quad_.corners; ++k) {
+      const int m = g.material[base + offset_[std::size_t(k)]];
+      if (m >= 0) return m;
+    }
+    return -1;
+  }
+  // Whether the cell list was (re)built.
+  bool ensure_cells(const EulerianGrid<T, D>& g) {
+    if (!cells_.empty() && grid_nodes_ == g.size()) return false;
     cells_.clear();
     for (std::size_t i = 0; i < g.size(); ++i)
       if (is_cell_base(g, i)) cells_.push_back(i);
     grid_nodes_ = g.size();
+    for (int k = 0; k < quad_.corners; ++k) offset_[std::size_t(k)] = corner_node(g, 0, k);
     tau_.assign(cells_.size() * quad_.points, Mat<T, D>::Zero());
     point_mass_.assign(cells_.size() * quad_.points, T(0));
+    cell_energy_.assign(cells_.size(), 0.0);
+    mass_active_.assign(cells_.size(), 0);
+    force_active_.assign(cells_.size(), 0);
     cell_of_.assign(g.size(), -1);
     for (std::size_t c = 0; c < cells_.size(); ++c) cell_of_[cells_[c]] = std::ptrdiff_t(c);
+    return true;
   }
-  // out[i] = Σ over the cells around node i of part(cell, k), node i being the cell's corner k.
+  // out[i] = Σ over the active cells around node i of part(cell, k), node i being the cell's
+  // corner k.
   template <class V, class Part>
-  void gather(const EulerianGrid<T, D>& g, Part&& part, std::vector<V>& out, bool parallel) {
+  void gather(const EulerianGrid<T, D>& g, const std::vector<char>& active, Part&& part,
+              std::vector<V>& out, bool parallel) {
     const std::ptrdiff_t nnode = std::ptrdiff_t(g.size());
 #pragma omp parallel for if (parallel)
     for (std::ptrdiff_t ii = 0; ii < nnode; ++ii) {
@@ -233,7 +306,7 @@ class ElasticForces {
             else
               base -= g.stride(a);
           }
-        if (!valid || cell_of_[base] < 0) continue;
+        if (!valid || cell_of_[base] < 0 || !active[std::size_t(cell_of_[base])]) continue;
         sum += part(std::size_t(cell_of_[base]), k);
       }
       out[i] = sum;
@@ -241,10 +314,13 @@ class ElasticForces {
   }
 
   CellQuadrature<T, D> quad_;
+  std::array<std::size_t, 1 << D> offset_{};  // node index of corner k minus the base's
   std::vector<std::size_t> cells_;
   std::vector<std::ptrdiff_t> cell_of_;
   std::vector<Mat<T, D>> tau_;
   std::vector<T> point_mass_;
+  std::vector<double> cell_energy_;
+  std::vector<char> mass_active_, force_active_;  // per cell: holds material
   std::size_t grid_nodes_ = 0;
 };
 
