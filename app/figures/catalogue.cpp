@@ -41,6 +41,7 @@ std::vector<TimeFigure> time_figures() {
   const Quantity omega{"Angular velocity (L_z / I0)", "omega / omega0 = L_z(t) / L_z(0)",
                        angular_momentum, false, true};
   const Quantity dt{"Time step", "dt [s]", time_step};
+  const Quantity KJ{"Kinetic energy", "kinetic energy [J]", kinetic_energy};
   const std::vector<std::string> eol_methods{"eol", "eulerian"};
   // cost: relative run time, so that the job pool starts the longest runs first.
   return {
@@ -114,7 +115,7 @@ std::vector<TimeFigure> time_figures() {
        2,
        eol_methods,
        dt,
-       K,
+       KJ,
        {},
        true},
   };
