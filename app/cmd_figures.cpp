@@ -7,6 +7,8 @@
 //   fig6_ring_collision.png/.csv   Fig 6: Sec 6.4
 //   fig10_ringing_energy.png/.csv  Fig 10: total and kinetic energy of the ringing test, Sec 6.7
 //   fig11_roundtrip.png/.csv       Fig 11: round-trip transfer error against Δx, Sec 6.8
+//   eol_fig7_spin.png/.csv         Fan et al. 2013 Fig 7: ω(t) of a spinning disk, EoL/Eulerian
+//   eol_fig8_drop.png/.csv         Fan et al. 2013 Fig 8: Δt against time of the drop
 #include <algorithm>
 #include <cstdio>
 #include <thread>
@@ -66,6 +68,7 @@ int run_figures(const FiguresOptions& o) {
     for (const std::string& s : f.schemes) {
       jobs::Run r;
       r.scene = f.scene, r.scheme = s, r.t_end = t_end, r.cost = f.cost;
+      if (f.methods) r.scheme.clear(), r.method = s;
       if (ringing && frames) r.snapshot_times = frame_times;
       f.runs.push_back(std::move(r));
     }

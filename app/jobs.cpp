@@ -16,7 +16,7 @@ namespace apiclab::jobs {
 void execute(Run& r) {
   const double t0 = now_seconds();
   std::vector<std::string> overrides = r.overrides;
-  overrides.push_back("solver.scheme=" + r.scheme);
+  overrides.push_back(r.method.empty() ? "solver.scheme=" + r.scheme : "solver.method=" + r.method);
   SceneDesc scene = load_scene(resolve_scene_path(r.scene), overrides);
   scene.asset_dirs.push_back(assets_directory());
   if (r.t_end <= 0) r.t_end = scene.time.end;

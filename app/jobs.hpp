@@ -16,6 +16,7 @@ namespace apiclab::jobs {
 // One simulation run: the diagnostics rows from t = 0 and, when asked, snapshots at given times.
 struct Run {
   std::string scene, scheme;           // shipped scene name or path; solver.scheme
+  std::string method;                  // solver.method instead of solver.scheme (EoL); or empty
   std::vector<std::string> overrides;  // `--set` style KEY=VALUE
   double t_end = 0;                    // 0: the scene's time.end
   std::vector<double> snapshot_times;

@@ -55,6 +55,24 @@ check "Fig 11: APIC's error below PIC's at every resolution" \
 time_figure fig10_ringing_energy "pic flip apic"
 check "fig1_ringing.png: three schemes' frames" "[ -s $out/fig1_ringing.png ] && '$check_png' $out/fig1_ringing.png 1000 1000"
 
+# Fan et al. 2013 Figs 7 and 8 (EoL against the Eulerian baseline), CSVs with dt_limit.
+eol_header="$time_header,dt_limit"
+for name in eol_fig7_spin eol_fig8_drop; do
+  check "$name.png and $name.csv exist" "[ -s $out/$name.png ] && [ -s $out/$name.csv ]"
+  check "$name.csv header" "[ \"\$(head -1 $out/$name.csv)\" = '$eol_header' ]"
+  check "$name.csv series: eol eulerian" "[ \"\$(csv_schemes $out/$name.csv)\" = 'eol eulerian ' ]"
+  check "$name.png is a chart with both methods" "'$check_png' $out/$name.png 800 350 ${color[apic]} ${color[flip]}"
+done
+lz_loss() {  # CSV METHOD: percent of L_z lost from t = 0 to the end
+  awk -F, -v s="$2" '$1 == s {if (!n++) L0 = $9; L = $9} END {printf "%.6f", 100 * (1 - L / L0)}' "$1"
+}
+f7=$out/eol_fig7_spin.csv
+check "Fig 7 (quick): EoL keeps omega within 0.1 %, Eulerian loses more than 0.4 %" \
+  "awk 'BEGIN {l = $(lz_loss $f7 eol); exit !(l < 0.1 && l > -0.1 && $(lz_loss $f7 eulerian) > 0.4)}'"
+check "Fig 8: every EoL row names the bound that set dt" \
+  "! awk -F, '\$1 == \"eol\" && \$10 !~ /^(advection|elastic|max|frame|fixed)\$/ {bad = 1} END {exit !bad}' $out/eol_fig8_drop.csv"
+check "Fig 8: the drop's dt is bound by the elastic limit in some steps" "grep -q '^eol,.*,elastic\$' $out/eol_fig8_drop.csv"
+
 # README.md's numbers against the full runs.
 full="$out-full"
 start=$SECONDS

@@ -10,11 +10,12 @@ namespace {
 double angular_momentum(const DiagnosticsRow& r) { return r.L[2]; }
 double total_energy(const DiagnosticsRow& r) { return r.total; }
 double kinetic_energy(const DiagnosticsRow& r) { return r.kinetic; }
+double time_step(const DiagnosticsRow& r) { return r.dt; }
 
 }  // namespace
 
 const std::vector<std::string>& figure_ids() {
-  static const std::vector<std::string> ids{"1", "3", "4", "5", "6", "10", "11"};
+  static const std::vector<std::string> ids{"1", "3", "4", "5", "6", "10", "11", "eol7", "eol8"};
   return ids;
 }
 
@@ -35,6 +36,13 @@ std::vector<TimeFigure> time_figures() {
   const Quantity L{"Angular momentum", "angular momentum L [kg m^2/s]", angular_momentum};
   const Quantity E{"Total energy", "total energy E [J]", total_energy};
   const Quantity K{"Kinetic energy", "kinetic energy", kinetic_energy};
+  // The disk's moment of inertia stays that of its rest shape (it spins without stretching
+  // much), so L_z(t) / L_z(0) is ω(t) / ω₀.
+  const Quantity omega{"Angular velocity (L_z / I0)", "omega / omega0 = L_z(t) / L_z(0)",
+                       angular_momentum, false, true};
+  const Quantity dt{"Time step", "dt [s]", time_step};
+  const Quantity KJ{"Kinetic energy", "kinetic energy [J]", kinetic_energy};
+  const std::vector<std::string> eol_methods{"eol", "eulerian"};
   // cost: relative run time, so that the job pool starts the longest runs first.
   return {
       {"3",
@@ -87,6 +95,29 @@ std::vector<TimeFigure> time_figures() {
        E,
        K,
        {}},
+      // Fan et al. 2013 (Eulerian-on-Lagrangian), Figs 7 and 8.
+      {"eol7",
+       "eol_fig7_spin",
+       "Fan et al. 2013, Fig. 7 — Spinning disk: EoL against Eulerian",
+       "eol-spin",
+       0.5,
+       4,
+       eol_methods,
+       omega,
+       E,
+       {},
+       true},
+      {"eol8",
+       "eol_fig8_drop",
+       "Fan et al. 2013, Fig. 8 — Time step of the drop (adaptive, Sec. 3.6)",
+       "eol-drop",
+       0.5,
+       2,
+       eol_methods,
+       dt,
+       KJ,
+       {},
+       true},
   };
 }
 

@@ -11,8 +11,22 @@
 namespace apiclab::figures {
 namespace {
 
+const std::string& key_of(const jobs::Run& r) { return r.method.empty() ? r.scheme : r.method; }
+
+// Methods have no palette slot: EoL and Eulerian take two of the schemes' colours.
+SchemeStyle run_style(const jobs::Run& r) {
+  if (r.method == "eol") return {"EoL", style_of("apic").color};
+  if (r.method == "eulerian") return {"Eulerian", style_of("flip").color};
+  return style_of(key_of(r));
+}
+
+double value(const jobs::Run& r, const Quantity& q, std::size_t i) {
+  const double v = q.of(r.rows[i]);
+  return q.relative ? v / q.of(r.rows.front()) : v;
+}
+
 std::string series_label(const jobs::Run& r) {
-  std::string label = style_of(r.scheme).label;
+  std::string label = run_style(r).label;
   if (!r.failure.empty()) label += " (failed)";
   return label;
 }
@@ -22,10 +36,10 @@ std::vector<gui::PlotSeries> time_series(const std::vector<jobs::Run>& runs, con
   for (const jobs::Run& r : runs) {
     gui::PlotSeries s;
     s.label = series_label(r);
-    s.color = style_of(r.scheme).color;
+    s.color = run_style(r).color;
     s.count = r.rows.size();
     s.x = [&r](std::size_t i) { return r.rows[i].t; };
-    s.y = [&r, of = q.of](std::size_t i) { return of(r.rows[i]); };
+    s.y = [&r, &q](std::size_t i) { return value(r, q, i); };
     s.thickness = 2.0f;
     s.dashed = q.dashed || r.scheme == "rpic";  // RPIC often lies on APIC: dashes show both
     out.push_back(std::move(s));
@@ -39,12 +53,14 @@ void write_time_figure(ChartCanvas& canvas, const TimeFigure& f, const std::stri
   const auto base = std::filesystem::path(dir) / f.file;
   {
     std::ofstream csv(base.string() + ".csv");
-    csv << "scheme,step,t,dt,kinetic,kinetic_grid,potential,total_energy,angular_momentum\n";
+    csv << "scheme,step,t,dt,kinetic,kinetic_grid,potential,total_energy,angular_momentum"
+        << (f.methods ? ",dt_limit\n" : "\n");
     csv.precision(17);
     for (const jobs::Run& r : f.runs)
       for (const DiagnosticsRow& d : r.rows)
-        csv << r.scheme << ',' << d.step << ',' << d.t << ',' << d.dt << ',' << d.kinetic << ','
-            << d.kinetic_grid << ',' << d.potential << ',' << d.total << ',' << d.L[2] << '\n';
+        csv << key_of(r) << ',' << d.step << ',' << d.t << ',' << d.dt << ',' << d.kinetic << ','
+            << d.kinetic_grid << ',' << d.potential << ',' << d.total << ',' << d.L[2]
+            << (f.methods ? "," + d.dt_limit + "\n" : "\n");
     if (!csv) throw cli::UsageError("cannot write " + base.string() + ".csv");
   }
   // The runs behind the CSV, as a sidecar (app/run_outputs.hpp): scene, scheme, overrides.
@@ -52,6 +68,7 @@ void write_time_figure(ChartCanvas& canvas, const TimeFigure& f, const std::stri
   for (const jobs::Run& r : f.runs)
     runs.push_back({{"scene", r.scene},
                     {"scheme", r.scheme},
+                    {"method", r.method},
                     {"overrides", r.overrides},
                     {"t_end", r.t_end > 0 ? nlohmann::json(r.t_end) : nlohmann::json("scene's")},
                     {"failure", r.failure}});

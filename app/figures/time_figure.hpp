@@ -15,16 +15,18 @@ struct Quantity {
   std::string title, y_label;
   double (*of)(const DiagnosticsRow&);
   bool dashed = false;
+  bool relative = false;  // divided by the run's value at t = 0
 };
 
 struct TimeFigure {
   std::string id;  // the paper's figure number, as --only takes it
   std::string file, heading, scene;
-  double quick_t_end = 0;  // 0: the scene's end time in --quick as well
-  double cost = 1;         // relative cost of one run (jobs::Run::cost)
-  std::vector<std::string> schemes;
+  double quick_t_end = 0;            // 0: the scene's end time in --quick as well
+  double cost = 1;                   // relative cost of one run (jobs::Run::cost)
+  std::vector<std::string> schemes;  // solver.scheme keys, or solver.method keys when `methods`
   Quantity left, right;
   std::vector<jobs::Run> runs;  // one per scheme, filled by the caller
+  bool methods = false;         // EoL figures: one run per solver method, CSV with dt_limit
 };
 
 // DIR/<file>.png and DIR/<file>.csv; throws UsageError when the CSV cannot be written.
