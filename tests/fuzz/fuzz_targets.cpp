@@ -76,9 +76,12 @@ Outcome set_overrides(const std::uint8_t* data, std::size_t size) {
   static const std::vector<std::string> scenes = shipped_scenes();
   if (size == 0 || scenes.empty()) return "ok";
   const std::string& path = scenes[data[0] % scenes.size()];
+  // The first line's first byte picks the scene; each later line is one assignment.
+  std::size_t i = 0;
+  while (i < size && data[i] != '\n') ++i;
   std::vector<std::string> sets;
   std::string line;
-  for (std::size_t i = 1; i < size; ++i) {
+  for (++i; i < size; ++i) {
     if (data[i] == '\n') {
       sets.push_back(line);
       line.clear();

@@ -20,7 +20,7 @@ using Outcome = std::string;
 
 // (a) scene JSON text -> validated scene -> solver built (memory capped) or one error.
 Outcome scene_text(const std::uint8_t* data, std::size_t size);
-// (b) first byte picks a shipped scene, each further line is one `--set KEY=VALUE`.
+// (b) the first byte picks a shipped scene; each line after the first is one `--set KEY=VALUE`.
 Outcome set_overrides(const std::uint8_t* data, std::size_t size);
 // (c) OBJ text -> closed mesh -> particles sampled inside it, or one error.
 Outcome obj_mesh(const std::uint8_t* data, std::size_t size);
