@@ -36,7 +36,8 @@ int replay(const std::string& target, const std::vector<fs::path>& dirs) {
       try {
         const Outcome o = run(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
         EXPECT_FALSE(o.empty()) << e.path();
-        if (std::getenv("APICLAB_FUZZ_VERBOSE")) std::printf("%s: %s\n", e.path().c_str(), o.c_str());
+        if (std::getenv("APICLAB_FUZZ_VERBOSE"))
+          std::printf("%s: %s\n", e.path().c_str(), o.c_str());
       } catch (const std::exception& ex) {
         ADD_FAILURE() << e.path() << ": " << ex.what();
       }

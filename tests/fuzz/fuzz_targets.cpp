@@ -1,12 +1,13 @@
 #include "fuzz_targets.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <unistd.h>
 #include <vector>
 
 #include "sim/memory_estimate.hpp"
@@ -120,8 +121,8 @@ Outcome obj_mesh(const std::uint8_t* data, std::size_t size) {
  "objects": [{"name": "o", "shape": {"type": "mesh", "file": "%s"}, "material": "m",
               "sampling": {"type": "ppc", "ppc": 1}}]})",
                   lo[0] - 0.25 * extent, lo[1] - 0.25 * extent, lo[2] - 0.25 * extent,
-                  hi[0] + 0.25 * extent, hi[1] + 0.25 * extent, hi[2] + 0.25 * extent,
-                  extent / 16, path.c_str());
+                  hi[0] + 0.25 * extent, hi[1] + 0.25 * extent, hi[2] + 0.25 * extent, extent / 16,
+                  path.c_str());
     return build(parse_scene_text(json, path + ".json"));
   });
 }
