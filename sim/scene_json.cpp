@@ -48,7 +48,7 @@ class StrictSax {
   bool string(json::string_t& v) { return value() && dom_.string(v); }
   bool binary(json::binary_t& v) { return value() && dom_.binary(v); }
   bool start_object(std::size_t n) {
-    if (!value()) return false;
+    if (!value() || too_deep()) return false;
     frames_.push_back({true, "", -1, {}});
     return dom_.start_object(n);
   }
@@ -66,7 +66,7 @@ class StrictSax {
     return dom_.end_object();
   }
   bool start_array(std::size_t n) {
-    if (!value()) return false;
+    if (!value() || too_deep()) return false;
     frames_.push_back({false, "", -1, {}});
     return dom_.start_array(n);
   }
@@ -92,6 +92,14 @@ class StrictSax {
     long index;
     std::set<std::string> keys;
   };
+  // A scene nests 5 levels deep. nlohmann's parser is iterative, but dumping or destroying a
+  // value recurses once per level: 200,000 '[' overflowed the stack (fuzz finding 2).
+  static constexpr std::size_t kMaxDepth = 64;
+  bool too_deep() {
+    if (frames_.size() < kMaxDepth) return false;
+    error_ = {"nests deeper than " + std::to_string(kMaxDepth) + " levels", path(), ""};
+    return true;
+  }
   // A value starts: in an array, it is the next element.
   bool value() {
     if (!frames_.empty() && !frames_.back().object) ++frames_.back().index;

@@ -131,6 +131,11 @@ TEST(Scene, MalformedJson) {
   expect_scene_error([] { parse_scene_text("", "empty.json"); }, {"empty.json"}, "empty");
   expect_scene_error([] { parse_scene_text("[1, 2]", "array.json"); }, {"array.json"},
                      "top level not an object");
+  // Fuzz finding 2 (tests/fuzz_regressions/*/deep-nesting*): 100,000 nested arrays overflowed
+  // the stack when the value was dumped into the message; the reader stops at 64 levels.
+  const std::string deep = "{\"dim\": " + std::string(100000, '[') + std::string(100000, ']') + "}";
+  expect_scene_error([&] { parse_scene_text(deep, "deep.json"); }, {"deep.json", "64 levels"},
+                     "deep nesting");
 }
 
 TEST(Scene, UnknownKeys) {
