@@ -79,7 +79,9 @@ class StrictSax {
     // The failing value was not counted yet: in an array it is the next element.
     if (!frames_.empty() && !frames_.back().object) ++frames_.back().index;
     const bool overflow = ex.id == 406;  // out_of_range.406: number overflow
-    error_ = {overflow ? "number " + token + " is out of range for a double" : reason_of(ex.what()),
+    // A long token is quoted cut short, so the message stays one readable line.
+    const std::string shown = token.size() <= 40 ? token : token.substr(0, 30) + "...";
+    error_ = {overflow ? "number " + shown + " is out of range for a double" : reason_of(ex.what()),
               path(), position_text(text_, position)};
     return false;
   }

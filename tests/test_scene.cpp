@@ -136,6 +136,19 @@ TEST(Scene, MalformedJson) {
   const std::string deep = "{\"dim\": " + std::string(100000, '[') + std::string(100000, ']') + "}";
   expect_scene_error([&] { parse_scene_text(deep, "deep.json"); }, {"deep.json", "64 levels"},
                      "deep nesting");
+  // A long value is quoted cut short: the message stays one readable line.
+  std::string ones;
+  for (int i = 0; i < 50000; ++i) ones += "1,";
+  for (const std::string& wide :
+       {"{\"dim\": [" + ones + "1]}",                      // a long array
+        "{\"dim\": " + std::string(100000, '1') + "}"}) {  // a long number
+    try {
+      parse_scene_text(wide, "wide.json");
+      ADD_FAILURE() << "no error for a wide dim";
+    } catch (const SceneError& e) {
+      EXPECT_LT(std::string(e.what()).size(), 300u) << std::string(e.what()).substr(0, 300);
+    }
+  }
 }
 
 TEST(Scene, UnknownKeys) {
