@@ -29,6 +29,8 @@ std::string reason_of(const std::string& what) {
   if (s.rfind("[json.exception.", 0) == 0) s = s.substr(s.find(']') + 2);
   const auto colon = s.find(": ");
   if (s.rfind("parse error", 0) == 0 && colon != std::string::npos) s = s.substr(colon + 2);
+  // "last read: '...'" quotes the token, a whole string literal: cut short, one readable line.
+  if (s.size() > 200) s = s.substr(0, 180) + "...'";
   return s;
 }
 
