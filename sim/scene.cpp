@@ -38,7 +38,7 @@ class Reader {
       if (!used_.count(it.key())) fail(it.key(), "unknown key");
   }
   [[noreturn]] void fail(const std::string& key, const std::string& what) const {
-    throw SceneError(file_ + ": key '" + join(key) + "': " + what);
+    throw SceneError(file_ + ": key '" + shown(join(key)) + "': " + what);
   }
   std::string join(const std::string& key) const {
     if (path_.empty()) return key;

@@ -128,6 +128,9 @@ class StrictSax {
 }  // namespace
 
 std::string JsonError::text() const {
+  // A key is text of any length: quoted cut short, so the message stays one readable line.
+  const std::string path =
+      this->path.size() <= 120 ? this->path : this->path.substr(0, 100) + "...";
   if (position.empty()) return "key '" + path + "' " + cause;  // a duplicate key
   if (cause.rfind("number ", 0) == 0 && !path.empty())
     return "key '" + path + "': " + cause + " (" + position + ")";

@@ -140,8 +140,10 @@ TEST(Scene, MalformedJson) {
   std::string ones;
   for (int i = 0; i < 50000; ++i) ones += "1,";
   for (const std::string& wide :
-       {"{\"dim\": [" + ones + "1]}",                      // a long array
-        "{\"dim\": " + std::string(100000, '1') + "}"}) {  // a long number
+       {"{\"dim\": [" + ones + "1]}",                    // a long array
+        "{\"dim\": " + std::string(100000, '1') + "}",   // a long number
+        "{\"" + std::string(100000, 'k') + "\": 1}",     // a long key
+        "{\"" + std::string(100000, 'k') + "\": [}"}) {  // malformed near a long key
     try {
       parse_scene_text(wide, "wide.json");
       ADD_FAILURE() << "no error for a wide dim";
