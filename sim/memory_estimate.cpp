@@ -5,6 +5,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "eol/rest_shape.hpp"
 #include "grid.hpp"
 #include "kernels.hpp"
 #include "obj_mesh.hpp"
@@ -120,6 +121,41 @@ void bytes_per_item(const SceneDesc& scene, MemoryEstimate& e) {
   }
 }
 
+// The Eulerian-on-Lagrangian family (sim/eol): no particles, one grid per object (eol) or one
+// over the domain (eulerian), sized as EolSimulation::add_object_grid sizes them. Without it a
+// tiny solver.cell or a large solver.grid_extent allocated until std::bad_alloc (fuzz finding).
+void eol_estimate(const SceneDesc& scene, MemoryEstimate& e) {
+  const EolSolverDesc& s = scene.solver.eol;
+  auto nodes = [&](const Vec3d& lo, const Vec3d& hi, double dx, int padding) {
+    double n = 1;
+    for (int a = 0; a < scene.dim; ++a)
+      n *= std::ceil((hi[a] - lo[a]) / dx - 1e-9) + 1 + 2 * padding;
+    return n;
+  };
+  if (scene.solver.method == "eulerian") {
+    e.grid_nodes = nodes(scene.domain.min, scene.domain.max, scene.domain.dx, 0);
+  } else {
+    const double dx = s.cell > 0 ? s.cell : scene.domain.dx;
+    for (const ObjectDesc& o : scene.objects) {
+      Vec3d lo{}, hi{};
+      if (o.shape.type != ShapeType::mesh) eol::rest_bounds(o.shape, scene.dim, lo, hi);
+      if (s.grid_extent > 0)
+        for (int a = 0; a < scene.dim; ++a) {
+          lo[a] = 0;
+          hi[a] = s.grid_extent;
+        }
+      e.grid_nodes += nodes(lo, hi, dx, s.grid_extent > 0 ? 0 : s.padding);
+    }
+  }
+  // Double precision only. Per node: r, x, u, force, scratch, v* and the owner
+  // (eol_simulation.hpp), the grid's own fields, the elastic forces' and the extrapolation's
+  // scratch, counted generously as six more vectors and two matrices.
+  const double vec = scene.dim * sizeof(double), mat = scene.dim * vec;
+  e.bytes_per_node = 12 * vec + 2 * mat + 4;
+  e.particles = 0;
+  e.bytes_per_particle = 0;
+}
+
 }  // namespace
 
 std::string format_bytes(double b) {
@@ -145,6 +181,10 @@ std::string MemoryEstimate::text() const {
 
 MemoryEstimate estimate_memory(const SceneDesc& scene, Precision precision) {
   MemoryEstimate e;
+  if (scene.solver.method == "eol" || scene.solver.method == "eulerian") {
+    eol_estimate(scene, e);
+    return e;
+  }
   e.grid_nodes = grid_nodes(scene);
   e.particles = particle_count(scene);
   const bool single = precision == Precision::single;

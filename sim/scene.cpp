@@ -18,6 +18,13 @@ namespace {
 
 using nlohmann::json;
 
+// A value or --set as a message quotes it: a long one cut short, so the error stays one
+// readable line (fuzzed inputs of 200,000 brackets were echoed whole).
+std::string shown(const std::string& s) {
+  if (s.size() <= 120) return s;
+  return s.substr(0, 100) + "... (" + std::to_string(s.size()) + " characters)";
+}
+
 // Reads one JSON object strictly: every key must be consumed, so a misspelled key is an error.
 class Reader {
  public:
@@ -31,7 +38,7 @@ class Reader {
       if (!used_.count(it.key())) fail(it.key(), "unknown key");
   }
   [[noreturn]] void fail(const std::string& key, const std::string& what) const {
-    throw SceneError(file_ + ": key '" + join(key) + "': " + what);
+    throw SceneError(file_ + ": key '" + shown(join(key)) + "': " + what);
   }
   std::string join(const std::string& key) const {
     if (path_.empty()) return key;
@@ -49,7 +56,7 @@ class Reader {
       return fallback;
     }
     const json& v = raw(key);
-    if (!v.is_number()) fail(key, "expected a number, got " + v.dump());
+    if (!v.is_number()) fail(key, "expected a number, got " + shown(v.dump()));
     double d = v.get<double>();
     if (!std::isfinite(d)) fail(key, "not finite");
     return d;
@@ -63,13 +70,13 @@ class Reader {
     if (!has(key)) return fallback;
     const json& v = raw(key);
     if (!v.is_number_integer() || v < json(INT_MIN) || v > json(INT_MAX))
-      fail(key, "expected an integer, got " + v.dump());
+      fail(key, "expected an integer, got " + shown(v.dump()));
     return v.get<int>();
   }
   bool boolean(const std::string& key, bool fallback) {
     if (!has(key)) return fallback;
     const json& v = raw(key);
-    if (!v.is_boolean()) fail(key, "expected true or false, got " + v.dump());
+    if (!v.is_boolean()) fail(key, "expected true or false, got " + shown(v.dump()));
     return v.get<bool>();
   }
   std::string string(const std::string& key, const std::string& fallback, bool required = false) {
@@ -78,7 +85,7 @@ class Reader {
       return fallback;
     }
     const json& v = raw(key);
-    if (!v.is_string()) fail(key, "expected a string, got " + v.dump());
+    if (!v.is_string()) fail(key, "expected a string, got " + shown(v.dump()));
     return v.get<std::string>();
   }
   // A vector of `dim` numbers (missing trailing components stay as in fallback).
@@ -89,10 +96,10 @@ class Reader {
     }
     const json& v = raw(key);
     if (!v.is_array() || int(v.size()) != dim)
-      fail(key, "expected " + std::to_string(dim) + " numbers, got " + v.dump());
+      fail(key, "expected " + std::to_string(dim) + " numbers, got " + shown(v.dump()));
     Vec3d out = fallback;
     for (int i = 0; i < dim; ++i) {
-      if (!v[i].is_number()) fail(key, "expected numbers, got " + v.dump());
+      if (!v[i].is_number()) fail(key, "expected numbers, got " + shown(v.dump()));
       out[i] = v[i].get<double>();
       if (!std::isfinite(out[i])) fail(key, "not finite");
     }
@@ -284,7 +291,7 @@ ShapeDesc read_shape(Reader r, int dim) {
         rot.fail("random_seed", "give either degrees or random_seed, not both");
       const json& v = rot.raw("random_seed");
       if (!v.is_number_integer() || v.get<long long>() < 0)
-        rot.fail("random_seed", "expected a non-negative integer, got " + v.dump());
+        rot.fail("random_seed", "expected a non-negative integer, got " + shown(v.dump()));
       sh.rotation_seed = v.get<std::int64_t>();
       sh.rotation_degrees = random_rotation_degrees(std::uint64_t(sh.rotation_seed));
     } else {
@@ -327,13 +334,13 @@ ObjectDesc read_object(Reader r, const SceneDesc& s, int index) {
   const json& m = r.raw("material");
   if (m.is_number_integer()) {
     if (m < json(0) || m >= json(s.materials.size()))  // compared as JSON: no int wrap-around
-      r.fail("material", "no material with index " + m.dump());
+      r.fail("material", "no material with index " + shown(m.dump()));
     o.material = m.get<int>();
   } else if (m.is_string()) {
     o.material = -1;
     for (size_t i = 0; i < s.materials.size(); ++i)
       if (s.materials[i].name == m.get<std::string>()) o.material = int(i);
-    if (o.material < 0) r.fail("material", "no material named " + m.dump());
+    if (o.material < 0) r.fail("material", "no material named " + shown(m.dump()));
   } else {
     r.fail("material", "expected a material name or index");
   }
@@ -349,7 +356,7 @@ ObjectDesc read_object(Reader r, const SceneDesc& s, int index) {
     for (const auto& row : a.raw("rows")) {
       std::string name = row.is_string() ? row.get<std::string>() : "";
       if (name != "top" && name != "bottom" && name != "left" && name != "right")
-        a.fail("rows", "expected top, bottom, left or right, got " + row.dump());
+        a.fail("rows", "expected top, bottom, left or right, got " + shown(row.dump()));
       o.anchors.push_back(name);
     }
     o.anchor_stiffness = a.positive("stiffness", o.anchor_stiffness);
@@ -448,10 +455,10 @@ bool bare_word(const std::string& text) {
 void apply_override(json& j, const std::string& assignment, const std::string& file) {
   auto eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0)
-    throw SceneError(file + ": --set '" + assignment +
+    throw SceneError(file + ": --set '" + shown(assignment) +
                      "': expected KEY=VALUE with a JSON value, e.g. materials.0.E=2000");
   std::string key = assignment.substr(0, eq), text = assignment.substr(eq + 1);
-  const std::string where = file + ": --set " + assignment;
+  const std::string where = file + ": --set " + shown(assignment);
   json value;
   JsonError error;
   if (!parse_json_strict(text, value, error)) {
@@ -459,8 +466,8 @@ void apply_override(json& j, const std::string& assignment, const std::string& f
     std::string at = error.position;
     if (at.rfind("line 1, ", 0) == 0) at = at.substr(8);
     if (!bare_word(text))
-      throw SceneError(where + ": the value '" + text + "' is not valid JSON (" + error.cause +
-                       (at.empty() ? "" : ", at " + at) + ")");
+      throw SceneError(where + ": the value '" + shown(text) + "' is not valid JSON (" +
+                       error.cause + (at.empty() ? "" : ", at " + at) + ")");
     value = text;  // a bare word is a string
   }
   json* node = &j;
@@ -469,7 +476,7 @@ void apply_override(json& j, const std::string& assignment, const std::string& f
   std::vector<std::string> parts;
   for (std::string part; std::getline(ss, part, '.');) parts.push_back(part);
   if (parts.empty() || key.back() == '.')
-    throw SceneError(where + ": '" + key + "' is not a key path like materials.0.E");
+    throw SceneError(where + ": '" + shown(key) + "' is not a key path like materials.0.E");
   for (size_t i = 0; i < parts.size(); ++i) {
     const std::string& p = parts[i];
     bool last = i + 1 == parts.size();
@@ -478,7 +485,7 @@ void apply_override(json& j, const std::string& assignment, const std::string& f
       char* end = nullptr;
       long idx = std::strtol(p.c_str(), &end, 10);
       if (p.empty() || *end || idx < 0 || idx >= long(node->size()))
-        throw SceneError(file + ": --set key '" + walked + "' does not exist");
+        throw SceneError(file + ": --set key '" + shown(walked) + "' does not exist");
       node = &(*node)[size_t(idx)];
     } else if (node->is_object()) {
       // A missing section is created (the strict reader rejects it if the format has no such
@@ -486,14 +493,14 @@ void apply_override(json& j, const std::string& assignment, const std::string& f
       if (!node->contains(p) && !last) (*node)[p] = json::object();
       node = &(*node)[p];
     } else {
-      throw SceneError(file + ": --set key '" + walked + "' does not exist");
+      throw SceneError(file + ": --set key '" + shown(walked) + "' does not exist");
     }
   }
   // The range is the reader's to check (one message for every path, sim/parameters.hpp).
   if (const NumericParameter* p = find_parameter(key)) {
     if (!value.is_number())
       throw SceneError(where + ": " + std::string(p->label) + " must be a number, got " +
-                       value.dump());
+                       shown(value.dump()));
   }
   *node = value;
 }

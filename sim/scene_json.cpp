@@ -29,6 +29,8 @@ std::string reason_of(const std::string& what) {
   if (s.rfind("[json.exception.", 0) == 0) s = s.substr(s.find(']') + 2);
   const auto colon = s.find(": ");
   if (s.rfind("parse error", 0) == 0 && colon != std::string::npos) s = s.substr(colon + 2);
+  // "last read: '...'" quotes the token, a whole string literal: cut short, one readable line.
+  if (s.size() > 200) s = s.substr(0, 180) + "...'";
   return s;
 }
 
@@ -48,7 +50,7 @@ class StrictSax {
   bool string(json::string_t& v) { return value() && dom_.string(v); }
   bool binary(json::binary_t& v) { return value() && dom_.binary(v); }
   bool start_object(std::size_t n) {
-    if (!value()) return false;
+    if (!value() || too_deep()) return false;
     frames_.push_back({true, "", -1, {}});
     return dom_.start_object(n);
   }
@@ -66,7 +68,7 @@ class StrictSax {
     return dom_.end_object();
   }
   bool start_array(std::size_t n) {
-    if (!value()) return false;
+    if (!value() || too_deep()) return false;
     frames_.push_back({false, "", -1, {}});
     return dom_.start_array(n);
   }
@@ -79,7 +81,9 @@ class StrictSax {
     // The failing value was not counted yet: in an array it is the next element.
     if (!frames_.empty() && !frames_.back().object) ++frames_.back().index;
     const bool overflow = ex.id == 406;  // out_of_range.406: number overflow
-    error_ = {overflow ? "number " + token + " is out of range for a double" : reason_of(ex.what()),
+    // A long token is quoted cut short, so the message stays one readable line.
+    const std::string shown = token.size() <= 40 ? token : token.substr(0, 30) + "...";
+    error_ = {overflow ? "number " + shown + " is out of range for a double" : reason_of(ex.what()),
               path(), position_text(text_, position)};
     return false;
   }
@@ -92,6 +96,14 @@ class StrictSax {
     long index;
     std::set<std::string> keys;
   };
+  // A scene nests 5 levels deep. nlohmann's parser is iterative, but dumping or destroying a
+  // value recurses once per level: 200,000 '[' overflowed the stack (fuzz finding 2).
+  static constexpr std::size_t kMaxDepth = 64;
+  bool too_deep() {
+    if (frames_.size() < kMaxDepth) return false;
+    error_ = {"nests deeper than " + std::to_string(kMaxDepth) + " levels", path(), ""};
+    return true;
+  }
   // A value starts: in an array, it is the next element.
   bool value() {
     if (!frames_.empty() && !frames_.back().object) ++frames_.back().index;
@@ -116,6 +128,9 @@ class StrictSax {
 }  // namespace
 
 std::string JsonError::text() const {
+  // A key is text of any length: quoted cut short, so the message stays one readable line.
+  const std::string path =
+      this->path.size() <= 120 ? this->path : this->path.substr(0, 100) + "...";
   if (position.empty()) return "key '" + path + "' " + cause;  // a duplicate key
   if (cause.rfind("number ", 0) == 0 && !path.empty())
     return "key '" + path + "': " + cause + " (" + position + ")";

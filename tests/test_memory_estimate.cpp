@@ -96,6 +96,25 @@ TEST(MemoryEstimate, RoundTripProbe) {
   EXPECT_THROW(check_memory(estimate_roundtrip_memory(1 << 20), 8e9, "roundtrip"), SceneError);
 }
 
+// Fuzz finding 1 (tests/fuzz_regressions/scene/eol-tiny-cell.json): the EoL family's grids were
+// not estimated, so solver.cell = 1e-5 allocated 1.6e9 nodes until std::bad_alloc.
+TEST(MemoryEstimate, EolGridsAreCounted) {
+  const std::string eol = std::string(APICLAB_SOURCE_DIR) + "/assets/scenes/eol-drop.json";
+  SceneDesc s = load_scene(eol, {"solver.cell=1e-5"});
+  s.solver.max_memory_gb = 1;  // the MPM key; the cap applies to every family
+  EXPECT_GT(estimate_memory(s, Precision::dbl).grid_nodes, 1e9);
+  EXPECT_THROW(check_memory(s, Precision::dbl), SceneError);
+  EXPECT_THROW(make_simulation(s), SceneError);
+  s = load_scene(eol, {"solver.grid_extent=1000"});
+  s.solver.max_memory_gb = 1;
+  EXPECT_THROW(make_simulation(s), SceneError);
+  // The shipped scene's own grid: the disk's 0.4 m over 0.025 m cells plus 3 cells each side.
+  s = load_scene(eol);
+  EXPECT_NEAR(estimate_memory(s, Precision::dbl).grid_nodes, 23 * 23, 0);
+  s = load_scene(eol, {"solver.method=eulerian"});
+  EXPECT_NEAR(estimate_memory(s, Precision::dbl).grid_nodes, 81 * 61, 0);
+}
+
 TEST(MemoryEstimate, AvailableMemoryIsRead) {
   const auto available = available_memory_bytes();
   ASSERT_TRUE(available.has_value());

@@ -2,6 +2,7 @@
 // frame and a grid per object) and `eulerian` (the baseline: the frame locked to the world, one
 // grid over the domain), with the validation of their keys in the scene's `solver` section.
 #include "sim/eol/eol_simulation.hpp"
+#include "sim/memory_estimate.hpp"
 #include "sim/method_registry.hpp"
 
 namespace apiclab {
@@ -9,6 +10,7 @@ namespace {
 
 // Double precision only: the split and the affine-exact advection are tested to round-off.
 std::unique_ptr<Simulation> make_eol_family(const SceneDesc& scene, bool lagrangian) {
+  check_memory(scene, Precision::dbl);  // before the object grids are allocated
   if (scene.dim == 2) return std::make_unique<eol::EolSimulation<double, 2>>(scene, lagrangian);
   return std::make_unique<eol::EolSimulation<double, 3>>(scene, lagrangian);
 }
