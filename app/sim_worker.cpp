@@ -65,7 +65,8 @@ void SimWorker::load(SceneDesc scene, std::vector<PaneConfig> panes, Precision p
 
 void SimWorker::restart_panes() {
   for (auto& p : panes_) {
-    SceneDesc s = *scene_;
+    SceneDesc s = *scene_;  // every pane from the same scene, as compare's panes
+    if (!p.config.method.empty()) s.solver.method = p.config.method;
     s.solver.scheme = p.config.scheme;
     s.solver.flip_alpha = p.config.flip_alpha;
     if (p.config.kernel) s.solver.kernel = *p.config.kernel;

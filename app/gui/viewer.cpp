@@ -18,6 +18,7 @@
 #include "app/clock.hpp"
 #include "app/gui/scene_view.hpp"
 #include "app/gui/viewer_state.hpp"
+#include "app/pane_spec.hpp"
 #include "render/gl.hpp"
 #include "render/image.hpp"
 #include "render/palette.hpp"
@@ -160,8 +161,10 @@ int run_viewer(const ViewerOptions& opt) {
     st.vectors = opt.vectors;
     st.color = render::parse_color_mode(opt.color);
     st.precision = parse_choice(precision_choices(), opt.precision, "precision");
-    for (auto& s : opt.schemes)
-      st.panes.push_back({parse_choice(scheme_choices(), s, "scheme"), -1.0, {}, {}});
+    for (auto& key : opt.schemes) {  // checked by the command line (app/cmd_gui.cpp)
+      const PaneSpec spec = parse_panes(key).front();
+      st.panes.push_back({spec.scheme, -1.0, {}, {}, spec.method});
+    }
     std::error_code ec;
     for (auto& e : std::filesystem::directory_iterator(scenes_directory(), ec))
       if (e.path().extension() == ".json") st.scene_files.push_back(e.path().string());
