@@ -251,6 +251,7 @@ void SimWorker::publish() {
   for (auto& p : panes_) {
     PaneState s;
     s.config = p.config;
+    if (s.config.method.empty() && scene_) s.config.method = scene_->solver.method;  // labels
     auto snapshot = p.sim->snapshot();
     if (noise_ && p.sim->transfers()) p.sim->transfers()->fill_velocity_noise(*snapshot);
     s.snapshot = snapshot;

@@ -52,6 +52,7 @@ void* gl_proc(const char* name) { return reinterpret_cast<void*>(glfwGetProcAddr
 ImU32 pane_color(std::size_t pane) { return render::packed_abgr(render::palette_color(int(pane))); }
 
 std::string pane_label(const PaneState& p) {
+  if (!p.config.method.empty() && p.config.method != "mpm") return p.config.method;  // no scheme
   std::string s(key_of(p.config.scheme));
   for (auto& c : s) c = char(std::toupper(static_cast<unsigned char>(c)));
   if (p.config.scheme == Scheme::flip && p.config.flip_alpha != 1.0) {
