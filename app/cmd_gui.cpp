@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "app/cli_checks.hpp"
+#include "app/pane_spec.hpp"
 #include "cli.hpp"
 #include "commands.hpp"
 #include "gui/viewer.hpp"
@@ -37,8 +38,9 @@ void register_gui(CLI::App& root, CommandTable& table) {
   add_run_options(cmd, *run,
                   {.scene_required = false, .frames = false, .outputs = false, .quiet = false});
   cmd->add_option("--schemes", *schemes,
-                  "One pane per scheme, side by side, e.g. pic,flip,apic (1-4) [default: one pane, "
-                  "the scene's scheme]");
+                  "Panes side by side in lockstep from the same scene (1-4), as compare's: MPM "
+                  "schemes (apic or mpm:apic) or methods without schemes (eol, eulerian), e.g. "
+                  "apic,eol,eulerian [default: one pane, the scene's method and scheme]");
   cmd->add_option("--color", o->color, choice_keys(color_mode_choices()) + " [default: speed]");
   cmd->add_flag("--vectors", o->vectors, "Show velocity vectors [default: off]");
   cmd->add_flag("--fast", *fast, "Run as fast as possible instead of real time [default: off]");
@@ -57,14 +59,12 @@ void register_gui(CLI::App& root, CommandTable& table) {
          if (o->schemes.size() > 4) throw UsageError("--schemes: at most 4 panes");
          if (!o->schemes.empty() && !run->scheme.empty())
            throw UsageError("--scheme and --schemes both pick the scheme; give one");
-         std::vector<Scheme> panes;
-         for (auto& s : o->schemes) {
-           try {
-             panes.push_back(parse_choice(scheme_choices(), s, "scheme"));
+         std::vector<PaneSpec> panes;  // the same list as compare's (app/pane_spec.hpp)
+         if (!schemes->empty()) try {
+             panes = parse_panes(*schemes);
            } catch (const std::invalid_argument& e) {
              throw UsageError(e.what());
            }
-         }
          if (*frames && **frames < 1) throw UsageError("--frames must be at least 1");
          if (*frames) o->frames = **frames;
          if (!run->scene.empty()) o->scene = run->scene;
@@ -83,10 +83,12 @@ void register_gui(CLI::App& root, CommandTable& table) {
          RunOptions check = *run;
          check.scene = o->scene;
          SceneDesc scene = load_scene_with_options(check);
-         if (panes.empty()) panes.push_back(scene.solver.scheme);
+         if (panes.empty()) panes.push_back({"", scene.solver.method, scene.solver.scheme});
          // Each pane keeps its initial state for resets (app/sim_worker.cpp).
          check_memory_for(scene, precision_of(*run), 2 * int(panes.size()));
-         if (run->flip_alpha && std::find(panes.begin(), panes.end(), Scheme::flip) == panes.end())
+         if (run->flip_alpha && std::none_of(panes.begin(), panes.end(), [](const PaneSpec& p) {
+               return p.method == "mpm" && p.scheme == Scheme::flip;
+             }))
            std::fprintf(stderr,
                         "apiclab: warning: --flip-alpha only affects FLIP panes and "
                         "none is FLIP yet (a pane can switch to FLIP in the window)\n");

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "app/frame_loop.hpp"
+#include "app/pane_spec.hpp"
 #include "app/render_session.hpp"
 #include "app/run_outputs.hpp"
 #include "app/video.hpp"
@@ -119,31 +120,13 @@ int render(const RenderOptions& o) {
 }
 
 int compare(const RenderOptions& o) {
-  // The panes, checked before anything runs: an MPM transfer scheme (`apic`, or `mpm:apic`)
-  // or a solver method without schemes (`eol`, `eulerian`).
-  struct PaneSpec {
-    std::string key, method;
-    Scheme scheme = Scheme::apic;
-  };
+  // The panes, checked before anything runs (app/pane_spec.hpp).
   std::vector<PaneSpec> specs;
-  std::set<std::string> seen;
-  std::istringstream list(o.schemes);
-  for (std::string key; std::getline(list, key, ',');) {
-    if (!seen.insert(key).second)
-      throw UsageError("scheme '" + key + "' is listed twice in --schemes");
-    const std::string bare = key.rfind("mpm:", 0) == 0 ? key.substr(4) : key;
-    if (bare == key && key != "mpm" && find_method(key)) {
-      specs.push_back({key, key});
-      continue;
-    }
-    try {
-      specs.push_back({bare, "mpm", parse_choice(scheme_choices(), bare, "scheme")});
-    } catch (const std::invalid_argument& e) {
-      throw UsageError(std::string(e.what()) +
-                       " or a solver method without schemes (eol, eulerian)");
-    }
+  try {
+    specs = parse_panes(o.schemes);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
   }
-  if (specs.empty()) throw UsageError("--schemes needs at least one scheme, e.g. pic,flip,apic");
   if (!o.run.scheme.empty()) throw UsageError("compare takes --schemes (a list), not --scheme");
   const std::vector<DumpFormat> formats = dump_formats_of(o.run);
   for (const PaneSpec& spec : specs)  // before any output: only MPM panes have particles

@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "app/clock.hpp"
+#include "sim/method_registry.hpp"
 
 namespace apiclab::gui {
 namespace {
@@ -65,11 +66,14 @@ void SimWorker::load(SceneDesc scene, std::vector<PaneConfig> panes, Precision p
 
 void SimWorker::restart_panes() {
   for (auto& p : panes_) {
-    SceneDesc s = *scene_;
+    SceneDesc s = *scene_;  // every pane from the same scene, as compare's panes
+    if (!p.config.method.empty()) s.solver.method = p.config.method;
     s.solver.scheme = p.config.scheme;
     s.solver.flip_alpha = p.config.flip_alpha;
     if (p.config.kernel) s.solver.kernel = *p.config.kernel;
     if (p.config.integrator) s.solver.integrator = *p.config.integrator;
+    if (const std::string why = scheme_conflict(s.solver); !why.empty() && s.solver.method == "mpm")
+      throw SceneError(std::string(key_of(s.solver.scheme)) + " pane: " + why);
     p.initial = make_simulation(s, precision_);  // throws SceneError
   }
   rewind_panes();
@@ -132,6 +136,12 @@ void SimWorker::set_realtime(bool on) {
 void SimWorker::set_scheme(std::size_t pane, Scheme scheme, double flip_alpha) {
   enqueue([this, pane, scheme, flip_alpha] {
     if (pane >= panes_.size()) return;
+    SolverDesc wanted = panes_[pane].sim->scene().solver;
+    wanted.scheme = scheme;
+    if (const std::string why = scheme_conflict(wanted); !why.empty() && wanted.method == "mpm") {
+      error_ = std::string(key_of(scheme)) + ": " + why;  // the pane keeps its scheme
+      return;
+    }
     panes_[pane].config.scheme = scheme;
     panes_[pane].config.flip_alpha = flip_alpha;
     if (auto* t = panes_[pane].sim->transfers()) t->set_scheme(scheme, flip_alpha);
@@ -250,6 +260,7 @@ void SimWorker::publish() {
   for (auto& p : panes_) {
     PaneState s;
     s.config = p.config;
+    if (s.config.method.empty() && scene_) s.config.method = scene_->solver.method;  // labels
     auto snapshot = p.sim->snapshot();
     if (noise_ && p.sim->transfers()) p.sim->transfers()->fill_velocity_noise(*snapshot);
     s.snapshot = snapshot;

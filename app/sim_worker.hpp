@@ -21,12 +21,13 @@
 
 namespace apiclab::gui {
 
-// What one pane runs: the scheme switches live; kernel and integrator need a restart.
+// What one pane runs: the scheme switches live; method, kernel and integrator need a restart.
 struct PaneConfig {
-  Scheme scheme = Scheme::apic;
+  Scheme scheme = Scheme::apic;  // MPM panes only
   double flip_alpha = 1.0;
   std::optional<KernelType> kernel;      // empty: the scene's
   std::optional<Integrator> integrator;  // empty: the scene's
+  std::string method = "";               // solver.method ("mpm", "eol", ...); empty: the scene's
 };
 
 // Diagnostics rows since the start, append-only in immutable chunks: publishing shares the

@@ -171,6 +171,33 @@ TEST(GuiWorker, SceneThatCannotBeBuiltKeepsTheRunningOne) {
 
 // A reader that walks every published value while commands rain in: the handoff must be
 // race-free (TSAN) and every value consistent.
+// `gui --schemes apic,eol,eulerian`: an MPM pane beside EoL panes, all from the one EoL scene,
+// in lockstep (each pane's method overrides the scene's solver.method).
+TEST(GuiWorker, PanesMixMethodsFromOneScene) {
+  SimWorker w;
+  w.load(load_scene(std::string(APICLAB_SOURCE_DIR) + "/assets/scenes/eol-spin.json",
+                    {"time.end=0.3"}),
+         {{Scheme::apic, 1.0, {}, {}, "mpm"},
+          {Scheme::apic, 1.0, {}, {}, "eol"},
+          {Scheme::apic, 1.0, {}, {}, "eulerian"},
+          {Scheme::apic, 1.0, {}, {}}});
+  w.sync();
+  const auto p = run_frames(w, 2);
+  ASSERT_EQ(p->error, "");
+  ASSERT_EQ(p->panes.size(), 4u);
+  EXPECT_EQ(p->panes[0].config.method, "mpm");
+  EXPECT_EQ(p->panes[1].config.method, "eol");
+  EXPECT_EQ(p->panes[2].config.method, "eulerian");
+  EXPECT_EQ(p->panes[3].config.method, "eol");  // none given: the scene's
+  EXPECT_EQ(p->panes[0].snapshot->scheme, "apic");
+  EXPECT_NE(p->panes[1].snapshot->scheme, "apic");
+  for (const PaneState& s : p->panes) {
+    EXPECT_FALSE(s.failure);
+    EXPECT_EQ(s.snapshot->time, p->panes[0].snapshot->time);
+    EXPECT_GT(s.snapshot->time, 0);
+  }
+}
+
 TEST(GuiWorker, HandoffUnderLoad) {
   SimWorker w;
   w.set_realtime(false);

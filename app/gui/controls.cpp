@@ -9,6 +9,7 @@
 
 #include "app/gui/viewer_state.hpp"
 #include "render/color.hpp"
+#include "sim/method_registry.hpp"
 #include "sim/parameters.hpp"
 
 namespace apiclab::gui {
@@ -186,6 +187,27 @@ void playback_section(ViewerState& st, const Published& pub, SimWorker& worker) 
   }
 }
 
+// One combo for a pane's solver: the MPM schemes, then the methods without schemes. Returns
+// whether the pick changed c.scheme or c.method.
+bool pane_combo(PaneConfig& c, const std::string& method) {
+  const std::string shown = method == "mpm" ? std::string(key_of(c.scheme)) : method;
+  bool changed = false;
+  if (!ImGui::BeginCombo("##scheme", shown.c_str())) return false;
+  for (const auto& choice : scheme_choices())
+    if (ImGui::Selectable(std::string(choice.key).c_str(),
+                          method == "mpm" && c.scheme == choice.value)) {
+      changed = method != "mpm" || c.scheme != choice.value;
+      c.method = "mpm", c.scheme = choice.value;
+    }
+  for (const std::string& name : method_names())
+    if (name != "mpm" && ImGui::Selectable(name.c_str(), method == name)) {
+      changed = method != name;
+      c.method = name;
+    }
+  ImGui::EndCombo();
+  return changed;
+}
+
 void panes_section(ViewerState& st, const Published& pub, SimWorker& worker) {
   section("Panes: scheme switches live");
   for (std::size_t k = 0; k < st.panes.size(); ++k) {
@@ -195,9 +217,15 @@ void panes_section(ViewerState& st, const Published& pub, SimWorker& worker) {
                        ImGuiColorEditFlags_NoTooltip, ImVec2(12, 12));
     ImGui::SameLine();
     ImGui::SetNextItemWidth(80);
-    if (choice_combo("##scheme", c.scheme, scheme_choices()))
-      worker.set_scheme(k, c.scheme, c.flip_alpha);
-    if (c.scheme == Scheme::flip) {
+    const std::string method = c.method.empty() ? st.scene.solver.method : c.method;
+    if (pane_combo(c, method)) {
+      if ((c.method.empty() ? st.scene.solver.method : c.method) != method)
+        restart_because(st, worker, "Pane method");  // another solver: new simulation
+      else
+        worker.set_scheme(k, c.scheme, c.flip_alpha);
+    }
+    const bool mpm = (c.method.empty() ? st.scene.solver.method : c.method) == "mpm";
+    if (mpm && c.scheme == Scheme::flip) {
       ImGui::SameLine();
       ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x - (st.panes.size() > 1 ? 30 : 0));
       // Live, so not through a restart; the slider stays inside the registry's closed range.
@@ -217,6 +245,10 @@ void panes_section(ViewerState& st, const Published& pub, SimWorker& worker) {
         ImGui::PopID();
         break;
       }
+    }
+    if (!mpm) {  // kernel and integrator are MPM's; an EoL pane has none of its controls
+      ImGui::PopID();
+      continue;
     }
     ImGui::Indent(18);
     const float half = (ImGui::GetContentRegionAvail().x - ImGui::GetStyle().ItemSpacing.x) / 2;

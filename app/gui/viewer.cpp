@@ -18,6 +18,7 @@
 #include "app/clock.hpp"
 #include "app/gui/scene_view.hpp"
 #include "app/gui/viewer_state.hpp"
+#include "app/pane_spec.hpp"
 #include "render/gl.hpp"
 #include "render/image.hpp"
 #include "render/palette.hpp"
@@ -51,6 +52,7 @@ void* gl_proc(const char* name) { return reinterpret_cast<void*>(glfwGetProcAddr
 ImU32 pane_color(std::size_t pane) { return render::packed_abgr(render::palette_color(int(pane))); }
 
 std::string pane_label(const PaneState& p) {
+  if (!p.config.method.empty() && p.config.method != "mpm") return p.config.method;  // no scheme
   std::string s(key_of(p.config.scheme));
   for (auto& c : s) c = char(std::toupper(static_cast<unsigned char>(c)));
   if (p.config.scheme == Scheme::flip && p.config.flip_alpha != 1.0) {
@@ -160,8 +162,10 @@ int run_viewer(const ViewerOptions& opt) {
     st.vectors = opt.vectors;
     st.color = render::parse_color_mode(opt.color);
     st.precision = parse_choice(precision_choices(), opt.precision, "precision");
-    for (auto& s : opt.schemes)
-      st.panes.push_back({parse_choice(scheme_choices(), s, "scheme"), -1.0, {}, {}});
+    for (auto& key : opt.schemes) {  // checked by the command line (app/cmd_gui.cpp)
+      const PaneSpec spec = parse_panes(key).front();
+      st.panes.push_back({spec.scheme, -1.0, {}, {}, spec.method});
+    }
     std::error_code ec;
     for (auto& e : std::filesystem::directory_iterator(scenes_directory(), ec))
       if (e.path().extension() == ".json") st.scene_files.push_back(e.path().string());
