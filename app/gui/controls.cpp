@@ -348,7 +348,7 @@ void draw_controls(ViewerState& st, const Published& pub, SimWorker& worker) {
                    ImGuiWindowFlags_NoBringToFrontOnFocus);
   ImGui::TextColored(ImVec4(0.1f, 0.1f, 0.1f, 1), "apiclab");
   ImGui::SameLine();
-  ImGui::TextColored(kMuted, "MPM transfers: PIC / FLIP / APIC / RPIC");
+  ImGui::TextColored(kMuted, "particle/grid transfers and Eulerian-on-Lagrangian");
   scene_section(st, worker);
   playback_section(st, pub, worker);
   panes_section(st, pub, worker);
