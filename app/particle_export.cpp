@@ -31,6 +31,15 @@ std::ofstream open_binary(const std::string& path) {
   return out;
 }
 
+// The XML head, then the raw appended block (each array's UInt64 size, then its bytes).
+void write_vtk_file(const std::string& path, const std::string& head, const std::string& data) {
+  std::ofstream out = open_binary(path);
+  out << head << "  <AppendedData encoding=\"raw\">\n   _";
+  out.write(data.data(), std::streamsize(data.size()));
+  out << "\n  </AppendedData>\n</VTKFile>\n";
+  if (!out) throw std::runtime_error("cannot write '" + path + "'");
+}
+
 // Positions as 3 components (2D gets z = 0), the layout every viewer expects.
 std::vector<double> positions3(const ParticleTable& t) {
   const ParticleColumn* x = t.find("position");
@@ -132,13 +141,8 @@ void write_vtp(const std::string& path, const ParticleTable& t, const ExtraScala
   array("Int32", "offsets", 1);
   block(n * 4);
   for (std::size_t q = 0; q < n; ++q) put<std::int32_t>(data, std::int32_t(q + 1));
-  xml << "    </Verts>\n    </Piece>\n  </PolyData>\n  <AppendedData encoding=\"raw\">\n   _";
-  std::ofstream out = open_binary(path);
-  const std::string head = xml.str();
-  out.write(head.data(), std::streamsize(head.size()));
-  out.write(data.data(), std::streamsize(data.size()));
-  out << "\n  </AppendedData>\n</VTKFile>\n";
-  if (!out) throw std::runtime_error("cannot write '" + path + "'");
+  xml << "    </Verts>\n    </Piece>\n  </PolyData>\n";
+  write_vtk_file(path, xml.str(), data);
 }
 
 void write_ply(const std::string& path, const ParticleTable& t) {
@@ -197,14 +201,8 @@ void write_vti(const std::string& path, const GridLayer& g) {
     put<std::uint64_t>(data, n * 4);
     for (std::size_t i = 0; i < n; ++i) put<float>(data, f.values[i]);
   }
-  xml << "      </PointData>\n    </Piece>\n  </ImageData>\n  <AppendedData encoding=\"raw\">\n   "
-         "_";
-  std::ofstream out = open_binary(path);
-  const std::string head = xml.str();
-  out.write(head.data(), std::streamsize(head.size()));
-  out.write(data.data(), std::streamsize(data.size()));
-  out << "\n  </AppendedData>\n</VTKFile>\n";
-  if (!out) throw std::runtime_error("cannot write '" + path + "'");
+  xml << "      </PointData>\n    </Piece>\n  </ImageData>\n";
+  write_vtk_file(path, xml.str(), data);
 }
 
 bool formats_need_particles(const std::vector<DumpFormat>& formats) {

@@ -53,8 +53,8 @@ struct FixedCorotated {
     T J = F.determinant();
     return l.mu * (F - R).squaredNorm() + T(0.5) * l.lambda * (J - T(1)) * (J - T(1));
   }
-  // P = 2μ (F − R) + λ (J − 1) J F⁻ᵀ.
-  static Mat<T, D> stress(const Mat<T, D>& F, Lame<T> l) {
+  // R of F = R S (2D in closed form).
+  static Mat<T, D> rotation(const Mat<T, D>& F) {
     Mat<T, D> R;
     if constexpr (D == 2) {
       R = rotation_2d(F);
@@ -62,6 +62,11 @@ struct FixedCorotated {
       Mat<T, D> S;
       polar_decomposition<T, D>(F, R, S);
     }
+    return R;
+  }
+  // P = 2μ (F − R) + λ (J − 1) J F⁻ᵀ.
+  static Mat<T, D> stress(const Mat<T, D>& F, Lame<T> l) {
+    const Mat<T, D> R = rotation(F);
     T J = F.determinant();
     return T(2) * l.mu * (F - R) + l.lambda * (J - T(1)) * cofactor<T, D>(F);
   }
@@ -112,13 +117,7 @@ Mat<T, D> first_piola_and_energy(MaterialModel m, const Mat<T, D>& F, Lame<T> l,
     case MaterialModel::fixed_corotated:
       break;
   }
-  Mat<T, D> R;
-  if constexpr (D == 2) {
-    R = rotation_2d(F);
-  } else {
-    Mat<T, D> S;
-    polar_decomposition<T, D>(F, R, S);
-  }
+  const Mat<T, D> R = FixedCorotated<T, D>::rotation(F);
   psi = l.mu * (F - R).squaredNorm() + T(0.5) * l.lambda * (J - T(1)) * (J - T(1));
   return T(2) * l.mu * (F - R) + l.lambda * (J - T(1)) * cofactor<T, D>(F);
 }

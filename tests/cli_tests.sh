@@ -12,15 +12,7 @@ TMP=$(mktemp -d "${TMPDIR:-/tmp}/apiclab-cli.XXXXXX")
 trap 'rm -rf "$TMP"' EXIT
 mkdir -p "$TMP/cwd"  # commands run here, so default outputs never land in the source tree
 
-pass=0
-fail=0
-ok() { pass=$((pass + 1)); echo "PASS: $1"; }
-nok() {
-  fail=$((fail + 1))
-  echo "FAIL: $1"
-  shift
-  for line in "$@"; do echo "      $line"; done
-}
+source "$(dirname "${BASH_SOURCE[0]}")/check_lib.sh"
 
 # run_cli ARGS...: runs apiclab in $TMP/cwd; sets RC, OUT and ERR (files).
 run_cli() {
@@ -445,5 +437,4 @@ expect_error "compare --dump with a pane without particles" "--dump" "eol" -- co
 
 expect_error "mls with an implicit integrator" "'solver.scheme'" "symplectic" -- run rotating-disk --scheme mls
 
-echo "cli_tests: $pass passed, $fail failed"
-[ "$fail" -eq 0 ]
+finish cli_tests

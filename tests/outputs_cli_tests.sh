@@ -8,15 +8,7 @@ set -u
 APICLAB=${APICLAB:?set APICLAB to the apiclab executable}
 TMP=$(mktemp -d "${TMPDIR:-/tmp}/apiclab-outputs.XXXXXX")
 trap 'rm -rf "$TMP"' EXIT
-pass=0
-fail=0
-ok() { pass=$((pass + 1)); echo "PASS: $1"; }
-nok() {
-  fail=$((fail + 1))
-  echo "FAIL: $1"
-  shift
-  for line in "$@"; do echo "      $line"; done
-}
+source "$(dirname "${BASH_SOURCE[0]}")/check_lib.sh"
 run_cli() {
   OUT="$TMP/stdout" ERR="$TMP/stderr"
   (cd "$TMP" && exec "$APICLAB" "$@") >"$OUT" 2>"$ERR"
@@ -110,5 +102,4 @@ if "$APICLAB" compare --help >/dev/null 2>&1; then
   fi
 fi
 
-echo "outputs_cli_tests: $pass passed, $fail failed"
-[ "$fail" -eq 0 ]
+finish outputs_cli_tests

@@ -12,15 +12,7 @@ TINY="$SRC/tests/sweeps/tiny.json"
 TMP=$(mktemp -d "${TMPDIR:-/tmp}/apiclab-sweep.XXXXXX")
 trap 'rm -rf "$TMP"' EXIT
 
-pass=0
-fail=0
-ok() { pass=$((pass + 1)); echo "PASS: $1"; }
-nok() {
-  fail=$((fail + 1))
-  echo "FAIL: $1"
-  shift
-  for line in "$@"; do echo "      $line"; done
-}
+source "$(dirname "${BASH_SOURCE[0]}")/check_lib.sh"
 
 # bad_spec NAME NEEDLE JSON: exit 2, one stderr line naming the key, no run started.
 bad_spec() {
@@ -199,5 +191,4 @@ else
   nok "GNU parallel not installed (apt-get install parallel; setup.sh lists it)"
 fi
 
-echo "sweep_tests: $pass passed, $fail failed"
-[ "$fail" -eq 0 ]
+finish sweep_tests

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sim/sampling.hpp"
 #include "sim/scene.hpp"
 
 namespace apiclab::eol {
@@ -58,28 +59,10 @@ inline double rest_distance(const ShapeDesc& s, const Vec3d& x, int dim) {
   return 1e300;  // meshes are refused by validate_eol
 }
 
-// World bounding box of the shape (a sphere's box around the center when rotated).
+// World bounding box of the shape (a sphere's box around the center when rotated): the
+// sampler's rule, so an EoL grid and the MPM particles of a scene see the same extent.
 inline void rest_bounds(const ShapeDesc& s, int dim, Vec3d& lo, Vec3d& hi) {
-  double r = 0;
-  if (s.type == ShapeType::box) {
-    if (s.rotation_degrees == 0) {
-      lo = s.min;
-      hi = s.max;
-      return;
-    }
-    for (int a = 0; a < dim; ++a) r += 0.25 * (s.max[a] - s.min[a]) * (s.max[a] - s.min[a]);
-    r = std::sqrt(r);
-  } else if (s.type == ShapeType::ball) {
-    r = s.radius;
-  } else if (s.type == ShapeType::annulus) {
-    r = dim == 3 ? std::hypot(s.outer, 0.5 * s.length) : s.outer;
-  } else {
-    r = s.outer;
-  }
-  for (int a = 0; a < 3; ++a) {
-    lo[a] = a < dim ? s.center[a] - r : 0;
-    hi[a] = a < dim ? s.center[a] + r : 0;
-  }
+  shape_bounds(s, dim, lo, hi);
 }
 
 }  // namespace apiclab::eol
