@@ -230,7 +230,9 @@ TEST(EolRuns, DropOnASlipFloorNeverGainsEnergy) {
     // fall released at this grid): its mass comes from det ∇X, and smearing X against the
     // floor moves mass, so gravity's −Σ m g·y is not conserved. Left to part 2 (the paper's
     // baseline is not specified there); EoL keeps the object in its frame and does not.
-    if (method == "eol") EXPECT_LE(worst, bound) << method;
+    if (method == "eol") {
+      EXPECT_LE(worst, bound) << method;
+    }
   }
 }
 

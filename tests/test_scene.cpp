@@ -425,9 +425,10 @@ TEST(Parameters, DeclaredOnceWithLabelUnitHelpAndDefaultInRange) {
     EXPECT_FALSE(p.label.empty());
     EXPECT_FALSE(p.unit.empty());
     EXPECT_FALSE(p.help.empty());
-    if (!p.required)
+    if (!p.required) {
       EXPECT_TRUE(p.range.contains(p.default_value))
           << p.default_value << " not in " << p.range.text();
+    }
     int index = -1;
     EXPECT_EQ(find_parameter(p.key_at(3), &index), &p);
     EXPECT_EQ(index, p.key.find('*') == std::string_view::npos ? 0 : 3);
