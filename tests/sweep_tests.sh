@@ -144,6 +144,27 @@ else
   nok "dt_factor sweep exited $?" "$(cat "$TMP/err")"
 fi
 
+# solver.method as an axis: MPM, EoL and Eulerian from one scene (eol-spin); a method other than
+# the scene's own replaces the solver section; the Eulerian baseline's energy change is the
+# largest (advection damps the spin).
+cat >"$TMP/methods.json" <<'JSON'
+{"name": "methods", "scene": "eol-spin", "set": {"time.end": 0.1},
+ "axes": {"solver.method": ["mpm", "eol", "eulerian"]}}
+JSON
+if "$APICLAB" sweep "$TMP/methods.json" --out "$TMP/methods" --jobs 2 --quiet >"$TMP/out" 2>"$TMP/err"; then
+  got=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+    $c["outcome"] == "completed" { n++ } { e[$c["solver.method"]] = $c["final_energy"] }
+    END { print n + 0, (e["eulerian"] > 10 * e["eol"] && e["eulerian"] > 10 * e["mpm"]) ? "damps" : "no" }' "$TMP/methods/runs.csv")
+  if [ "$got" = "3 damps" ] && grep -rq 'solver={.\?"method.\?":.\?"mpm' "$TMP/methods/runs"/*/result.json; then
+    ok "solver.method axis: mpm, eol, eulerian runs from eol-spin; Eulerian damps"
+  else
+    nok "solver.method axis ($got)" "$(cat "$TMP/methods/runs.csv")"
+  fi
+else
+  nok "solver.method sweep exited $?" "$(cat "$TMP/err")"
+fi
+bad_spec "unknown solver method" "unknown solver method 'fem'" '{"name":"x","scene":"eol-spin","axes":{"solver.method":["eol","fem"]}}'
+
 # Resume: kill the sweep (and its run) after its first complete run, leave a half-written run,
 # restart: the complete run is skipped, the half-written one removed, runs.csv the same.
 setsid "$APICLAB" sweep "$TINY" --out "$TMP/b" --jobs 1 --quiet >/dev/null 2>&1 &

@@ -46,6 +46,7 @@ SceneDesc parse_for(const Spec& spec, const PlannedRun& run,
 
 // The base scene's own value of an axis key (choice or numeric), as the spec would write it.
 std::string scene_value(const SceneDesc& s, const std::string& key) {
+  if (key == "solver.method") return s.solver.method;
   if (key == "solver.scheme") return std::string(key_of(s.solver.scheme));
   if (key == "solver.kernel") return std::string(key_of(s.solver.kernel));
   if (key == "solver.integrator") return std::string(key_of(s.solver.integrator));
@@ -129,7 +130,8 @@ Plan make_plan(const Spec& spec) {
   std::vector<double> frame_interval;  // per planned run: 1 / its scene's time.fps
   // The Cartesian product over the groups, the first group slowest.
   std::vector<std::size_t> at(spec.groups.size(), 0);
-  std::map<std::string, double> speed_cache;  // max |v0| per scene and resolution
+  std::map<std::string, double> speed_cache;      // max |v0| per scene and resolution
+  std::map<std::string, std::string> own_method;  // each base scene's solver.method
   for (bool more = true; more;) {
     PlannedRun run;
     for (std::size_t g = 0; g < spec.groups.size(); ++g)
@@ -154,9 +156,19 @@ Plan make_plan(const Spec& spec) {
     run.scene_path = resolve_scene_path(run.value_text("scene"));
     if (const Value* p = run.value("precision")) run.precision = p->text;
     if (const Value* t = run.value("threads")) run.threads = int(t->number);
-    run.overrides = spec.set;
+    // Another solver method replaces the whole solver section first (its keys then take their
+    // defaults, and the base scene's keys for its own family go), before `set` and the axes.
+    run.overrides.clear();
+    if (const Value* m = run.value("solver.method")) {
+      auto own = own_method.find(run.scene_path);
+      if (own == own_method.end())
+        own = own_method.emplace(run.scene_path, parse_for(spec, run, {}).solver.method).first;
+      if (m->text != own->second)
+        run.overrides.push_back("solver={\"method\":\"" + m->text + "\"}");
+    }
+    run.overrides.insert(run.overrides.end(), spec.set.begin(), spec.set.end());
     for (auto& [k, v] : run.config)
-      if (!is_derived_key(k)) run.overrides.push_back(k + "=" + v.text);
+      if (!is_derived_key(k) && k != "solver.method") run.overrides.push_back(k + "=" + v.text);
     // A fixed step from dt_factor replaces the scene's rule (the cfl rule refuses some kernels);
     // its value is set below, once Δx and the speeds are known.
     const Value* dt_factor = run.value("dt_factor");

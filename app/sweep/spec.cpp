@@ -8,6 +8,7 @@
 
 #include "app/assets.hpp"
 #include "app/cli.hpp"
+#include "sim/method_registry.hpp"
 #include "sim/parameters.hpp"
 #include "sim/registry.hpp"
 
@@ -31,10 +32,16 @@ void check_choice(const std::string& key, const std::string& value) {
     parse_choice(dt_rule_choices(), value, "time-step rule");
   else if (key == "precision")
     parse_choice(precision_choices(), value, "precision");
+  else if (key == "solver.method" && !find_method(value)) {
+    std::string names;
+    for (const std::string& n : method_names()) names += (names.empty() ? "" : "|") + n;
+    throw std::invalid_argument("unknown solver method '" + value + "' (expected " + names + ")");
+  }
 }
 bool is_choice_key(const std::string& key) {
   return key == "solver.scheme" || key == "solver.kernel" || key == "solver.integrator" ||
-         key == "solver.apic_linear_form" || key == "time.dt.rule" || key == "precision";
+         key == "solver.apic_linear_form" || key == "time.dt.rule" || key == "precision" ||
+         key == "solver.method";
 }
 
 class Checker {
@@ -95,7 +102,8 @@ class Checker {
     if (!p)
       fail(key,
            "unknown axis key (expected a numeric registry key such as materials.0.E or "
-           "solver.flip_alpha, a choice key solver.scheme|solver.kernel|solver.integrator|"
+           "solver.flip_alpha, a choice key "
+           "solver.method|solver.scheme|solver.kernel|solver.integrator|"
            "solver.apic_linear_form|time.dt.rule, or scene|resolution|dt_factor|precision|"
            "threads)");
     if (!v.is_number) fail(key, "expected a number, got '" + v.text + "'");
