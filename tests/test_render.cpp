@@ -2,6 +2,7 @@
 // panes, text, the offscreen backends. Run with `--backend egl|osmesa|auto` (default auto).
 // Regenerate the golden images: APICLAB_REGENERATE_GOLDEN=1 ctest --test-dir BUILD -R render
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -535,7 +536,9 @@ TEST(Image, ComparisonToleratesSmallDifferences) {
 TEST(Image, PngRoundTrip) {
   Image a(7, 5);
   for (std::size_t i = 0; i < a.rgba.size(); ++i) a.rgba[i] = std::uint8_t(i * 37);
-  const fs::path path = fs::temp_directory_path() / "apiclab-roundtrip.png";
+  // One name per process: the EGL and OSMesa builds of this test run at the same time.
+  const fs::path path =
+      fs::temp_directory_path() / ("apiclab-roundtrip-" + std::to_string(::getpid()) + ".png");
   write_png(a, path.string());
   const Image b = read_png(path.string());
   EXPECT_EQ(b.rgba, a.rgba);
