@@ -239,6 +239,7 @@ if "$APICLAB" gui --help >/dev/null 2>&1; then
   expect_error "gui --scheme with --schemes" "--schemes" -- gui "$DISK" --scheme pic --schemes pic,apic
   # The pane list is compare's (app/pane_spec.cpp): same names, same messages.
   expect_error "gui pane listed twice" "'apic' is listed twice" -- gui eol-spin --schemes apic,eol,apic
+  expect_error "gui mls pane with an implicit scene" "--schemes mls" "symplectic" -- gui "$DISK" --schemes apic,mls
   expect_error "gui unknown pane" "unknown scheme 'foo'" "solver method without schemes" -- gui eol-spin --schemes apic,foo
   expect_error "gui mpm:eol is no scheme" "unknown scheme 'eol'" -- gui eol-spin --schemes mpm:eol
 fi
