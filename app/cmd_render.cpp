@@ -135,6 +135,15 @@ int compare(const RenderOptions& o) {
                        spec.key + "'; --dump-format vtk writes its grids)");
   if (!o.run.csv.empty())
     throw UsageError("compare writes one CSV per scheme into --out; drop --csv");
+  {  // a scheme that cannot run with the scene (mls with an implicit integrator), before output
+    const SceneDesc scene = load_scene_with_options(o.run);
+    for (const PaneSpec& spec : specs) {
+      SolverDesc solver = scene.solver;
+      solver.scheme = spec.scheme;
+      if (const std::string why = scheme_conflict(solver); !why.empty() && spec.method == "mpm")
+        throw UsageError("--schemes " + spec.key + ": " + why);
+    }
+  }
   RenderSession session(o);
 
   // Each scheme builds its particles from the same scene (deterministic sampling), so all
@@ -153,8 +162,6 @@ int compare(const RenderOptions& o) {
     SceneDesc scene = session.scene;
     scene.solver.method = spec.method;
     scene.solver.scheme = spec.scheme;
-    if (const std::string why = scheme_conflict(scene.solver); !why.empty() && spec.method == "mpm")
-      throw UsageError("--schemes " + spec.key + ": " + why);
     Pane p{spec.key, make_simulation(scene, precision_of(o.run)),
            open_csv(o.out + "/" + spec.key + ".csv", scene, o)};
     DiagnosticsRow first = p.sim->measure();

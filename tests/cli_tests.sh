@@ -436,6 +436,7 @@ expect_error "dump format without --dump" "--dump-format" "needs --dump" -- run 
 
 expect_error "compare --dump with a pane without particles" "--dump" "eol" -- compare eol-spin --schemes apic,eol --out "$TMP/cmpdump" --dump "$TMP/cmpdump/d"
 
+expect_error "compare mls pane with an implicit scene" "--schemes mls" "symplectic" -- compare rotating-disk --schemes apic,mls --out "$TMP/cmpmls"
 expect_error "mls with an implicit integrator" "'solver.scheme'" "symplectic" -- run rotating-disk --scheme mls
 
 finish cli_tests
