@@ -11,7 +11,6 @@
 #include "commands.hpp"
 #include "gui/viewer.hpp"
 #include "render/color.hpp"
-#include "sim/method_registry.hpp"
 
 namespace apiclab::cli {
 namespace {
@@ -85,12 +84,9 @@ void register_gui(CLI::App& root, CommandTable& table) {
          check.scene = o->scene;
          SceneDesc scene = load_scene_with_options(check);
          if (panes.empty()) panes.push_back({"", scene.solver.method, scene.solver.scheme});
-         for (const PaneSpec& p : panes) {  // as compare: a scheme that cannot run here, up front
-           SolverDesc solver = scene.solver;
-           solver.scheme = p.scheme;
-           if (const std::string why = scheme_conflict(solver); !why.empty() && p.method == "mpm")
-             throw UsageError("--schemes " + p.key + ": " + why);
-         }
+         // As compare: a scheme that cannot run with this scene, up front.
+         if (const std::string why = pane_conflict(panes, scene.solver); !why.empty())
+           throw UsageError(why);
          // Each pane keeps its initial state for resets (app/sim_worker.cpp).
          check_memory_for(scene, precision_of(*run), 2 * int(panes.size()));
          if (run->flip_alpha && std::none_of(panes.begin(), panes.end(), [](const PaneSpec& p) {

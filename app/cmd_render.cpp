@@ -14,7 +14,6 @@
 #include "cli.hpp"
 #include "commands.hpp"
 #include "sim/diagnostics.hpp"
-#include "sim/method_registry.hpp"
 
 namespace apiclab::cli {
 namespace {
@@ -135,16 +134,7 @@ int compare(const RenderOptions& o) {
                        spec.key + "'; --dump-format vtk writes its grids)");
   if (!o.run.csv.empty())
     throw UsageError("compare writes one CSV per scheme into --out; drop --csv");
-  {  // a scheme that cannot run with the scene (mls with an implicit integrator), before output
-    const SceneDesc scene = load_scene_with_options(o.run);
-    for (const PaneSpec& spec : specs) {
-      SolverDesc solver = scene.solver;
-      solver.scheme = spec.scheme;
-      if (const std::string why = scheme_conflict(solver); !why.empty() && spec.method == "mpm")
-        throw UsageError("--schemes " + spec.key + ": " + why);
-    }
-  }
-  RenderSession session(o);
+  RenderSession session(o);  // refuses a pane that cannot run with the scene, before any output
 
   // Each scheme builds its particles from the same scene (deterministic sampling), so all
   // start from the same particles; each starts with its own initial state (APIC's C = ω*).

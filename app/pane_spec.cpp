@@ -32,4 +32,15 @@ std::vector<PaneSpec> parse_panes(const std::string& list) {
   return specs;
 }
 
+std::string pane_conflict(const std::vector<PaneSpec>& panes, const SolverDesc& scene_solver) {
+  for (const PaneSpec& p : panes) {
+    if (p.method != "mpm") continue;
+    SolverDesc solver = scene_solver;
+    solver.scheme = p.scheme;
+    if (const std::string why = scheme_conflict(solver); !why.empty())
+      return "--schemes " + p.key + ": " + why;
+  }
+  return "";
+}
+
 }  // namespace apiclab

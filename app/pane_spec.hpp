@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "sim/registry.hpp"
+#include "sim/scene.hpp"
 
 namespace apiclab {
 
@@ -18,5 +19,10 @@ struct PaneSpec {
 // A comma-separated list; throws std::invalid_argument naming the bad entry (unknown,
 // listed twice) or an empty list.
 std::vector<PaneSpec> parse_panes(const std::string& list);
+
+// "--schemes KEY: why" for the first MPM pane whose scheme cannot run with the scene's other
+// solver settings (sim/method_registry.hpp scheme_conflict: mls needs symplectic Euler and a
+// quadratic or cubic kernel); "" when every pane can.
+std::string pane_conflict(const std::vector<PaneSpec>& panes, const SolverDesc& scene_solver);
 
 }  // namespace apiclab

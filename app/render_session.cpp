@@ -7,6 +7,7 @@
 
 #include "app/cli_checks.hpp"
 #include "app/clock.hpp"
+#include "app/pane_spec.hpp"
 #include "app/particle_frame.hpp"
 #include "app/video.hpp"
 #include "render/snapshot_stats.hpp"
@@ -21,19 +22,6 @@ std::pair<int, int> parse_size(const std::string& s) {
   if (!(in >> w >> x >> h) || x != 'x' || in >> extra || w < 16 || h < 16 || w > 16384 || h > 16384)
     throw UsageError("invalid --size '" + s + "' (expected WxH, e.g. 1280x720, each 16..16384)");
   return {w, h};
-}
-
-// compare's --schemes, or render's scene scheme (unknown names are compare's to report).
-std::vector<Scheme> pane_schemes(const std::string& list, const SceneDesc& scene) {
-  std::vector<Scheme> out;
-  std::istringstream in(list);
-  for (std::string key; std::getline(in, key, ',');) {
-    if (key.rfind("mpm:", 0) == 0) key = key.substr(4);  // compare's `mpm:apic` form
-    for (const auto& c : scheme_choices())
-      if (c.key == key) out.push_back(c.value);
-  }
-  if (list.empty()) out.push_back(scene.solver.scheme);
-  return out;
 }
 
 }  // namespace
@@ -96,11 +84,17 @@ RenderSession::RenderSession(const RenderOptions& o) {
     throw UsageError("unknown --fit '" + o.fit + "' (expected domain|particles)");
   fit_particles = o.fit == "particles";
   scene = load_scene_with_options(o.run);
-  const std::vector<Scheme> panes = pane_schemes(o.schemes, scene);
-  check_flip_alpha(o.run, panes);
-  // compare: one simulation per listed pane, MPM scheme or another method (eol).
-  const int listed = int(std::count(o.schemes.begin(), o.schemes.end(), ',')) + 1;
-  check_memory_for(scene, precision_of(o.run), o.schemes.empty() ? 1 : listed);
+  // compare's panes (its list already checked by compare), or render's one pane: the scene's own.
+  const std::vector<PaneSpec> panes =
+      o.schemes.empty() ? std::vector<PaneSpec>{{"", scene.solver.method, scene.solver.scheme}}
+                        : parse_panes(o.schemes);
+  if (const std::string why = pane_conflict(panes, scene.solver); !why.empty())
+    throw UsageError(why);
+  std::vector<Scheme> schemes;
+  for (const PaneSpec& p : panes)
+    if (p.method == "mpm" || o.schemes.empty()) schemes.push_back(p.scheme);
+  check_flip_alpha(o.run, schemes);
+  check_memory_for(scene, precision_of(o.run), int(panes.size()));  // one simulation per pane
   style.time_step = 1 / scene.time.fps;
   style.up_axis = render::up_axis_from_gravity(scene.gravity, scene.dim);
   apply_threads(o.run.threads);
