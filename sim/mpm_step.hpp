@@ -68,24 +68,16 @@ std::optional<Failure> MpmSimulation<T, D>::step(double t_limit, DiagnosticsRow*
   r.dt = dt;
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (row) *row = r;
-  auto fail = [&](const std::string& quantity, const std::string& detail) {
-    std::ostringstream msg;
-    msg << "simulation blew up at step " << steps_ << ", t = " << time_ << ": " << quantity << " "
-        << detail;
-    failure_ = Failure{steps_, time_, quantity, msg.str()};
-  };
   if (!last_solve_.converged && scene_.solver.stop_on_nonconvergence) {
     std::ostringstream d;
     d << "did not converge in " << last_solve_.newton_iterations << " Newton iterations (residual "
       << last_solve_.residual << ", tolerance " << last_solve_.tolerance << ")";
-    fail("implicit solve", d.str());
-  } else if (non_finite_ || !std::isfinite(r.total) || !std::isfinite(r.kinetic)) {
-    fail("particle state", "became non-finite (NaN or Inf)");
-  } else if (r.kinetic + r.elastic > scene_.solver.blowup_energy_factor * energy_ref_) {
-    std::ostringstream d;
-    d << "grew to " << r.kinetic + r.elastic << ", more than " << scene_.solver.blowup_energy_factor
-      << " x the energy available (" << energy_ref_ << ")";
-    fail("kinetic + elastic energy", d.str());
+    failure_ = failure_at(steps_, time_, "implicit solve", d.str());
+  } else if (non_finite_) {  // a frozen state whose energies may still read finite
+    failure_ = failure_at(steps_, time_, "particle state", "became non-finite (NaN or Inf)");
+  } else {
+    failure_ = energy_failure(r, steps_, time_, "particle state",
+                              scene_.solver.blowup_energy_factor, energy_ref_);
   }
   return failure_;
 }

@@ -1,5 +1,8 @@
 #include "simulation.hpp"
 
+#include <cmath>
+#include <sstream>
+
 #include "method_registry.hpp"
 
 namespace apiclab {
@@ -12,6 +15,27 @@ std::optional<Failure> Simulation::advance_to(
     if (on_step) on_step(row);
   }
   return failure();
+}
+
+Failure failure_at(long step, double t, const std::string& quantity, const std::string& detail) {
+  std::ostringstream msg;
+  msg << "simulation blew up at step " << step << ", t = " << t << ": " << quantity << " "
+      << detail;
+  return Failure{step, t, quantity, msg.str()};
+}
+
+std::optional<Failure> energy_failure(const DiagnosticsRow& r, long step, double t,
+                                      const std::string& state, double factor,
+                                      double energy_available) {
+  if (!std::isfinite(r.total) || !std::isfinite(r.kinetic))
+    return failure_at(step, t, state, "became non-finite (NaN or Inf)");
+  if (r.kinetic + r.elastic > factor * energy_available) {
+    std::ostringstream d;
+    d << "grew to " << r.kinetic + r.elastic << ", more than " << factor
+      << " x the energy available (" << energy_available << ")";
+    return failure_at(step, t, "kinetic + elastic energy", d.str());
+  }
+  return std::nullopt;
 }
 
 std::unique_ptr<Simulation> make_simulation(const SceneDesc& scene, Precision precision) {

@@ -79,6 +79,14 @@ inline std::size_t particle_count(const Simulation& sim) {
   return t ? t->particle_count() : 0;
 }
 
+// The failure every solver family reports: "simulation blew up at step N, t = T: QUANTITY DETAIL".
+Failure failure_at(long step, double t, const std::string& quantity, const std::string& detail);
+// step()'s energy checks, shared by the families: a non-finite total or kinetic energy (named
+// `state`, e.g. "particle state"), or kinetic + elastic above `factor` × the energy available.
+std::optional<Failure> energy_failure(const DiagnosticsRow& r, long step, double t,
+                                      const std::string& state, double factor,
+                                      double energy_available);
+
 // Builds the scene's solver (`solver.method`) with its initial state. Throws SceneError for
 // scenes it cannot build.
 std::unique_ptr<Simulation> make_simulation(const SceneDesc& scene,

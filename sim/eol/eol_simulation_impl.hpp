@@ -331,20 +331,8 @@ std::optional<Failure> EolSimulation<T, D>::step(double t_limit, DiagnosticsRow*
   r.dt_limit = dt_limit_name(last_limit_);
   r.wall_seconds = detail::seconds_since(start);
   if (row) *row = r;
-  auto fail = [&](const std::string& quantity, const std::string& detail) {
-    std::ostringstream msg;
-    msg << "simulation blew up at step " << steps_ << ", t = " << time_ << ": " << quantity << " "
-        << detail;
-    failure_ = Failure{steps_, time_, quantity, msg.str()};
-  };
-  if (!std::isfinite(r.total) || !std::isfinite(r.kinetic)) {
-    fail("grid state", "became non-finite (NaN or Inf)");
-  } else if (r.kinetic + r.elastic > scene_.solver.blowup_energy_factor * energy_ref_) {
-    std::ostringstream d;
-    d << "grew to " << r.kinetic + r.elastic << ", more than " << scene_.solver.blowup_energy_factor
-      << " x the energy available (" << energy_ref_ << ")";
-    fail("kinetic + elastic energy", d.str());
-  }
+  failure_ = energy_failure(r, steps_, time_, "grid state", scene_.solver.blowup_energy_factor,
+                            energy_ref_);
   return failure_;
 }
 
