@@ -62,6 +62,6 @@ target_link_libraries(apiclab_imgui_glfw PUBLIC PkgConfig::IMGUI glfw)
 target_compile_options(apiclab_imgui_glfw PRIVATE -w)
 
 target_sources(apiclab PRIVATE cmd_gui.cpp gui/viewer.cpp gui/controls.cpp gui/scene_view.cpp
-                               gui/plots_panel.cpp)
+                               gui/plots_panel.cpp gui/sweep_panel.cpp)
 target_link_libraries(apiclab PRIVATE apiclab_imgui_glfw)
 target_compile_definitions(apiclab PRIVATE APICLAB_HAVE_GUI=1)

@@ -7,6 +7,7 @@
 
 #include "app/cli_checks.hpp"
 #include "app/pane_spec.hpp"
+#include "app/sweep/open.hpp"
 #include "cli.hpp"
 #include "commands.hpp"
 #include "gui/viewer.hpp"
@@ -32,6 +33,8 @@ void register_gui(CLI::App& root, CommandTable& table) {
   auto size = std::make_shared<std::string>();
   auto fast = std::make_shared<bool>(false);
   auto frames = std::make_shared<std::optional<int>>();
+  auto sweep_dir = std::make_shared<std::string>();
+  auto sweep_run = std::make_shared<std::string>();
   CLI::App* cmd = root.add_subcommand(
       "gui", "Interactive viewer: live scheme switching, vectors, plots, side-by-side panes");
   // The common options of run (scene, scheme, kernel, integrator, dt, t-end, flip-alpha, ...).
@@ -52,8 +55,15 @@ void register_gui(CLI::App& root, CommandTable& table) {
                   "Frames before the screenshot (each one simulated frame); alone: run live N "
                   "frames, print fps, exit [allowed: 1 or more; default: 60 with --screenshot, "
                   "else run until closed]");
+  cmd->add_option("--sweep", *sweep_dir,
+                  "Open a sweep folder (apiclab sweep --out DIR): its charts under the panes; "
+                  "a click on a point or a stability cell runs that configuration beside its "
+                  "reference [default: none]");
+  cmd->add_option("--sweep-run", *sweep_run,
+                  "With --sweep: start with this run (its id, runs.csv's first column) beside "
+                  "its reference [default: the first scene's reference run alone]");
   table.push_back(
-      {cmd, [o, run, schemes, size, fast, frames] {
+      {cmd, [o, run, schemes, size, fast, frames, sweep_dir, sweep_run] {
          o->realtime = !*fast;
          o->schemes = split_commas(*schemes);
          if (o->schemes.size() > 4) throw UsageError("--schemes: at most 4 panes");
@@ -79,6 +89,24 @@ void register_gui(CLI::App& root, CommandTable& table) {
            throw UsageError("--size: expected WxH, e.g. 1600x900");
          if (!o->screenshot.empty()) ensure_writable_file(o->screenshot);
          if (!o->screenshot.empty() && o->frames <= 0) o->frames = 60;
+         if (!sweep_run->empty() && sweep_dir->empty())
+           throw UsageError("--sweep-run needs --sweep DIR");
+         if (!sweep_dir->empty()) {
+           // Each pane runs its configuration as the sweep's runner gave it to `run`.
+           if (!run->scene.empty() || !schemes->empty() || !o->overrides.empty())
+             throw UsageError(
+                 "--sweep DIR runs its own configurations; give no SCENE, --schemes, --set or "
+                 "solver options");
+           o->sweep = sweep::open_sweep(*sweep_dir);  // a bad folder: one line, exit 2
+           if (!sweep_run->empty()) o->sweep_run = long(sweep::run_with_id(*o->sweep, *sweep_run));
+           const std::size_t first = o->sweep_run >= 0 ? std::size_t(o->sweep_run)
+                                                       : o->sweep->plan.runs.front().reference;
+           const sweep::SweepLaunch launch = sweep::launch_run(*o->sweep, first);  // checks them
+           for (const auto& pane : launch.panes)  // each pane keeps its initial state
+             check_memory_for(*pane.scene, *pane.precision, 2);
+           apply_threads(run->threads);
+           return gui::run_viewer(*o);
+         }
          // The scene as the viewer will load it: bad input fails here with exit 2.
          RunOptions check = *run;
          check.scene = o->scene;

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <optional>
 
+#include "app/sweep/open.hpp"
 #include "app/sweep/plan.hpp"
 #include "app/sweep/results.hpp"
 #include "app/sweep/runner.hpp"
@@ -40,6 +41,7 @@ int sweep_command(const SweepOptions& o) {
   if (out.empty()) throw UsageError("sweep: --out DIR is required (or --collect DIR)");
   if (!o.export_jobs.empty()) {
     ensure_writable_dir(out);
+    write_spec_copy(o.spec, out);  // the folder reopens in the viewer (gui --sweep)
     export_jobs(plan, out, o.export_jobs);
     std::printf(
         "%zu run commands written to %s; run them (e.g. parallel --jobs 16 < %s), then "
@@ -53,9 +55,12 @@ int sweep_command(const SweepOptions& o) {
     if (!o.quiet)
       std::fprintf(stderr, "apiclab: sweep %s: %zu runs, %d at a time, into %s\n",
                    spec.name.c_str(), plan.runs.size(), o.jobs, out.c_str());
+    write_spec_copy(o.spec, out);
     run_plan(plan, out, o.jobs, o.quiet);
   } else if (!std::filesystem::is_directory(out)) {
     throw UsageError("sweep: --collect '" + out + "': no such folder");
+  } else {
+    write_spec_copy(o.spec, out);
   }
   const auto results = collect(spec, plan, out);
   const std::string csv = write_runs_csv(spec, results, out);

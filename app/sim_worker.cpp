@@ -66,7 +66,7 @@ void SimWorker::load(SceneDesc scene, std::vector<PaneConfig> panes, Precision p
 
 void SimWorker::restart_panes() {
   for (auto& p : panes_) {
-    SceneDesc s = *scene_;  // every pane from the same scene, as compare's panes
+    SceneDesc s = p.config.scene ? *p.config.scene : *scene_;  // as compare's panes
     if (!p.config.method.empty()) s.solver.method = p.config.method;
     s.solver.scheme = p.config.scheme;
     s.solver.flip_alpha = p.config.flip_alpha;
@@ -74,7 +74,7 @@ void SimWorker::restart_panes() {
     if (p.config.integrator) s.solver.integrator = *p.config.integrator;
     if (const std::string why = scheme_conflict(s.solver); !why.empty() && s.solver.method == "mpm")
       throw SceneError(std::string(key_of(s.solver.scheme)) + " pane: " + why);
-    p.initial = make_simulation(s, precision_);  // throws SceneError
+    p.initial = make_simulation(s, p.config.precision.value_or(precision_));  // SceneError
   }
   rewind_panes();
 }

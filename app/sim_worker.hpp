@@ -28,6 +28,11 @@ struct PaneConfig {
   std::optional<KernelType> kernel;      // empty: the scene's
   std::optional<Integrator> integrator;  // empty: the scene's
   std::string method = "";               // solver.method ("mpm", "eol", ...); empty: the scene's
+  // A pane with a scene of its own (a sweep run beside its reference, app/sweep/open.hpp):
+  // it replaces the worker's scene for this pane; the frame times stay the worker scene's.
+  std::shared_ptr<const SceneDesc> scene;
+  std::optional<Precision> precision;  // empty: the worker's
+  std::string label;                   // shown before the scheme in the pane's title
 };
 
 // Diagnostics rows since the start, append-only in immutable chunks: publishing shares the

@@ -59,6 +59,13 @@ add_test(NAME gui.smoke
          COMMAND ${CMAKE_COMMAND} -E env APICLAB=$<TARGET_FILE:apiclab> CHECK=$<TARGET_FILE:gui_screenshot_check>
                  bash ${CMAKE_CURRENT_SOURCE_DIR}/test_gui_smoke.sh ${CMAKE_CURRENT_BINARY_DIR}/gui-smoke)
 set_tests_properties(gui.smoke PROPERTIES LABELS "gui" TIMEOUT 120 SKIP_REGULAR_EXPRESSION "^SKIP:")
+# gui --sweep: bad folders (one line, exit 2) and, under Xvfb, a run beside its reference.
+add_test(NAME gui.sweep
+         COMMAND ${CMAKE_COMMAND} -E env APICLAB=$<TARGET_FILE:apiclab> CHECK=$<TARGET_FILE:gui_screenshot_check>
+                 bash ${CMAKE_CURRENT_SOURCE_DIR}/test_gui_sweep.sh ${CMAKE_CURRENT_BINARY_DIR}/sweep-view
+                 ${CMAKE_CURRENT_BINARY_DIR}/gui-sweep)
+set_tests_properties(gui.sweep PROPERTIES LABELS "gui" TIMEOUT 120 SKIP_REGULAR_EXPRESSION "^SKIP:"
+                                          FIXTURES_REQUIRED sweep_view)
 
 if(NOT APICLAB_TSAN)
   add_test(NAME gui.tsan_handoff

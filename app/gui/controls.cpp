@@ -145,6 +145,20 @@ void scene_section(ViewerState& st, SimWorker& worker) {
     ImGui::TextWrapped("%s", st.load_error.c_str());
     ImGui::PopStyleColor();
   }
+  // A sweep folder: its charts under the panes (app/gui/sweep_panel.cpp).
+  ImGui::SetNextItemWidth(-100);
+  const bool sweep_enter =
+      ImGui::InputTextWithHint("##sweep", "sweep folder (sweep --out DIR)", st.sweep_path,
+                               sizeof st.sweep_path, ImGuiInputTextFlags_EnterReturnsTrue);
+  ImGui::SameLine();
+  if ((ImGui::Button("Open sweep", ImVec2(-1, 0)) || sweep_enter) && st.sweep_path[0])
+    open_sweep_folder(st, worker, st.sweep_path);
+  if (!st.sweep_error.empty()) {
+    ImGui::PushStyleColor(ImGuiCol_Text, kError);
+    ImGui::TextWrapped("%s", st.sweep_error.c_str());
+    ImGui::PopStyleColor();
+  }
+  if (st.sweep && ImGui::SmallButton("close sweep")) st.sweep.reset(), st.sweep_run = -1;
   if (st.scene_loaded && !st.scene.description.empty()) {
     ImGui::PushStyleColor(ImGuiCol_Text, kMuted);
     ImGui::TextWrapped("%s", st.scene.description.c_str());
@@ -313,6 +327,24 @@ void solver_section(ViewerState& st, SimWorker& worker) {
   ImGui::PopItemWidth();
 }
 
+// The configurations of a sweep run and its reference, as the runner gave them to `run`.
+void sweep_section(const ViewerState& st) {
+  section("Sweep runs (each its own configuration)");
+  if (!st.sweep || st.sweep_run < 0) return;
+  const std::size_t run = std::size_t(st.sweep_run);
+  const std::size_t ref = st.sweep->plan.runs[run].reference;
+  for (const std::size_t i : {ref, run}) {
+    if (i == run && run == ref) break;
+    const sweep::PlannedRun& p = st.sweep->plan.runs[i];
+    ImGui::TextColored(kMuted, "%s %s", i == ref ? "reference" : "run", p.id.c_str());
+    std::string sets;
+    for (const std::string& o : p.overrides) sets += "  --set " + o + "\n";
+    ImGui::PushStyleColor(ImGuiCol_Text, kMuted);
+    ImGui::TextWrapped("%s\n%s", std::filesystem::path(p.scene_path).stem().c_str(), sets.c_str());
+    ImGui::PopStyleColor();
+  }
+}
+
 void view_section(ViewerState& st, const Published& pub, SimWorker& worker) {
   section("View");
   ImGui::PushItemWidth(-110);
@@ -352,7 +384,11 @@ void draw_controls(ViewerState& st, const Published& pub, SimWorker& worker) {
   scene_section(st, worker);
   playback_section(st, pub, worker);
   panes_section(st, pub, worker);
-  if (st.scene_loaded) solver_section(st, worker);
+  // Panes with scenes of their own (a sweep run and its reference) take no scene-wide edits.
+  const bool own_scenes = std::any_of(st.panes.begin(), st.panes.end(),
+                                      [](const PaneConfig& c) { return c.scene != nullptr; });
+  if (st.scene_loaded && !own_scenes) solver_section(st, worker);
+  if (own_scenes) sweep_section(st);
   view_section(st, pub, worker);
   ImGui::End();
 }

@@ -152,8 +152,9 @@ void add_dashed(ImDrawList* dl, const std::vector<ImVec2>& pts, ImU32 color, flo
 
 }  // namespace
 
-void plot(const char* id, ImVec2 size, const PlotOptions& o,
-          const std::vector<PlotSeries>& series) {
+PlotPick plot(const char* id, ImVec2 size, const PlotOptions& o,
+              const std::vector<PlotSeries>& series) {
+  PlotPick pick;
   ImGui::PushID(id);
   const ImVec2 avail = ImGui::GetContentRegionAvail();
   if (size.x <= 0) size.x = avail.x;
@@ -161,6 +162,7 @@ void plot(const char* id, ImVec2 size, const PlotOptions& o,
   const ImVec2 p0 = ImGui::GetCursorScreenPos();
   ImGui::InvisibleButton("plot", size);
   const bool hovered = o.interactive && ImGui::IsItemHovered();
+  const bool clicked = hovered && ImGui::IsItemClicked(ImGuiMouseButton_Left);
   ImDrawList* dl = ImGui::GetWindowDrawList();
   const float fh = ImGui::GetFontSize();
 
@@ -209,7 +211,7 @@ void plot(const char* id, ImVec2 size, const PlotOptions& o,
   const ImVec2 b(p0.x + size.x - 8, p0.y + size.y - 2 * fh - 6);  // bottom right
   if (b.x - a.x < 20 || b.y - a.y < 20) {
     ImGui::PopID();
-    return;
+    return pick;
   }
   auto sx = [&](double x) { return float(a.x + (fx(x) - xlo) / (xhi - xlo) * (b.x - a.x)); };
   auto sy = [&](double y) { return float(b.y - (fy(y) - ylo) / (yhi - ylo) * (b.y - a.y)); };
@@ -352,9 +354,33 @@ void plot(const char* id, ImVec2 size, const PlotOptions& o,
     }
   }
 
-  // Hover: a vertical rule and each series' value at the nearest sample.
   const ImVec2 m = ImGui::GetIO().MousePos;
-  if (hovered && m.x >= a.x && m.x <= b.x) {
+  if (hovered && o.pick_points) {  // the nearest marker within 10 pixels, ringed
+    float best = 10 * 10;
+    for (std::size_t k = 0; k < series.size(); ++k) {
+      const PlotSeries& s = series[k];
+      if (!s.markers) continue;
+      for (std::size_t i = 0; i < s.count; ++i) {
+        const double xv = s.x(i), yv = s.y(i);
+        if (!std::isfinite(yv) || (o.log_y && !(yv > 0)) || (o.log_x && !(xv > 0))) continue;
+        const float dx = sx(xv) - m.x, dy = sy(yv) - m.y;
+        if (dx * dx + dy * dy < best) best = dx * dx + dy * dy, pick = {true, false, k, i};
+      }
+    }
+    if (pick.hit) {
+      const PlotSeries& s = series[pick.series];
+      dl->AddCircle(ImVec2(sx(s.x(pick.point)), sy(s.y(pick.point))), s.thickness + 6, kText, 16,
+                    1.5f);
+      pick.clicked = clicked;
+      ImGui::BeginTooltip();
+      if (o.point_tooltip)
+        o.point_tooltip(pick.series, pick.point);
+      else
+        ImGui::Text("%s: %.6g, %.6g", s.label.c_str(), s.x(pick.point), s.y(pick.point));
+      ImGui::EndTooltip();
+    }
+  } else if (hovered && m.x >= a.x && m.x <= b.x) {
+    // Hover: a vertical rule and each series' value at the nearest sample.
     dl->AddLine(ImVec2(m.x, a.y), ImVec2(m.x, b.y), IM_COL32(120, 120, 120, 160));
     const double xf = xlo + (m.x - a.x) / (b.x - a.x) * (xhi - xlo);
     const double xv = o.log_x ? std::pow(10.0, xf) : xf;
@@ -373,6 +399,7 @@ void plot(const char* id, ImVec2 size, const PlotOptions& o,
     ImGui::EndTooltip();
   }
   ImGui::PopID();
+  return pick;
 }
 
 }  // namespace apiclab::gui

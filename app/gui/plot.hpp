@@ -40,11 +40,22 @@ struct PlotOptions {
   Corner legend_corner = Corner::top_right;
   bool interactive = true;      // false: no hover readout (offscreen figures)
   bool minor_log_grid = false;  // log axes: light grid lines at 2..9 times each decade
+  // Scatter charts (the sweep viewer): hover picks the nearest marker of a series with markers
+  // instead of reading every series at the mouse's x; point_tooltip, when set, writes the
+  // tooltip of the picked point (series index, sample index).
+  bool pick_points = false;
+  std::function<void(std::size_t series, std::size_t point)> point_tooltip;
+};
+
+// The marker under the mouse (pick_points), and whether it was clicked this frame.
+struct PlotPick {
+  bool hit = false, clicked = false;
+  std::size_t series = 0, point = 0;
 };
 
 // Lays out `size` pixels at the cursor (width or height <= 0: what is left) and draws.
-void plot(const char* id, ImVec2 size, const PlotOptions& options,
-          const std::vector<PlotSeries>& series);
+PlotPick plot(const char* id, ImVec2 size, const PlotOptions& options,
+              const std::vector<PlotSeries>& series);
 
 // Round tick positions covering [lo, hi], about `target` of them; log: powers of ten.
 std::vector<double> nice_ticks(double lo, double hi, int target);

@@ -28,8 +28,9 @@
 namespace apiclab::gui {
 namespace {
 
-constexpr float kSidebar = 350;      // control column width, pixels
-constexpr float kSceneShare = 0.6f;  // of the height right of the column; plots below
+constexpr float kSidebar = 350;           // control column width, pixels
+constexpr float kSceneShare = 0.6f;       // of the height right of the column; plots below
+constexpr float kSweepSceneShare = 0.5f;  // the same with a sweep's charts below
 
 void setup_style() {
   ImGui::StyleColorsLight();
@@ -52,9 +53,11 @@ void* gl_proc(const char* name) { return reinterpret_cast<void*>(glfwGetProcAddr
 ImU32 pane_color(std::size_t pane) { return render::packed_abgr(render::palette_color(int(pane))); }
 
 std::string pane_label(const PaneState& p) {
-  if (!p.config.method.empty() && p.config.method != "mpm") return p.config.method;  // no scheme
+  const std::string before = p.config.label.empty() ? "" : p.config.label + ": ";
+  if (!p.config.method.empty() && p.config.method != "mpm") return before + p.config.method;
   std::string s(key_of(p.config.scheme));
   for (auto& c : s) c = char(std::toupper(static_cast<unsigned char>(c)));
+  s = before + s;
   if (p.config.scheme == Scheme::flip && p.config.flip_alpha != 1.0) {
     char buf[32];
     std::snprintf(buf, sizeof buf, " a=%.2f", p.config.flip_alpha);
@@ -171,7 +174,13 @@ int run_viewer(const ViewerOptions& opt) {
       if (e.path().extension() == ".json") st.scene_files.push_back(e.path().string());
     std::sort(st.scene_files.begin(), st.scene_files.end());
     worker.set_realtime(st.realtime);
-    load_scene_file(st, worker, opt.scene, opt.overrides);
+    if (opt.sweep) {
+      show_sweep(st, worker, opt.sweep);
+      if (opt.sweep_run >= 0) open_sweep_run(st, worker, std::size_t(opt.sweep_run));
+      if (!st.sweep_error.empty()) st.load_error = st.sweep_error;
+    } else {
+      load_scene_file(st, worker, opt.scene, opt.overrides);
+    }
     if (!st.load_error.empty()) std::fprintf(stderr, "apiclab: %s\n", st.load_error.c_str());
     if (!opt.screenshot.empty() || opt.paused) worker.play(false);
 
@@ -195,8 +204,14 @@ int run_viewer(const ViewerOptions& opt) {
       ImGui::SetNextWindowPos(ImVec2(0, 0));
       ImGui::SetNextWindowSize(ImVec2(kSidebar, H));
       draw_controls(st, *pub, worker);
-      const float scene_h = std::round(H * kSceneShare);
-      draw_plots(st, *pub, ImVec2(kSidebar, scene_h), ImVec2(W - kSidebar, H - scene_h));
+      // With a sweep open its charts take a little more of the height, under the panes.
+      const float scene_h = std::round(H * (st.sweep ? kSweepSceneShare : kSceneShare));
+      ImVec2 below(kSidebar, scene_h), below_size(W - kSidebar, H - scene_h);
+      if (st.sweep) {
+        const float used = draw_sweep_panel(st, worker, below, below_size);
+        below.y += used, below_size.y -= used;
+      }
+      if (below_size.y > 40) draw_plots(st, *pub, below, below_size);
       renderer.begin_frame(fw, fh, {255, 255, 255, 255});
       const auto rects = draw_scene_panes(renderer, st, *pub, {kSidebar, 0, W - kSidebar, scene_h});
       renderer.end_frame();

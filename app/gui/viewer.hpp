@@ -1,8 +1,13 @@
 // The interactive viewer: a GLFW window with Dear ImGui controls, the renderer's panes side by
 // side, and live plots, fed by a SimWorker (docs/architecture.md, "Threads").
 #pragma once
+#include <memory>
 #include <string>
 #include <vector>
+
+namespace apiclab::sweep {
+struct OpenedSweep;
+}
 
 namespace apiclab::gui {
 
@@ -16,6 +21,10 @@ struct ViewerOptions {
   int width = 1600, height = 900;
   std::string screenshot;  // save the window as PNG after `frames` frames, then exit
   int frames = 0;          // without a screenshot: run live this many frames, print timings, exit
+  // gui --sweep DIR: the sweep, opened (and so checked) by the command line; sweep_run: the run
+  // shown beside its reference at the start (-1: the first scene's reference run alone).
+  std::shared_ptr<const sweep::OpenedSweep> sweep;
+  long sweep_run = -1;
 };
 
 // Opens the window and runs until it closes. Returns the process exit code.

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "app/sim_worker.hpp"
+#include "app/sweep/open.hpp"
 #include "render/auto_scale.hpp"
 #include "render/camera.hpp"
 #include "render/color.hpp"
@@ -26,6 +27,14 @@ struct ViewerState {
   std::vector<PaneConfig> panes;
   Precision precision = Precision::dbl;
   char open_path[512] = "";
+
+  // A sweep folder (app/sweep/open.hpp): its charts under the panes; a click opens a run.
+  std::shared_ptr<const sweep::OpenedSweep> sweep;
+  std::string sweep_error;  // one line: the last folder that could not be opened, and why
+  char sweep_path[512] = "";
+  int sweep_scene = 0;       // which scene's charts
+  long sweep_run = -1;       // the run whose panes are live (beside its reference)
+  bool sweep_plots = false;  // the live plots instead of the sweep's charts
 
   // Playback.
   bool realtime = true;
@@ -61,5 +70,18 @@ void draw_plots(ViewerState& st, const Published& pub, ImVec2 pos, ImVec2 size);
 void load_scene_file(ViewerState& st, SimWorker& worker, const std::string& path,
                      const std::vector<std::string>& overrides = {});
 void restart(ViewerState& st, SimWorker& worker);
+
+// The sweep panel (app/gui/sweep_panel.cpp) in the area under the panes; returns the height it
+// took (all of it with the charts, its header row when the live plots are shown instead).
+float draw_sweep_panel(ViewerState& st, SimWorker& worker, ImVec2 pos, ImVec2 size);
+// Opens a sweep folder and shows its first scene's reference run; on failure the one-line
+// reason lands in st.sweep_error and what was shown stays. Returns whether it opened.
+bool open_sweep_folder(ViewerState& st, SimWorker& worker, const std::string& dir);
+// What a click on a chart point or a stability cell does: that run's configuration beside its
+// reference's, both from t = 0 in lockstep (sweep::launch_run).
+void open_sweep_run(ViewerState& st, SimWorker& worker, std::size_t run);
+// Adopts an already opened sweep (the command line opened it to check it).
+void show_sweep(ViewerState& st, SimWorker& worker,
+                std::shared_ptr<const sweep::OpenedSweep> sweep);
 
 }  // namespace apiclab::gui

@@ -18,12 +18,8 @@
 #include "render/palette.hpp"
 
 namespace apiclab::sweep {
-namespace {
-
 namespace fs = std::filesystem;
 using figures::ChartCanvas;
-
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 ImU32 series_color(const Spec& spec, const std::string& value, std::size_t k) {
   if (spec.series == "solver.scheme") return figures::style_of(value).color;
@@ -38,7 +34,7 @@ gui::PlotSeries scatter(const std::string& label, ImU32 color, const std::vector
   s.color = color;
   s.count = 2 * x.size();
   s.x = [&x](std::size_t i) { return x[i / 2]; };
-  s.y = [&y](std::size_t i) { return i % 2 ? kNaN : y[i / 2]; };
+  s.y = [&y](std::size_t i) { return i % 2 ? std::numeric_limits<double>::quiet_NaN() : y[i / 2]; };
   s.markers = true;
   s.thickness = 2.0f;
   return s;
@@ -53,6 +49,8 @@ std::string error_label(const std::string& error) {
   if (error == "rigid") return "distance to rigid rotation ||u - u_rigid|| / ||u_rigid||";
   return "max |dL|/|L0|";
 }
+
+namespace {
 
 // A 900×520 log-log chart under a heading, written to DIR/BASE.png; returns "BASE.png".
 std::string write_log_log_chart(ChartCanvas& canvas, const std::string& heading, gui::PlotOptions o,
@@ -126,6 +124,8 @@ std::string error_vs_cost(ChartCanvas& canvas, const Spec& spec,
                              o, plots, dir, base);
 }
 
+}  // namespace
+
 ImU32 outcome_color(const std::string& outcome) {
   if (outcome == "completed") return IM_COL32(150, 210, 150, 255);
   if (outcome == "noisy") return IM_COL32(245, 200, 90, 255);
@@ -133,6 +133,8 @@ ImU32 outcome_color(const std::string& outcome) {
   if (outcome == "blew_up") return IM_COL32(230, 110, 100, 255);
   return IM_COL32(210, 210, 210, 255);
 }
+
+namespace {
 
 std::string stability(ChartCanvas& canvas, const Spec& spec, const std::vector<RunResult>& results,
                       const StabilityMap& m, const std::string& dir) {

@@ -4,12 +4,24 @@
 // line), stability_SCENE.png (coloured cells with the failure time) and convergence.png (error
 // against dx with fitted slopes).
 #pragma once
+#include <imgui.h>
+
 #include <string>
 #include <vector>
 
+#include "app/gui/plot.hpp"
 #include "app/sweep/results.hpp"
 
 namespace apiclab::sweep {
+
+// The charts' styles, shared with the viewer's sweep panel (app/gui/sweep_panel.cpp).
+ImU32 series_color(const Spec& spec, const std::string& value, std::size_t k);
+// A scatter through the line plot: a NaN between points breaks the line, markers stay; point i
+// of the data is sample 2 i of the series. x and y must outlive the series.
+gui::PlotSeries scatter(const std::string& label, ImU32 color, const std::vector<double>& x,
+                        const std::vector<double>& y);
+std::string error_label(const std::string& error);
+ImU32 outcome_color(const std::string& outcome);  // stability map cells
 
 // Writes the charts into out_dir; returns their file names. Throws std::runtime_error when no
 // offscreen GL context can be made.

@@ -112,18 +112,32 @@ std::string run_dir(const std::string& out_dir, const PlannedRun& run) {
   return (std::filesystem::path(out_dir) / "runs" / run.id).string();
 }
 
+cli::RunOptions PlannedRun::options() const {
+  cli::RunOptions o;
+  o.scene = scene_path;
+  o.precision = precision;
+  o.threads = threads;
+  o.sets = overrides;
+  o.quiet = true;
+  return o;
+}
+
 std::vector<std::string> PlannedRun::command(const std::string& exe,
                                              const std::string& out_dir) const {
-  std::vector<std::string> args = {exe,           "run",     scene_path,  "--quiet",
-                                   "--precision", precision, "--threads", std::to_string(threads)};
-  for (const std::string& o : overrides) {
+  const cli::RunOptions o = options();
+  std::vector<std::string> args = {
+      exe,           "run",       o.scene,     "--quiet",
+      "--precision", o.precision, "--threads", std::to_string(o.threads)};
+  for (const std::string& s : o.sets) {
     args.push_back("--set");
-    args.push_back(o);
+    args.push_back(s);
   }
   args.push_back("--record");
   args.push_back(run_dir(out_dir, *this));
   return args;
 }
+
+SceneDesc scene_of(const PlannedRun& run) { return cli::load_scene_with_options(run.options()); }
 
 Plan make_plan(const Spec& spec) {
   Plan plan;

@@ -8,7 +8,9 @@
 #include <utility>
 #include <vector>
 
+#include "app/cli.hpp"
 #include "app/sweep/spec.hpp"
+#include "sim/scene.hpp"
 
 namespace apiclab::sweep {
 
@@ -26,9 +28,17 @@ struct PlannedRun {
   const Value* value(const std::string& key) const;
   std::string value_text(const std::string& key) const;  // "" when not an axis
   std::string label() const;                             // "solver.scheme=apic, dt_factor=2"
+  // The options of `apiclab run` for this run: the one place its configuration is built. The
+  // runner's command line writes them out and the viewer loads scene_of() from them, so the two
+  // cannot disagree.
+  cli::RunOptions options() const;
   // The self-contained `apiclab run` command that records this run in DIR/runs/ID.
   std::vector<std::string> command(const std::string& exe, const std::string& out_dir) const;
 };
+
+// The scene this run's `run --record` process simulates: options() through the same loader
+// (cli::load_scene_with_options), every override and derived value (dx, sampling, Δt) applied.
+SceneDesc scene_of(const PlannedRun& run);
 
 struct Plan {
   std::vector<PlannedRun> runs;

@@ -1,0 +1,123 @@
+#include "app/sweep/open.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+
+#include "app/cli.hpp"
+#include "app/sweep/record.hpp"
+
+namespace apiclab::sweep {
+namespace {
+
+namespace fs = std::filesystem;
+using cli::UsageError;
+
+// A message cut to its first line: the viewer and the command line show one line.
+std::string first_line(const std::string& s) { return s.substr(0, s.find('\n')); }
+
+}  // namespace
+
+void write_spec_copy(const std::string& spec_path, const std::string& out_dir) {
+  const fs::path copy = fs::path(out_dir) / kSpecCopy;
+  std::error_code ec;
+  if (fs::exists(copy, ec) && fs::equivalent(spec_path, copy, ec)) return;  // --collect DIR/spec
+  fs::copy_file(spec_path, copy, fs::copy_options::overwrite_existing, ec);
+  if (ec) throw UsageError("sweep: cannot write '" + copy.string() + "': " + ec.message());
+}
+
+std::shared_ptr<const OpenedSweep> open_sweep(const std::string& dir) {
+  const std::string where = "sweep folder '" + dir + "'";
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw UsageError(where + ": no such folder");
+  const fs::path spec_file = fs::path(dir) / kSpecCopy;
+  if (!fs::is_regular_file(spec_file, ec))
+    throw UsageError(where + ": not a sweep (no " + std::string(kSpecCopy) +
+                     "; `apiclab sweep SPEC --out DIR` writes one, and `--collect DIR` adds it "
+                     "to an older folder)");
+  auto out = std::make_shared<OpenedSweep>();
+  out->dir = dir;
+  out->spec = load_spec(spec_file.string());  // UsageError names the file and the key
+  out->plan = make_plan(out->spec);
+  std::size_t complete = 0;
+  for (const PlannedRun& r : out->plan.runs) complete += record_complete(run_dir(dir, r));
+  if (complete == 0)
+    throw UsageError(where + ": no run of its " + std::to_string(out->plan.runs.size()) +
+                     " has finished yet (runs/ID/result.json)");
+  try {  // the sweep's own reading (results.cpp); a damaged record throws, naming its file
+    out->results = collect(out->spec, out->plan, dir);
+  } catch (const std::exception& e) {
+    throw UsageError(where + ": a run record is half-written or damaged: " + first_line(e.what()));
+  }
+  for (const RunResult& r : out->results) out->missing += r.outcome == "no_result";
+  if (out->spec.axis(out->spec.columns) || out->spec.columns == "dt_factor")
+    out->maps = stability_maps(out->spec, out->results);
+  const std::string& error = out->spec.errors.front();
+  for (const std::string& scene : scenes(out->spec)) {
+    SceneCharts c;
+    c.scene = scene;
+    c.cost = cost_series(out->spec, out->results, error, scene);
+    c.front = pareto_front(out->results, error, scene);
+    c.convergence = convergence_series(out->spec, out->results, error, scene);
+    for (const StabilityMap& m : out->maps)
+      if (m.scene == scene) c.stability = &m;
+    out->charts.push_back(std::move(c));
+  }
+  return out;
+}
+
+SweepLaunch launch_run(const OpenedSweep& sweep, std::size_t run) {
+  if (run >= sweep.plan.runs.size())
+    throw UsageError("sweep: no run " + std::to_string(run) + " (the sweep has " +
+                     std::to_string(sweep.plan.runs.size()) + ")");
+  SweepLaunch l;
+  l.run = run;
+  l.reference = sweep.plan.runs[run].reference;
+  std::vector<std::size_t> shown = {l.reference};
+  if (run != l.reference) shown.push_back(run);
+  for (std::size_t i : shown) {
+    const PlannedRun& p = sweep.plan.runs[i];
+    auto scene = std::make_shared<const SceneDesc>(scene_of(p));
+    gui::PaneConfig c;
+    c.scene = scene;
+    c.precision = cli::precision_of(p.options());
+    c.method = scene->solver.method;
+    c.scheme = scene->solver.scheme;
+    c.flip_alpha = scene->solver.flip_alpha;
+    c.label = (i == l.reference ? "reference " : "run ") + config_text(sweep.spec, p);
+    if (l.panes.empty()) {
+      l.scene = *scene;
+      l.precision = *c.precision;
+    }
+    l.panes.push_back(std::move(c));
+  }
+  return l;
+}
+
+std::size_t run_with_id(const OpenedSweep& sweep, const std::string& id) {
+  for (std::size_t i = 0; i < sweep.plan.runs.size(); ++i)
+    if (sweep.plan.runs[i].id == id) return i;
+  throw UsageError("sweep folder '" + sweep.dir + "': no run with id '" + id +
+                   "' (the first column of runs.csv)");
+}
+
+std::string run_summary(const OpenedSweep& sweep, std::size_t i) {
+  const RunResult& r = sweep.results[i];
+  std::string s = config_text(sweep.spec, *r.run) + "\n" + r.outcome;
+  if (r.outcome == "blew_up")
+    s += " at t = " + number_text(r.rec.fail_t) + " s (" + r.rec.fail_quantity + ")";
+  if (r.present) {
+    s += "\ncost " + number_text(r.cost()) + " s in " + std::to_string(r.rec.steps) + " steps, " +
+         std::to_string(r.rec.particles) + " particles";
+    s += "\ndx " + number_text(r.run->dx) + (r.run->dt > 0 ? ", dt " + number_text(r.run->dt) : "");
+    for (const std::string& e : {"displacement", "com", "energy", "angular"}) {
+      const double v = r.error(e);
+      if (std::isfinite(v)) s += "\n" + e + " error " + number_text(v);
+    }
+  }
+  s += is_reference(sweep.results, i) ? "\n(the reference run)" : "\nid " + r.run->id;
+  return s;
+}
+
+}  // namespace apiclab::sweep

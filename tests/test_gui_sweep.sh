@@ -1,0 +1,47 @@
+#!/usr/bin/env bash
+# The viewer on a sweep folder (gui --sweep): bad folders give one line and exit 2 before any
+# window; under Xvfb, the folder made by the fixture sweep_view.setup opens with one of its runs
+# beside its reference, and the screenshot shows particles in both panes.
+# Usage: APICLAB=... CHECK=path/to/gui_screenshot_check test_gui_sweep.sh SWEEP_DIR OUTDIR
+set -euo pipefail
+sweep="$1"
+out="${2:-/tmp/apiclab-gui-sweep}"
+mkdir -p "$out"
+fail() { echo "FAIL: $*"; exit 1; }
+
+# One line and exit 2: a missing folder, a folder that is not a sweep, an unknown run id.
+expect_refusal() {  # WHAT PATTERN ARGS...
+  local what="$1" pattern="$2"
+  shift 2
+  set +e
+  "$APICLAB" gui "$@" >"$out/refusal.out" 2>"$out/refusal.err"
+  local rc=$?
+  set -e
+  [ "$rc" = 2 ] || fail "$what: exit $rc, expected 2"
+  [ "$(wc -l <"$out/refusal.err")" = 1 ] || fail "$what: not one line: $(cat "$out/refusal.err")"
+  grep -q -- "$pattern" "$out/refusal.err" || fail "$what: $(cat "$out/refusal.err")"
+  echo "ok: $what: $(cat "$out/refusal.err")"
+}
+expect_refusal "missing folder" "no such folder" --sweep "$out/no-such-sweep"
+mkdir -p "$out/not-a-sweep"
+expect_refusal "not a sweep" "not a sweep" --sweep "$out/not-a-sweep"
+expect_refusal "unknown run" "no run with id" --sweep "$sweep" --sweep-run 0123456789abcdef
+expect_refusal "scene and sweep" "give no SCENE" rotating-disk --sweep "$sweep"
+expect_refusal "run without sweep" "needs --sweep" --sweep-run 0123456789abcdef
+
+if ! command -v xvfb-run >/dev/null; then
+  echo "SKIP: xvfb-run not found (apt-get install xvfb xauth)"
+  exit 0
+fi
+# A run that is not its own reference: the last column of runs.csv names each row's reference.
+id=$(awk -F, 'NR > 1 && $1 != $NF { print $1; exit }' "$sweep/runs.csv")
+[ -n "$id" ] || fail "no non-reference run in $sweep/runs.csv"
+png="$out/gui-sweep.png"
+rm -f "$png"
+APICLAB_PRINT_LAYOUT=1 xvfb-run -a -s "-screen 0 1600x900x24" "$APICLAB" gui --sweep "$sweep" \
+  --sweep-run "$id" --screenshot "$png" --frames 2 --size 1600x900 >"$out/gui-sweep.log" 2>&1 || {
+  cat "$out/gui-sweep.log"
+  fail "gui --sweep exited non-zero"
+}
+cat "$out/gui-sweep.log"
+grep '^pane ' "$out/gui-sweep.log" | "$CHECK" "$png" 2
