@@ -198,7 +198,6 @@ std::vector<render::Rect> draw_scene_panes(render::Renderer& r, ViewerState& st,
     dl->AddRectFilled(t0, t1, IM_COL32(244, 245, 247, 255));
     dl->AddLine(ImVec2(t0.x, t1.y), t1, IM_COL32(215, 215, 215, 255));
     dl->AddRectFilled(ImVec2(t0.x + 10, t0.y + 8), ImVec2(t0.x + 20, t0.y + 18), pane_color(k), 2);
-    dl->AddText(ImVec2(t0.x + 28, t0.y + 5), IM_COL32(20, 20, 20, 255), pane_label(p).c_str());
     // Right-aligned details, dropping the least important when the pane is narrow.
     const float room = sr.w - 48 - ImGui::CalcTextSize(pane_label(p).c_str()).x;
     char buf[160];
@@ -212,8 +211,14 @@ std::vector<render::Rect> draw_scene_panes(render::Renderer& r, ViewerState& st,
       info_color = IM_COL32(200, 30, 30, 255);
     }
     if (ImGui::CalcTextSize(info.c_str()).x > room) info = buf;
-    dl->AddText(ImVec2(t1.x - 10 - ImGui::CalcTextSize(info.c_str()).x, t0.y + 5), info_color,
-                info.c_str());
+    const float info_x = t1.x - 10 - ImGui::CalcTextSize(info.c_str()).x;
+    dl->AddText(ImVec2(info_x, t0.y + 5), info_color, info.c_str());
+    // A long label (a sweep run's differences) is cut where the details begin.
+    dl->PushClipRect(t0, ImVec2(std::max(t0.x + 28, info_x - 12), t1.y), true);
+    dl->AddText(ImVec2(t0.x + 28, t0.y + 5), IM_COL32(20, 20, 20, 255), pane_label(p).c_str());
+    dl->PopClipRect();
+    if (ImGui::IsMouseHoveringRect(t0, ImVec2(info_x - 12, t1.y)))
+      ImGui::SetTooltip("%s", pane_label(p).c_str());  // the whole label on demand
     if (p.failure && ImGui::IsMouseHoveringRect(t0, t1))
       ImGui::SetTooltip("%s", p.failure->message.c_str());  // the whole message on demand
     if (k > 0)

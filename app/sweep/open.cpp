@@ -17,6 +17,16 @@ using cli::UsageError;
 // A message cut to its first line: the viewer and the command line show one line.
 std::string first_line(const std::string& s) { return s.substr(0, s.find('\n')); }
 
+// "scheme=flip, dt_factor=2": the axis values where a run differs from its reference (the pane
+// title; the whole configuration is in the control column and the tooltips).
+std::string differences(const PlannedRun& run, const PlannedRun& reference) {
+  std::string s;
+  for (const auto& [key, value] : run.config)
+    if (reference.value_text(key) != value.text)
+      s += (s.empty() ? "" : ", ") + key.substr(key.rfind('.') + 1) + "=" + value.text;
+  return s;
+}
+
 }  // namespace
 
 void write_spec_copy(const std::string& spec_path, const std::string& out_dir) {
@@ -85,7 +95,8 @@ SweepLaunch launch_run(const OpenedSweep& sweep, std::size_t run) {
     c.method = scene->solver.method;
     c.scheme = scene->solver.scheme;
     c.flip_alpha = scene->solver.flip_alpha;
-    c.label = (i == l.reference ? "reference " : "run ") + config_text(sweep.spec, p);
+    c.label =
+        i == l.reference ? "reference" : "run " + differences(p, sweep.plan.runs[l.reference]);
     if (l.panes.empty()) {
       l.scene = *scene;
       l.precision = *c.precision;
