@@ -29,6 +29,15 @@ expect_refusal "unknown run" "no run with id" --sweep "$sweep" --sweep-run 01234
 expect_refusal "scene and sweep" "give no SCENE" rotating-disk --sweep "$sweep"
 expect_refusal "run without sweep" "needs --sweep" --sweep-run 0123456789abcdef
 
+# An older folder (no spec.json) is refused; `sweep SPEC --collect DIR` adds the spec, and the
+# folder then opens (it gets as far as looking up the run id).
+old="$out/older"
+rm -rf "$old" && cp -r "$sweep" "$old" && rm "$old/spec.json"
+expect_refusal "older folder" "not a sweep" --sweep "$old"
+"$APICLAB" sweep "$(dirname "$0")/sweeps/view.json" --collect "$old" --quiet >/dev/null
+cmp "$old/spec.json" "$(dirname "$0")/sweeps/view.json" || fail "--collect did not keep the spec"
+expect_refusal "collected folder opens" "no run with id" --sweep "$old" --sweep-run 0123456789abcdef
+
 if ! command -v xvfb-run >/dev/null; then
   echo "SKIP: xvfb-run not found (apt-get install xvfb xauth)"
   exit 0

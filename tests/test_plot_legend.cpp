@@ -103,3 +103,80 @@ TEST(PlotTicks, AtLeastTwoTicksAndShortLabels) {
   EXPECT_EQ(tick_label(0.25, 0.25), "0.25");
   EXPECT_EQ(tick_label(2, 1), "2");
 }
+
+// Scatter picking (pick_points, the sweep viewer's charts): the marker under the mouse is
+// picked, with its series and index; a press on it is a click; far from every marker nothing is.
+// Headless ImGui over a few frames, the mouse placed at a marker's centre as drawn.
+TEST(PlotPick, HoverPicksTheNearestMarkerAndAPressClicksIt) {
+  ImGui::CreateContext();
+  ImGuiIO& io = ImGui::GetIO();
+  io.IniFilename = nullptr;
+  unsigned char* pixels = nullptr;
+  int w = 0, h = 0;
+  io.Fonts->GetTexDataAsRGBA32(&pixels, &w, &h);
+  io.DisplaySize = ImVec2(800, 600);
+  io.DeltaTime = 1 / 60.0f;
+  const std::vector<double> xa = {1, 2, 3}, ya = {1, 4, 9}, xb = {1.5, 2.5}, yb = {8, 2};
+  auto points = [](const char* label, ImU32 color, const std::vector<double>& x,
+                   const std::vector<double>& y) {
+    PlotSeries s;
+    s.label = label;
+    s.color = color;
+    s.count = x.size();
+    s.x = [&x](std::size_t i) { return x[i]; };
+    s.y = [&y](std::size_t i) { return y[i]; };
+    s.markers = true;
+    s.thickness = 0;  // markers only, no line between them
+    return s;
+  };
+  const ImU32 red = IM_COL32(200, 0, 0, 255), blue = IM_COL32(0, 0, 200, 255);
+  const std::vector<PlotSeries> series = {points("a", red, xa, ya), points("b", blue, xb, yb)};
+  PlotOptions o;
+  o.pick_points = true;
+  o.legend = false;
+  std::size_t tooltip_series = 99, tooltip_point = 99;
+  o.point_tooltip = [&](std::size_t k, std::size_t i) { tooltip_series = k, tooltip_point = i; };
+  ImVec2 blue_first(0, 0);  // centre of series b's first marker, read from the draw list
+  auto frame = [&](bool read_marker) {
+    ImGui::NewFrame();
+    ImGui::SetNextWindowPos(ImVec2(0, 0));
+    ImGui::SetNextWindowSize(ImVec2(420, 260));
+    ImGui::Begin("pick test");
+    const apiclab::gui::PlotPick pick = apiclab::gui::plot("p", ImVec2(400, 240), o, series);
+    if (read_marker) {  // the first blue fan: its vertices' mean is the marker's centre
+      const ImDrawList* dl = ImGui::GetWindowDrawList();
+      ImVec2 sum(0, 0);
+      int n = 0;
+      for (int i = 0; i < dl->VtxBuffer.Size && n < 12; ++i)
+        if (dl->VtxBuffer[i].col == blue)
+          sum.x += dl->VtxBuffer[i].pos.x, sum.y += dl->VtxBuffer[i].pos.y, ++n;
+      blue_first = ImVec2(sum.x / float(n), sum.y / float(n));
+    }
+    ImGui::End();
+    ImGui::EndFrame();
+    return pick;
+  };
+  io.MousePos = ImVec2(5, 5);  // outside the plot box
+  EXPECT_FALSE(frame(true).hit);
+  ASSERT_GT(blue_first.x, 0);
+  io.MousePos = ImVec2(blue_first.x + 2, blue_first.y - 1);
+  frame(false);  // the window becomes hovered
+  const auto hover = frame(false);
+  EXPECT_TRUE(hover.hit);
+  EXPECT_FALSE(hover.clicked);
+  EXPECT_EQ(hover.series, 1u);
+  EXPECT_EQ(hover.point, 0u);
+  EXPECT_EQ(tooltip_series, 1u);
+  EXPECT_EQ(tooltip_point, 0u);
+  io.MouseDown[0] = true;
+  const auto press = frame(false);
+  EXPECT_TRUE(press.hit && press.clicked);
+  EXPECT_EQ(press.series, 1u);
+  io.MouseDown[0] = false;
+  frame(false);
+  // 40 pixels from every marker, inside the box: no pick.
+  io.MousePos = ImVec2(blue_first.x, blue_first.y + 40);
+  frame(false);
+  EXPECT_FALSE(frame(false).hit);
+  ImGui::DestroyContext();
+}

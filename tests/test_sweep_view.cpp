@@ -140,6 +140,11 @@ TEST(SweepView, EveryRunRowOpensTheConfigurationItsRunUsed) {
     expect_same_scene(*l.panes.front().scene, ref, "reference of " + run.label());
   }
   EXPECT_EQ(with_dt, 8u);
+  // What hovering a run shows: its configuration, outcome, cost and id.
+  const std::string hover = run_summary(*sw, 0);
+  EXPECT_NE(hover.find(config_text(sw->spec, sw->plan.runs[0])), std::string::npos) << hover;
+  EXPECT_NE(hover.find(sw->results[0].outcome), std::string::npos) << hover;
+  EXPECT_NE(hover.find("cost "), std::string::npos) << hover;
   // The resolution axis really changed dx, the dt_factor axis really changed dt.
   std::set<double> dxs, dts;
   for (const PlannedRun& r : sw->plan.runs) dxs.insert(r.dx), dts.insert(r.dt);

@@ -158,7 +158,13 @@ void scene_section(ViewerState& st, SimWorker& worker) {
     ImGui::TextWrapped("%s", st.sweep_error.c_str());
     ImGui::PopStyleColor();
   }
-  if (st.sweep && ImGui::SmallButton("close sweep")) st.sweep.reset(), st.sweep_run = -1;
+  if (st.sweep && ImGui::SmallButton("close sweep")) {
+    // The panes drop their runs' own scenes: they run the reference's scene with their schemes.
+    st.sweep.reset(), st.sweep_run = -1;
+    for (PaneConfig& c : st.panes) c.scene.reset(), c.precision.reset(), c.label.clear();
+    st.notice = "sweep closed: the panes run the reference's scene, from t = 0";
+    restart(st, worker);
+  }
   if (st.scene_loaded && !st.scene.description.empty()) {
     ImGui::PushStyleColor(ImGuiCol_Text, kMuted);
     ImGui::TextWrapped("%s", st.scene.description.c_str());
