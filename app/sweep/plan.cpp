@@ -112,14 +112,17 @@ std::string run_dir(const std::string& out_dir, const PlannedRun& run) {
   return (std::filesystem::path(out_dir) / "runs" / run.id).string();
 }
 
-std::vector<std::string> PlannedRun::command(const std::string& exe,
-                                             const std::string& out_dir) const {
+std::vector<std::string> PlannedRun::command(const std::string& exe, const std::string& out_dir,
+                                             const std::string& dump_formats) const {
   std::vector<std::string> args = {exe,           "run",     scene_path,  "--quiet",
                                    "--precision", precision, "--threads", std::to_string(threads)};
   for (const std::string& o : overrides) {
     args.push_back("--set");
     args.push_back(o);
   }
+  if (!dump_formats.empty())  // with --record, --dump names a folder inside the record
+    for (const char* a : {"--dump", "dump", "--dump-format"}) args.push_back(a);
+  if (!dump_formats.empty()) args.push_back(dump_formats);
   args.push_back("--record");
   args.push_back(run_dir(out_dir, *this));
   return args;

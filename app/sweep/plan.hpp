@@ -26,12 +26,15 @@ struct PlannedRun {
   const Value* value(const std::string& key) const;
   std::string value_text(const std::string& key) const;  // "" when not an axis
   std::string label() const;                             // "solver.scheme=apic, dt_factor=2"
-  // The self-contained `apiclab run` command that records this run in DIR/runs/ID.
-  std::vector<std::string> command(const std::string& exe, const std::string& out_dir) const;
+  // The self-contained `apiclab run` command that records this run in DIR/runs/ID; with
+  // dump formats (csv,vtk,…), also its particle dumps in DIR/runs/ID/dump/.
+  std::vector<std::string> command(const std::string& exe, const std::string& out_dir,
+                                   const std::string& dump_formats = "") const;
 };
 
 struct Plan {
   std::vector<PlannedRun> runs;
+  std::string dump_formats;  // `sweep --dump-format`: not part of a run's configuration (its id)
 };
 
 // Throws cli::UsageError naming the spec and the key for a configuration the scene rejects or a
