@@ -69,7 +69,8 @@ void add_run_options(CLI::App* cmd, RunOptions& o, RunOptionSet which) {
                     "directory for particle state per frame (frame_0000.csv, ...) [default: none]");
     cmd->add_option("--dump-format", o.dump_format,
                     "formats of --dump, several allowed: csv (the contract), vtk (.vtp + "
-                    "series.pvd for ParaView), ply (binary, Houdini/Blender), obj (vertices) "
+                    "series.pvd for ParaView, zlib-compressed; vtk-raw uncompressed), ply (binary, "
+                    "Houdini/Blender), obj (vertices) "
                     "[default: csv]");
   }
   cmd->add_option(

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <optional>
 
+#include "app/particle_export.hpp"
 #include "app/sweep/open.hpp"
 #include "app/sweep/plan.hpp"
 #include "app/sweep/results.hpp"
@@ -20,7 +21,7 @@ namespace apiclab::cli {
 namespace {
 
 struct SweepOptions {
-  std::string spec, out, export_jobs, collect;
+  std::string spec, out, export_jobs, collect, dump_format;
   int jobs = 1;
   std::optional<double> target_error;
   bool quiet = false;
@@ -32,7 +33,15 @@ int sweep_command(const SweepOptions& o) {
   if (o.target_error && !(*o.target_error > 0))
     throw UsageError("sweep: --target-error must be positive");
   const Spec spec = load_spec(o.spec);
-  const Plan plan = make_plan(spec);  // every check before any run
+  Plan plan = make_plan(spec);  // every check before any run
+  if (!o.dump_format.empty()) {
+    try {
+      parse_dump_formats(o.dump_format);
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(std::string("sweep: --dump-format: ") + e.what());
+    }
+    plan.dump_formats = o.dump_format;
+  }
   if (!o.collect.empty() && (!o.out.empty() || !o.export_jobs.empty()))
     throw UsageError(
         "sweep: --collect DIR reads a finished sweep; it takes no --out or "
@@ -101,6 +110,9 @@ void register_sweep(CLI::App& root, CommandTable& table) {
                   "build runs.csv, charts and summary from the records in this folder");
   cmd->add_option("--target-error", o->target_error,
                   "summary.md names the cheapest run whose selected errors are at most this (> 0)");
+  cmd->add_option("--dump-format", o->dump_format,
+                  "also dump every run's particles per frame into runs/ID/dump/ in these formats "
+                  "(csv,vtk,vtk-raw,ply,obj, as run --dump-format) [default: no dumps]");
   cmd->add_flag("--quiet", o->quiet, "no progress on stderr");
   table.push_back({cmd, [o] { return sweep_command(*o); }});
 }

@@ -1,9 +1,10 @@
 // `--dump DIR --dump-format csv,vtk,ply,obj`: one file per frame and format, from the solver's
-// ParticleTable (sim/particle_table.hpp). VTK: `.vtp` PolyData with raw appended binary and a
-// `series.pvd` time series (ParaView opens the run in one click); PLY: binary little-endian with
-// position, velocity and object (Houdini, Blender); OBJ: one vertex list per frame, as the 3D
-// seed wrote for Houdini. The VTK XML is written by hand: the VTK library is several hundred MB
-// of dependencies for a file format of a page.
+// ParticleTable (sim/particle_table.hpp). VTK: `.vtp` PolyData with appended binary (zlib blocks
+// as VTK's own writer makes them; `vtk-raw` uncompressed) and a `series.pvd` time series (ParaView
+// opens the run in one click); PLY: binary little-endian with position, velocity and object
+// (Houdini, Blender); OBJ: one vertex list per frame, as the 3D seed wrote for Houdini. The VTK XML
+// is written by hand: the VTK library is several hundred MB of dependencies for a file format of a
+// page.
 #pragma once
 #include <string>
 #include <vector>
@@ -13,7 +14,10 @@
 
 namespace apiclab {
 
-enum class DumpFormat { csv, vtk, ply, obj };
+// vtk: zlib-compressed appended data (raw when built without zlib); vtk_raw: uncompressed.
+enum class DumpFormat { csv, vtk, vtk_raw, ply, obj };
+bool is_vtk(DumpFormat f);
+bool vtk_zlib_available();
 
 // "csv,vtk" → {csv, vtk}; throws std::invalid_argument naming an unknown or repeated format.
 std::vector<DumpFormat> parse_dump_formats(const std::string& list);
@@ -24,12 +28,16 @@ struct ExtraScalars {
   std::vector<std::pair<std::string, std::vector<float>>> fields;
 };
 
-void write_vtp(const std::string& path, const ParticleTable& t, const ExtraScalars& extra = {});
+void write_vtp(const std::string& path, const ParticleTable& t, const ExtraScalars& extra = {},
+               bool zlib = false);
 void write_ply(const std::string& path, const ParticleTable& t);
 void write_obj(const std::string& path, const ParticleTable& t);
 // A snapshot's grid layer (an EoL object grid riding its frame) as VTK ImageData: origin = the
 // layer's translation, Direction = its rotation, one Float32 point array per field.
-void write_vti(const std::string& path, const GridLayer& layer);
+void write_vti(const std::string& path, const GridLayer& layer, bool zlib = false);
+// One array into a VTK appended block: UInt64 size + bytes, or VTK's zlib block layout.
+inline constexpr std::size_t vtk_zlib_block_size = 1 << 16;
+void append_vtk_array(std::string& data, const std::string& raw, bool zlib);
 // Whether the formats can be written for a solver without particles: VTK only (its grids).
 bool formats_need_particles(const std::vector<DumpFormat>& formats);
 

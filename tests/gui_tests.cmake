@@ -41,6 +41,10 @@ gtest_discover_tests(test_outputs DISCOVERY_TIMEOUT 60 TEST_PREFIX "app." PROPER
 add_executable(test_particle_export test_particle_export.cpp)
 target_link_libraries(test_particle_export PRIVATE apiclab_app_core GTest::gtest_main)
 target_compile_definitions(test_particle_export PRIVATE APICLAB_SOURCE_DIR="${CMAKE_SOURCE_DIR}")
+if(ZLIB_FOUND)  # the test reads the zlib blocks back itself
+  target_link_libraries(test_particle_export PRIVATE ZLIB::ZLIB)
+  target_compile_definitions(test_particle_export PRIVATE APICLAB_HAVE_ZLIB)
+endif()
 gtest_discover_tests(test_particle_export DISCOVERY_TIMEOUT 60 TEST_PREFIX "app." PROPERTIES LABELS "unit")
 
 # The plot widget headless: its legend never covers a curve (ImGui without a renderer).

@@ -212,4 +212,41 @@ else
   nok "GNU parallel not installed (apt-get install parallel; setup.sh lists it)"
 fi
 
+# Dumps from the sweep's runs (issue 16): asking for them re-runs the runs recorded without them;
+# each run then has dump/series.pvd listing one .vtp per recorded frame, and runs.csv is the same.
+bad_flag "--dump-format xyz" "--dump-format: unknown dump format 'xyz'" "$TINY" --out "$TMP/flag-out" \
+  --dump-format xyz
+cp "$TMP/a/runs.csv" "$TMP/a-before-dumps.csv" 2>/dev/null
+if "$APICLAB" sweep "$TINY" --out "$TMP/a" --jobs 2 --dump-format vtk,ply >"$TMP/out" 2>"$TMP/err"; then
+  bad=0
+  for run in "$TMP"/a/runs/*/; do
+    frames=$(sed -n 's/.*"frames": *\([0-9]*\).*/\1/p' "$run/result.json")
+    listed=$(grep -c '<DataSet' "$run/dump/series.pvd" 2>/dev/null)
+    vtp=$(ls "$run"/dump/frame_*.vtp 2>/dev/null | wc -l)
+    ply=$(ls "$run"/dump/frame_*.ply 2>/dev/null | wc -l)
+    [ -n "$frames" ] && [ "$listed" = "$frames" ] && [ "$vtp" = "$frames" ] && [ "$ply" = "$frames" ] &&
+      [ -s "$run/dump/frames.csv" ] || bad=$((bad + 1))
+  done
+  if [ $bad -eq 0 ] && ! grep -q 'already complete' "$TMP/err" &&
+    diff <(csv_without_costs "$TMP/a/runs.csv") <(csv_without_costs "$TMP/a-before-dumps.csv") >/dev/null; then
+    ok "sweep --dump-format vtk,ply: every run re-run with a dump per frame and series.pvd"
+  else
+    nok "sweep --dump-format ($bad runs without complete dumps)" "$(cat "$TMP/err")" "$(ls "$TMP"/a/runs/*/dump | head)"
+  fi
+  if "$APICLAB" sweep "$TINY" --out "$TMP/a" --dump-format vtk,ply >"$TMP/out" 2>"$TMP/err" &&
+    grep -q '4 of 4 runs already complete' "$TMP/err"; then
+    ok "sweep --dump-format: runs with their dumps are skipped on a rerun"
+  else
+    nok "sweep --dump-format rerun" "$(cat "$TMP/err")"
+  fi
+  "$APICLAB" sweep "$TINY" --out "$TMP/a" --export-jobs "$TMP/dump-jobs.txt" --dump-format vtk >/dev/null 2>&1
+  if grep -q -- '--dump dump --dump-format vtk --record' "$TMP/dump-jobs.txt"; then
+    ok "sweep --export-jobs carries --dump-format into every command"
+  else
+    nok "export with --dump-format" "$(head -1 "$TMP/dump-jobs.txt")"
+  fi
+else
+  nok "sweep --dump-format exited $?" "$(cat "$TMP/err")"
+fi
+
 finish sweep_tests

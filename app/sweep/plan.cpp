@@ -122,8 +122,8 @@ cli::RunOptions PlannedRun::options() const {
   return o;
 }
 
-std::vector<std::string> PlannedRun::command(const std::string& exe,
-                                             const std::string& out_dir) const {
+std::vector<std::string> PlannedRun::command(const std::string& exe, const std::string& out_dir,
+                                             const std::string& dump_formats) const {
   const cli::RunOptions o = options();
   std::vector<std::string> args = {
       exe,           "run",       o.scene,     "--quiet",
@@ -132,6 +132,9 @@ std::vector<std::string> PlannedRun::command(const std::string& exe,
     args.push_back("--set");
     args.push_back(s);
   }
+  if (!dump_formats.empty())  // with --record, --dump names a folder inside the record
+    for (const char* a : {"--dump", "dump", "--dump-format"}) args.push_back(a);
+  if (!dump_formats.empty()) args.push_back(dump_formats);
   args.push_back("--record");
   args.push_back(run_dir(out_dir, *this));
   return args;

@@ -32,8 +32,10 @@ struct PlannedRun {
   // runner's command line writes them out and the viewer loads scene_of() from them, so the two
   // cannot disagree.
   cli::RunOptions options() const;
-  // The self-contained `apiclab run` command that records this run in DIR/runs/ID.
-  std::vector<std::string> command(const std::string& exe, const std::string& out_dir) const;
+  // The self-contained `apiclab run` command that records this run in DIR/runs/ID; with
+  // dump formats (csv,vtk,…), also its particle dumps in DIR/runs/ID/dump/.
+  std::vector<std::string> command(const std::string& exe, const std::string& out_dir,
+                                   const std::string& dump_formats = "") const;
 };
 
 // The scene this run's `run --record` process simulates: options() through the same loader
@@ -42,6 +44,7 @@ SceneDesc scene_of(const PlannedRun& run);
 
 struct Plan {
   std::vector<PlannedRun> runs;
+  std::string dump_formats;  // `sweep --dump-format`: not part of a run's configuration (its id)
 };
 
 // Throws cli::UsageError naming the spec and the key for a configuration the scene rejects or a

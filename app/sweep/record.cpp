@@ -9,10 +9,13 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
 #include "app/frame_loop.hpp"
+#include "app/particle_export.hpp"
+#include "app/run_outputs.hpp"
 #include "sim/run_summary.hpp"
 
 namespace apiclab::sweep {
@@ -91,6 +94,22 @@ int record_run(const cli::RunOptions& o, const std::string& dir) {
   FrameWriter frames((tmp / "frames.bin").string());
 
   auto sim = make_simulation(scene, precision);
+  // --dump NAME with --record: the dumps go inside the record (so they appear with it, whole).
+  std::unique_ptr<ParticleDump> dump;
+  if (!o.dump.empty()) {
+    if (o.dump.find('/') != std::string::npos || o.dump == "." || o.dump == "..")
+      throw cli::UsageError("--dump with --record names a folder inside the record, not a path: '" +
+                            o.dump + "'");
+    const std::vector<DumpFormat> formats = cli::dump_formats_of(o);
+    if (!sim->transfers() && formats_need_particles(formats))
+      throw cli::UsageError("--dump: solver method '" + scene.solver.method +
+                            "' has no particles (--dump-format vtk writes its grids)");
+    fs::create_directories(tmp / o.dump, ec);
+    if (ec) throw cli::UsageError("--record: cannot create '" + (tmp / o.dump).string() + "'");
+    dump = std::make_unique<ParticleDump>((tmp / o.dump).string(), formats);
+  }
+  FrameIndex dump_frames;  // dump/frames.csv: each frame's real time, as run --dump writes
+  if (dump) dump_frames = FrameIndex((tmp / o.dump).string());
   DiagnosticsRow first = sim->measure();
   first.dt = 0;
   write_diagnostics_row(csv, first);
@@ -113,6 +132,10 @@ int record_run(const cli::RunOptions& o, const std::string& dir) {
     if (sim->failure()) return false;
     auto snap = sim->snapshot();
     frames.add(*snap, rows.back());
+    if (dump) {
+      dump->write(*sim, f);
+      dump_frames.add(f, sim->time(), {sim->steps()});
+    }
     ++rec.frames;
     const double speed = rms(snap->velocities, snap->dim);
     if (f == 0) rms_speed0 = speed;

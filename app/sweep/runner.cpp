@@ -55,7 +55,9 @@ RunnerReport run_plan(const Plan& plan, const std::string& out_dir, int jobs, bo
       fs::remove_all(entry.path());
   std::vector<const PlannedRun*> todo;
   for (const PlannedRun& r : plan.runs) {
-    if (record_complete(run_dir(out_dir, r)))
+    const bool dumped =
+        plan.dump_formats.empty() || fs::is_directory(run_dir(out_dir, r) + "/dump");
+    if (record_complete(run_dir(out_dir, r)) && dumped)
       ++report.skipped;
     else
       todo.push_back(&r);
@@ -70,7 +72,8 @@ RunnerReport run_plan(const Plan& plan, const std::string& out_dir, int jobs, bo
   while (next < todo.size() || !running.empty()) {
     while (next < todo.size() && int(running.size()) < std::max(1, jobs)) {
       const PlannedRun* r = todo[next++];
-      running[spawn(r->command(exe, out_dir), (logs / (r->id + ".log")).string())] = r;
+      running[spawn(r->command(exe, out_dir, plan.dump_formats),
+                    (logs / (r->id + ".log")).string())] = r;
     }
     int status = 0;
     const pid_t pid = waitpid(-1, &status, 0);
@@ -105,7 +108,7 @@ void export_jobs(const Plan& plan, const std::string& out_dir, const std::string
   const std::string dir = fs::absolute(out_dir).string();
   for (const PlannedRun& r : plan.runs) {
     std::string line;
-    for (const std::string& a : r.command(exe, dir))
+    for (const std::string& a : r.command(exe, dir, plan.dump_formats))
       line += (line.empty() ? "" : " ") + shell_quote(a);
     out << line << '\n';
   }

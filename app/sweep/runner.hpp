@@ -18,7 +18,7 @@ struct RunnerReport {
 
 // Runs every run of `plan` without a complete record in out_dir/runs, `jobs` at a time; each
 // run's stdout and stderr go to out_dir/logs/ID.log. Leftover *.tmp-* folders of killed runs are
-// removed first.
+// removed first. With plan.dump_formats, a run recorded without its dump/ folder runs again.
 RunnerReport run_plan(const Plan& plan, const std::string& out_dir, int jobs, bool quiet);
 
 // One shell command line per run (all of them, complete or not).
