@@ -47,8 +47,11 @@ class BoundaryNodes {
     out.clear();
     const std::size_t count = g.region_size();
     const T eps = T(1e-6) * g.dx;
+    std::array<int, D> c{};  // the node's coordinates in the region, axis 0 fastest
     for (std::size_t i = 0; i < count; ++i) {
-      const Vec<T, D> x = g.node_position(i);
+      Vec<T, D> x;  // as GridGeometry::node_position, without its divisions
+      for (int a = 0; a < D; ++a) x[a] = g.origin[a] + T(g.lo[a] + c[a]) * g.dx;
+      for (int a = 0; a < D && ++c[a] == g.extent[a]; ++a) c[a] = 0;
       for (int a = 0; a < D; ++a) {
         if (periodic_[a]) continue;
         if (x[a] <= min_[a] + eps) out.push_back({i, axis_normal(a, T(1)), walls_[2 * a]});
