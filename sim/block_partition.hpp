@@ -1,7 +1,8 @@
 // The particle order and grid region that make the parallel P2G race-free and the grid passes
 // short: a counting sort of particles into blocks of B cells, a colouring of the blocks so that
 // same-coloured blocks never touch a common node, and the active box of nodes the sorted
-// particles can reach until the next sort.
+// particles can reach until the next sort, which is all the grid stores (sim/grid.hpp). The
+// blocks are counted over the particles' bounding box only, so nothing here grows with the domain.
 #pragma once
 #include <algorithm>
 #include <array>
@@ -13,20 +14,13 @@
 #include <utility>
 #include <vector>
 
+#include "boundary_nodes.hpp"
 #include "grid.hpp"
 #include "kernel_dispatch.hpp"
 #include "particles.hpp"
 #include "stencil.hpp"
 
 namespace apiclab {
-
-// A grid node with a boundary condition: a domain wall or a collider plane.
-template <class T, int D>
-struct ConstrainedNode {
-  std::size_t node;
-  Vec<T, D> normal;  // into the free side
-  BoundaryCondition condition;
-};
 
 template <class T, int D>
 class BlockPartition {
@@ -35,11 +29,10 @@ class BlockPartition {
   static int block_cells(KernelType kernel) { return kernel == KernelType::cubic ? 5 : 4; }
 
   // Sorts p by block (using scratch as the second buffer) unless no particle has drifted half a
-  // cell since the last sort; recolours the blocks and moves the active box, zeroing the grid
-  // nodes that leave it. Returns whether p was permuted.
+  // cell since the last sort; recolours the blocks and moves the active box: the grid then
+  // stores that box (all zero) and its wall and collider nodes. Returns whether p was permuted.
   bool sort(Particles<T, D>& p, Particles<T, D>& scratch, Grid<T, D>& grid,
-            const std::vector<ConstrainedNode<T, D>>& constraints, KernelType kernel,
-            bool parallel);
+            const BoundaryNodes<T, D>& boundary, KernelType kernel, bool parallel);
   // Cells the fastest particle moved this step (G2P reports it).
   void add_drift(double cells) { drift_since_sort_ += cells; }
 
@@ -60,13 +53,6 @@ class BlockPartition {
   // fn(i) for every node of the active box.
   template <class Fn>
   void for_each_box_node(Fn&& fn, bool parallel) const;
-  bool in_active_box(const Grid<T, D>& grid, std::size_t node) const {
-    for (int a = 0; a < D; ++a) {
-      const int i = grid.node_coordinate(node, a);
-      if (i < box_lo_[a] || i >= box_hi_[a]) return false;
-    }
-    return true;
-  }
   // The active box as runs (first node, length) along axis 0.
   const std::vector<std::pair<std::size_t, std::size_t>>& box_rows() const { return box_rows_; }
   // The wall and collider nodes inside the active box.
@@ -78,16 +64,18 @@ class BlockPartition {
   std::string conflict(const Particles<T, D>& p, const Grid<T, D>& grid, KernelType kernel) const;
 
  private:
-  void set_active_box(Grid<T, D>& grid, const std::vector<ConstrainedNode<T, D>>& constraints,
-                      int block_cells, const std::array<int, D>& first_block,
-                      const std::array<int, D>& last_block, bool parallel);
+  void set_active_box(Grid<T, D>& grid, const BoundaryNodes<T, D>& boundary, int block_cells,
+                      const std::array<int, D>& first_block, const std::array<int, D>& last_block);
 
-  // Particles of block b are [block_start_[b], block_start_[b+1]).
+  // Particles of block b are [block_start_[b], block_start_[b+1]). Blocks are numbered over the
+  // particles' bounding box: block coordinate first_block_[a] + (b's digit on axis a) of the
+  // domain's blocks, which start at domain node 0 (periodic axes: all blocks).
   std::vector<std::uint32_t> keys_, order_, block_start_;
   std::vector<std::vector<std::uint32_t>> color_blocks_;
-  std::array<int, D> blocks_per_axis_{};
-  // Nodes the particles can reach until the next sort: [box_lo_, box_hi_) per axis, as runs
-  // of consecutive nodes (start, length) along axis 0, and the wall/collider nodes inside it.
+  std::array<int, D> blocks_per_axis_{}, first_block_{};
+  // Nodes the particles can reach until the next sort: [box_lo_, box_hi_) per axis in domain
+  // node coordinates (the grid's stored region), as runs of consecutive stored nodes (start,
+  // length) along axis 0, and the wall/collider nodes inside it.
   std::array<int, D> box_lo_{}, box_hi_{};
   std::vector<std::pair<std::size_t, std::size_t>> box_rows_;
   std::vector<ConstrainedNode<T, D>> box_constraints_;
@@ -96,8 +84,8 @@ class BlockPartition {
 
 template <class T, int D>
 bool BlockPartition<T, D>::sort(Particles<T, D>& p, Particles<T, D>& scratch, Grid<T, D>& grid,
-                                const std::vector<ConstrainedNode<T, D>>& constraints,
-                                KernelType kernel, bool parallel) {
+                                const BoundaryNodes<T, D>& boundary, KernelType kernel,
+                                [[maybe_unused]] bool parallel) {
   // The colouring stays race-free while no particle has moved a cell away from the block it
   // was sorted into (same-coloured stencils are a block apart); re-sort at half a cell.
   if (drift_since_sort_ < 0.5) return false;
@@ -108,18 +96,34 @@ bool BlockPartition<T, D>::sort(Particles<T, D>& p, Particles<T, D>& scratch, Gr
   // when B ≥ 4 (quadratic, linear) or B ≥ 5 (cubic). A periodic axis folds its remainder into
   // the last block, so every block is at least B cells wide, also across the wrap.
   const int B = block_cells(kernel);
+  std::array<int, D> domain_blocks;
+  for (int a = 0; a < D; ++a)
+    domain_blocks[a] = grid.periodic[a] ? std::max(1, grid.n[a] / B) : (grid.n[a] + B - 1) / B;
+  // The block of a coordinate is monotone in it, so the blocks of the extreme coordinates bound
+  // every particle's block: keys run over that box only (same order as over the domain's blocks).
+  auto block_of = [&](T x, int a) {
+    int cell = int(std::floor((x - grid.origin[a]) * grid.inv_dx));
+    cell = grid.wrap(cell, a);
+    return std::min(cell / B, domain_blocks[a] - 1);
+  };
+  Vec<T, D> xmin = Vec<T, D>::Constant(std::numeric_limits<T>::max()), xmax = -xmin;
+  for (std::size_t q = 0; q < n; ++q) {
+    xmin = xmin.cwiseMin(p.x[q]);
+    xmax = xmax.cwiseMax(p.x[q]);
+  }
   std::size_t nblocks = 1;
   for (int a = 0; a < D; ++a) {
-    blocks_per_axis_[a] = grid.periodic[a] ? std::max(1, grid.n[a] / B) : (grid.n[a] + B - 1) / B;
+    first_block_[a] = grid.periodic[a] || n == 0 ? 0 : block_of(xmin[a], a);
+    blocks_per_axis_[a] = grid.periodic[a]
+                              ? domain_blocks[a]
+                              : (n == 0 ? 1 : block_of(xmax[a], a) - first_block_[a] + 1);
     nblocks *= std::size_t(blocks_per_axis_[a]);
   }
   keys_.resize(n);
   for (std::size_t q = 0; q < n; ++q) {
     std::size_t key = 0, s = 1;
     for (int a = 0; a < D; ++a) {
-      int cell = int(std::floor((p.x[q][a] - grid.origin[a]) * grid.inv_dx));
-      cell = grid.wrap(cell, a);
-      key += std::size_t(std::min(cell / B, blocks_per_axis_[a] - 1)) * s;
+      key += std::size_t(block_of(p.x[q][a], a) - first_block_[a]) * s;
       s *= std::size_t(blocks_per_axis_[a]);
     }
     keys_[q] = std::uint32_t(key);
@@ -152,28 +156,27 @@ bool BlockPartition<T, D>::sort(Particles<T, D>& p, Particles<T, D>& scratch, Gr
     std::size_t rest = b;
     int color = 0, scale = 1;
     for (int a = 0; a < D; ++a) {
-      int ba = int(rest % std::size_t(blocks_per_axis_[a]));
+      int ba = first_block_[a] + int(rest % std::size_t(blocks_per_axis_[a]));
       rest /= std::size_t(blocks_per_axis_[a]);
       first[a] = std::min(first[a], ba);
       last[a] = std::max(last[a], ba);
-      int c = (grid.periodic[a] && ba == blocks_per_axis_[a] - 1 && ba > 0) ? 2 : ba % 2;
+      int c = (grid.periodic[a] && ba == domain_blocks[a] - 1 && ba > 0) ? 2 : ba % 2;
       color += c * scale;
       scale *= 3;
     }
     color_blocks_[std::size_t(color)].push_back(std::uint32_t(b));
   }
-  set_active_box(grid, constraints, B, first, last, parallel);
+  set_active_box(grid, boundary, B, first, last);
   return !sorted;
 }
 
 // The grid passes (clear, unpack, update, pack, walls) run only over the nodes the sorted
-// particles can reach until the next sort: scenes whose objects fill a small part of the
-// domain stop paying for the empty rest. Nodes leaving the box are zeroed once, here.
+// particles can reach until the next sort, and the grid stores only those: scenes whose objects
+// fill a small part of the domain stop paying for the empty rest. A new box is stored all zero.
 template <class T, int D>
-void BlockPartition<T, D>::set_active_box(Grid<T, D>& grid,
-                                          const std::vector<ConstrainedNode<T, D>>& constraints,
+void BlockPartition<T, D>::set_active_box(Grid<T, D>& grid, const BoundaryNodes<T, D>& boundary,
                                           int block_cells, const std::array<int, D>& first_block,
-                                          const std::array<int, D>& last_block, bool parallel) {
+                                          const std::array<int, D>& last_block) {
   std::array<int, D> lo, hi;
   for (int a = 0; a < D; ++a) {
     if (grid.periodic[a] || last_block[a] < 0) {
@@ -185,32 +188,15 @@ void BlockPartition<T, D>::set_active_box(Grid<T, D>& grid,
     }
   }
   if (lo == box_lo_ && hi == box_hi_ && !box_rows_.empty()) return;
-  for_each_box_node(
-      [&](std::size_t i) {  // the old box
-        grid.accumulator[i] = typename Grid<T, D>::NodeLanes{};
-        grid.mass[i] = T(0);
-        grid.velocity[i].setZero();
-        grid.velocity_new[i].setZero();
-        grid.force[i].setZero();
-      },
-      parallel);
+  grid.store(lo, hi);
   box_lo_ = lo;
   box_hi_ = hi;
   box_rows_.clear();
-  if constexpr (D == 2) {
-    for (int j = lo[1]; j < hi[1]; ++j)
-      box_rows_.push_back(
-          {std::size_t(lo[0]) + std::size_t(j) * grid.stride[1], std::size_t(hi[0] - lo[0])});
-  } else {
-    for (int k = lo[2]; k < hi[2]; ++k)
-      for (int j = lo[1]; j < hi[1]; ++j)
-        box_rows_.push_back(
-            {std::size_t(lo[0]) + std::size_t(j) * grid.stride[1] + std::size_t(k) * grid.stride[2],
-             std::size_t(hi[0] - lo[0])});
-  }
-  box_constraints_.clear();
-  for (const auto& c : constraints)
-    if (in_active_box(grid, c.node)) box_constraints_.push_back(c);
+  const std::size_t rows = grid.size() / std::size_t(std::max(1, grid.extent[0]));
+  if (grid.size() > 0)
+    for (std::size_t r = 0; r < rows; ++r)
+      box_rows_.push_back({r * grid.stride[1], std::size_t(grid.extent[0])});
+  boundary.collect(grid, box_constraints_);
 }
 
 template <class T, int D>
@@ -224,11 +210,24 @@ std::string BlockPartition<T, D>::conflict(const Particles<T, D>& p, const Grid<
       std::fill(owner.begin(), owner.end(), -1);
       for (std::uint32_t b : color_blocks_[color])
         for (std::uint32_t q = block_start_[b]; q < block_start_[b + 1]; ++q) {
+          // The stencil's domain node coordinates first: a node outside the box has no index.
+          bool inside = true;
+          for (int a = 0; a < D; ++a) {
+            T w[K::width], dw[K::width];
+            const int base = K::weights((p.x[q][a] - grid.origin[a]) * grid.inv_dx, w, dw);
+            for (int i = 0; i < K::width; ++i) {
+              const int c = grid.periodic[a] ? grid.wrap(base + i, a) : base + i;
+              inside = inside && c >= box_lo_[a] && c < box_hi_[a];
+            }
+          }
+          if (!inside) {
+            if (why.tellp() == 0)
+              why << "particle " << q << " reaches a node outside the active box";
+            continue;
+          }
           Stencil<T, D, K> st;
           st.compute(p.x[q], grid);
           st.for_each([&](std::size_t node, T, const Vec<T, D>&, const Vec<T, D>&) {
-            if (!in_active_box(grid, node) && why.tellp() == 0)
-              why << "particle " << q << " reaches node " << node << " outside the active box";
             if (owner[node] >= 0 && owner[node] != std::int64_t(b) && why.tellp() == 0)
               why << "blocks " << owner[node] << " and " << b << " of colour " << color
                   << " share node " << node;

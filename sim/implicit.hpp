@@ -83,7 +83,7 @@ void MpmSimulation<T, D>::implicit_begin(T dt) {
   // Boundary conditions as linear constraints on ṽ: Δv = P z + d. Separating walls act as slip
   // where the material moves into them at the start of the step, and are free otherwise.
   imp_.constraints.clear();
-  for (const auto& c : constraints_) {
+  for (const auto& c : blocks_.box_constraints()) {
     if (grid_.mass[c.node] <= T(0)) continue;
     if (c.condition == BoundaryCondition::separate && grid_.velocity[c.node].dot(c.normal) >= T(0))
       continue;

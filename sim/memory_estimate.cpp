@@ -3,8 +3,10 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
+#include "block_partition.hpp"
 #include "eol/rest_shape.hpp"
 #include "grid.hpp"
 #include "kernels.hpp"
@@ -82,11 +84,52 @@ double particle_count(const SceneDesc& scene) {
   return n;
 }
 
+// The grid stores only the active box (sim/grid.hpp, sim/block_partition.hpp): the blocks of B
+// cells that hold particles, widened by the stencil's reach; periodic axes whole. Estimated from
+// the objects' bounding boxes at the start, so a small object in a huge domain is not refused; a
+// box that grows later (objects flying apart) can exceed it.
 double grid_nodes(const SceneDesc& scene) {
+  const int dim = scene.dim;
+  Vec3d lo{}, hi{};
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = std::numeric_limits<double>::max();
+    hi[a] = -lo[a];
+  }
+  for (int o = 0; o < int(scene.objects.size()); ++o) {
+    const ShapeDesc& shape = scene.objects[size_t(o)].shape;
+    Vec3d olo{}, ohi{};
+    if (shape.type == ShapeType::mesh) {
+      const MeshSolid mesh(resolve_mesh_file(scene, o), shape);
+      olo = mesh.lower();
+      ohi = mesh.upper();
+    } else {
+      shape_bounds(shape, dim, olo, ohi);
+    }
+    for (int a = 0; a < dim; ++a) {
+      lo[a] = std::min(lo[a], olo[a]);
+      hi[a] = std::max(hi[a], ohi[a]);
+    }
+  }
+  const double dx = scene.domain.dx;
+  const double B = BlockPartition<double, 2>::block_cells(scene.solver.kernel);
   double n = 1;
-  for (int a = 0; a < scene.dim; ++a) {
-    const double cells = (scene.domain.max[a] - scene.domain.min[a]) / scene.domain.dx;
-    n *= scene.domain.periodic(a) ? std::round(cells) : std::ceil(cells - 1e-9) + 1 + 2 * 2;
+  for (int a = 0; a < dim; ++a) {
+    const double cells = (scene.domain.max[a] - scene.domain.min[a]) / dx;
+    if (scene.domain.periodic(a)) {
+      n *= std::round(cells);
+      continue;
+    }
+    if (scene.objects.empty()) return 0;
+    // As BlockPartition::sort: node 0 lies two ghost nodes below the domain's minimum.
+    const double nodes = std::ceil(cells - 1e-9) + 1 + 2 * 2;
+    auto block = [&](double x) {
+      const double cell = std::floor((x - (scene.domain.min[a] - 2 * dx)) / dx);
+      const double clamped = std::min(std::max(cell, 0.0), nodes - 1);
+      return std::min(std::floor(clamped / B), std::ceil(nodes / B) - 1);
+    };
+    const double first = std::max(0.0, B * block(lo[a]) - 2);
+    const double last = std::min(nodes, B * (block(hi[a]) + 1) + 3);
+    n *= std::max(0.0, last - first);
   }
   return n;
 }

@@ -1,6 +1,7 @@
 // What a scene will allocate, estimated before anything is allocated: grid nodes from the
-// domain and dx, particles from each shape's volume over the sampling spacing^d, times the bytes
-// the solver keeps per node and per particle at the chosen precision and dimension. The run,
+// objects' bounding box and dx (the grid stores only the box the particles reach), particles
+// from each shape's volume over the sampling spacing^d, times the bytes the solver keeps per
+// node and per particle at the chosen precision and dimension. The run,
 // render, compare, gui and bench commands refuse a scene whose estimate exceeds the cap (by
 // default the machine's available memory) in well under a second, instead of allocating until
 // std::bad_alloc or the OOM killer; a sweep calls check_memory per run.

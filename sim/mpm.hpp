@@ -159,14 +159,13 @@ class MpmSimulation final : public Simulation, public TransferControls {
   void add_mesh_forces();
   // Below this many particles an OpenMP region costs more than it saves.
   bool parallel_worthwhile() const { return p_.size() >= scene_.solver.parallel_min_particles; }
-  void build_constraints();
   double energy_reference() const;
 
   SceneDesc scene_;
   Particles<T, D> p_, scratch_;
   Grid<T, D> grid_;
   std::vector<MaterialParams<T>> materials_;
-  std::vector<ConstrainedNode<T, D>> constraints_;
+  BoundaryNodes<T, D> boundary_;  // walls and colliders, resolved on the stored box
   double time_ = 0, kinetic_grid_ = 0, max_grid_speed_ = 0, energy_ref_ = 0, max_wave_speed_ = 0;
   long steps_ = 0;
   std::optional<Failure> failure_;

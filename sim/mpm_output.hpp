@@ -28,11 +28,26 @@ template <class T, int D>
 template <class K>
 void MpmSimulation<T, D>::velocity_noise(std::vector<float>& out) const {
   const bool affine = is_affine(scene_.solver.scheme);
-  std::vector<T> mass(grid_.size(), T(0));
-  std::vector<Vec<T, D>> mom(grid_.size(), Vec<T, D>::Zero());
+  // Its own region: the particles may have moved past the stored box since the last sort.
+  GridGeometry<T, D> g = grid_;
+  std::array<int, D> first, last;
+  first.fill(std::numeric_limits<int>::max());
+  last.fill(std::numeric_limits<int>::min());
+  for (std::size_t q = 0; q < p_.size(); ++q)
+    for (int a = 0; a < D; ++a) {
+      const int cell = int(std::floor((p_.x[q][a] - g.origin[a]) * g.inv_dx));
+      first[a] = std::min(first[a], cell - K::width);  // a stencil spans base..base+W-1 around
+      last[a] = std::max(last[a], cell + K::width + 1);
+    }
+  for (int a = 0; a < D; ++a) {
+    first[a] = std::max(first[a], 0);
+    last[a] = std::min(last[a], g.n[a]);
+  }
+  std::vector<T> mass(p_.size() == 0 ? 0 : g.set_region(first, last), T(0));
+  std::vector<Vec<T, D>> mom(mass.size(), Vec<T, D>::Zero());
   Stencil<T, D, K> st;
   for (std::size_t q = 0; q < p_.size(); ++q) {
-    st.compute(p_.x[q], grid_);
+    st.compute(p_.x[q], g);
     const T m = p_.mass[q];
     st.for_each([&](std::size_t i, T w, const Vec<T, D>&, const Vec<T, D>& r) {
       mass[i] += w * m;
@@ -41,7 +56,7 @@ void MpmSimulation<T, D>::velocity_noise(std::vector<float>& out) const {
   }
   out.assign(p_.size(), 0.f);
   for (std::size_t q = 0; q < p_.size(); ++q) {
-    st.compute(p_.x[q], grid_);
+    st.compute(p_.x[q], g);
     Vec<T, D> v = Vec<T, D>::Zero();
     st.for_each([&](std::size_t i, T w, const Vec<T, D>&, const Vec<T, D>&) {
       if (mass[i] > T(0)) v += w * mom[i] / mass[i];

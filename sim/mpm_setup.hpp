@@ -1,5 +1,5 @@
 // MpmSimulation's construction: particles sampled from the scene's objects, triangulated
-// objects (Sec 6.7), wall and collider constraints, and the energy the blow-up check compares to.
+// objects (Sec 6.7), the wall and collider rules, and the energy the blow-up check compares to.
 #pragma once
 #include <cmath>
 
@@ -54,7 +54,7 @@ MpmSimulation<T, D>::MpmSimulation(const SceneDesc& scene) : scene_(scene) {
     }
   }
   rebuild_index_of_id();
-  build_constraints();
+  boundary_.init(scene);
   energy_ref_ = energy_reference();
 }
 
@@ -129,38 +129,6 @@ void MpmSimulation<T, D>::add_triangulated_object(int o) {
 template <class T, int D>
 T MpmSimulation<T, D>::inertia_scale() const {
   return T(inertia_factor(scene_.solver.kernel)) * grid_.dx * grid_.dx;
-}
-
-// Walls: nodes on or beyond a non-periodic domain face; colliders: nodes behind the plane.
-template <class T, int D>
-void MpmSimulation<T, D>::build_constraints() {
-  constraints_.clear();
-  const auto& dom = scene_.domain;
-  for (std::size_t i = 0; i < grid_.size(); ++i) {
-    Vec<T, D> x = grid_.node_position(i);
-    T eps = T(1e-6) * grid_.dx;
-    for (int a = 0; a < D; ++a) {
-      if (dom.periodic(a)) continue;
-      if (x[a] <= T(dom.min[a]) + eps) {
-        Vec<T, D> n = Vec<T, D>::Zero();
-        n[a] = T(1);
-        constraints_.push_back({i, n, dom.walls[2 * a]});
-      }
-      if (x[a] >= T(dom.max[a]) - eps) {
-        Vec<T, D> n = Vec<T, D>::Zero();
-        n[a] = T(-1);
-        constraints_.push_back({i, n, dom.walls[2 * a + 1]});
-      }
-    }
-    for (const auto& c : scene_.colliders) {
-      Vec<T, D> n, p0;
-      for (int a = 0; a < D; ++a) {
-        n[a] = T(c.normal[a]);
-        p0[a] = T(c.point[a]);
-      }
-      if ((x - p0).dot(n) <= eps) constraints_.push_back({i, n, c.condition});
-    }
-  }
 }
 
 // Largest energy the scene can hold without a blow-up: initial kinetic + elastic energy plus

@@ -12,8 +12,7 @@ namespace apiclab {
 // Block sort for the coloured parallel P2G (sim/block_partition.hpp).
 template <class T, int D>
 void MpmSimulation<T, D>::sort_particles() {
-  if (blocks_.sort(p_, scratch_, grid_, constraints_, scene_.solver.kernel,
-                   parallel_worthwhile())) {
+  if (blocks_.sort(p_, scratch_, grid_, boundary_, scene_.solver.kernel, parallel_worthwhile())) {
     rebuild_index_of_id();
     if (stress_of_current_F_) {  // the stress follows its particles; the energy sum stands
       const double energy = particle_elastic_energy_;

@@ -13,9 +13,9 @@ struct Stencil {
   static constexpr int W = K::width;
   T w[D][W], dw[D][W];    // dw already in 1/length units
   T r[D][W];              // (x_i − x_p) per axis
-  std::size_t off[D][W];  // node index contribution per axis (wrapped × stride)
+  std::size_t off[D][W];  // stored-node index contribution per axis (wrapped, re-based × stride)
 
-  void compute(const Vec<T, D>& x, const Grid<T, D>& g) {
+  void compute(const Vec<T, D>& x, const GridGeometry<T, D>& g) {
     for (int a = 0; a < D; ++a) {
       T xg = (x[a] - g.origin[a]) * g.inv_dx;
       int base = K::weights(xg, w[a], dw[a]);
@@ -23,7 +23,7 @@ struct Stencil {
         dw[a][k] *= g.inv_dx;
         r[a][k] = (T(base + k) - xg) * g.dx;
         int idx = g.periodic[a] ? g.wrap(base + k, a) : base + k;
-        off[a][k] = std::size_t(idx) * g.stride[a];
+        off[a][k] = std::size_t(idx - g.lo[a]) * g.stride[a];
       }
     }
   }

@@ -249,15 +249,23 @@ start=$(date +%s%N)
 expect_error "typo dx 1e-6" "needs about" "grid nodes" "available memory" "--max-memory" -- run "$DISK" --set domain.dx=1e-6
 ms=$(( ($(date +%s%N) - start) / 1000000 ))
 if [ "$ms" -lt 1000 ]; then ok "typo dx refused in $ms ms"; else nok "typo dx refused quickly" "took $ms ms"; fi
-expect_error "--max-memory below the estimate" "needs about" "cap of 1 MB" -- run "$DISK" --max-memory 1M
+expect_error "--max-memory below the estimate" "needs about" "cap of 500 kB" -- run "$DISK" --max-memory 500k
 expect_error "--max-memory malformed" "--max-memory" "BYTES" -- run "$DISK" --max-memory lots
 expect_error "roundtrip --res past memory" "roundtrip --res 2000000" "needs about" -- roundtrip --res 16,2000000
 expect_error "bench past --max-memory" "needs about" -- bench --particles 100000 --max-memory 1k
 # compare holds one simulation per scheme: the estimate counts them all. The disk needs about
-# 1.1 MB alone: a 3 MB cap passes one copy and refuses four.
+# 0.9 MB alone: a 3 MB cap passes one copy and refuses four.
 expect_error "compare counts every pane" "4 simulations at once" "needs about" -- compare "$DISK" --out "$TMP/cmp4" --schemes pic,flip,apic,rpic --max-memory 3M
 run_cli run "$DISK" --t-end 0.01 --max-memory none --csv "$TMP/none.csv" --quiet
 if [ "$RC" -eq 0 ]; then ok "--max-memory none runs"; else nok "--max-memory none" "exit $RC" "$(cat "$ERR")"; fi
+# The grid stores only the particles' box: a domain 1e6 x the disk's area runs in the disk's grid.
+expect_error "bench --domain-times without --scene" "--domain-times goes with --scene" -- bench --domain-times 5
+run_cli bench --scene "$DISK" --frames 1 --domain-times 1e6
+if [ "$RC" -eq 0 ] && grep -q "domain: 1e+06 x the scene's; grid arrays: [0-9.]* kB" "$OUT"; then
+  ok "bench --domain-times 1e6 runs in kB of grid"
+else
+  nok "bench --domain-times 1e6" "exit $RC" "$(cat "$OUT" "$ERR")"
+fi
 
 # Overlapping objects: a warning naming both and the overlap; the run goes on.
 sed -e 's/"objects": \[/"objects": [{"name": "intruder", "shape": {"type": "ball", "center": [0.7, 0.5], "radius": 0.1}, "material": "disk"}, /' "$DISK" >"$TMP/overlap.json"

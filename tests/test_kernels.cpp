@@ -24,6 +24,7 @@ Grid<double, D> make_grid(bool periodic, double dx) {
   s.domain.walls.fill(periodic ? BoundaryCondition::periodic : BoundaryCondition::slip);
   Grid<double, D> g;
   g.init(s);
+  g.store_whole_domain();
   return g;
 }
 

@@ -46,8 +46,10 @@ std::string block_scene(double dx, const std::string& solver_extra = "") {
 TEST(MemoryEstimate, WithinTwiceTheMeasuredResidentGrowth) {
   const SceneDesc scene = parse_scene_text(block_scene(1.0 / 64), "block");
   const MemoryEstimate e = estimate_memory(scene, Precision::dbl);
-  EXPECT_NEAR(e.particles, 262144, 1);           // (0.5 / (dx / 2))^3
-  EXPECT_NEAR(e.grid_nodes, 69.0 * 69 * 69, 1);  // 64 cells + 1 + 2 ghost layers per side
+  EXPECT_NEAR(e.particles, 262144, 1);  // (0.5 / (dx / 2))^3
+  // The grid stores the active box only (sim/grid.hpp): the block spans domain nodes 18..50
+  // (two ghost nodes below 0), blocks of 4 cells 4..12, widened to nodes [14, 55) per axis.
+  EXPECT_NEAR(e.grid_nodes, 41.0 * 41 * 41, 1);
   const double before = resident_bytes();
   auto sim = make_simulation(scene, Precision::dbl);
   for (int s = 0; s < 2; ++s) sim->step_fixed(1e-4);  // the first step sizes the caches
