@@ -159,14 +159,15 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
         p_.F[q](a, b) = s;
       }
     // Particle update: positions on the moved grid (eq 39), F by eq 40 (above).
-    Vec<T, D> x = p_.x[q] + dt * ubar;
+    Vec<T, D> move = dt * ubar;
     // ASFLIP (Fei et al. 2021, Sec 4): separating particles also move by β α (v_p^n − v_old);
     // a particle whose volume shrinks this step (ln J^{n+1} < −10⁻³, the threshold of the
     // authors' pyasflip demo) keeps the grid's motion (β_min = 0).
     if constexpr (S == Scheme::asflip)
       if (beta != T(0) && std::log(std::max(p_.F[q].determinant(), T(1e-15))) >= T(-1e-3))
-        x += (dt * beta * alpha) * flip_difference;
-    max_move = std::max(max_move, double((x - p_.x[q]).cwiseAbs().maxCoeff()));
+        move += (dt * beta * alpha) * flip_difference;
+    Vec<T, D> x = p_.x[q] + move;
+    max_move = std::max(max_move, double(move.cwiseAbs().maxCoeff()));
     for (int a = 0; a < D; ++a) {
       if (grid_.periodic[a]) {
         const T L = hi[a] - lo[a];
