@@ -51,7 +51,7 @@ void add_run_options(CLI::App* cmd, RunOptions& o, RunOptionSet which) {
                                 "them)");
   if (which.scene_required) scene->required();
   cmd->add_option("--scheme", o.scheme, choice_help("transfer scheme", scheme_choices()));
-  add_parameter_option(cmd, "--flip-alpha", o.flip_alpha, "solver.flip_alpha", ", FLIP only");
+  add_parameter_option(cmd, "--flip-alpha", o.flip_alpha, "solver.flip_alpha", ", FLIP and ASFLIP");
   cmd->add_option("--kernel", o.kernel, choice_help("interpolation kernel", kernel_choices()));
   cmd->add_option("--integrator", o.integrator, choice_help("grid update", integrator_choices()));
   add_parameter_option(cmd, "--lambda", o.lambda, "solver.lambda", ", overrides the integrator's");

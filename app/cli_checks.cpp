@@ -36,11 +36,13 @@ void check_flip_alpha(const RunOptions& o, const std::vector<Scheme>& schemes) {
   if (!o.flip_alpha) return;
   std::string names;
   for (Scheme s : schemes) {
-    if (s == Scheme::flip) return;
+    if (blends_flip(s)) return;  // flip, asflip
     names += (names.empty() ? "" : ", ") + std::string(key_of(s));
   }
-  throw UsageError("--flip-alpha has no effect: it blends FLIP with PIC, and the scheme is " +
-                   names + " (add --scheme flip, or leave --flip-alpha out)");
+  throw UsageError(
+      "--flip-alpha has no effect: it blends FLIP with PIC (flip, asflip), and the "
+      "scheme is " +
+      names + " (add --scheme flip, or leave --flip-alpha out)");
 }
 
 std::optional<double> max_memory_gb(const std::string& text) {

@@ -118,7 +118,7 @@ void register_gui(CLI::App& root, CommandTable& table) {
          // Each pane keeps its initial state for resets (app/sim_worker.cpp).
          check_memory_for(scene, precision_of(*run), 2 * int(panes.size()));
          if (run->flip_alpha && std::none_of(panes.begin(), panes.end(), [](const PaneSpec& p) {
-               return p.method == "mpm" && p.scheme == Scheme::flip;
+               return p.method == "mpm" && blends_flip(p.scheme);
              }))
            std::fprintf(stderr,
                         "apiclab: warning: --flip-alpha only affects FLIP panes and "

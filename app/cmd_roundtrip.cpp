@@ -21,7 +21,7 @@ void register_roundtrip(CLI::App& root, CommandTable& table) {
       "roundtrip", "Sec 6.8 round-trip transfer error: CSV resolution,dx,l2_error");
   cmd->add_option("--kernel", o->kernel,
                   "kernel: " + choice_keys(kernel_choices()) + " [default: quadratic]");
-  cmd->add_option("--scheme", o->scheme, "scheme: pic|apic|rpic [default: apic]");
+  cmd->add_option("--scheme", o->scheme, "scheme: pic|apic|rpic|mls|xpic [default: apic]");
   cmd->add_option("--res", o->res,
                   "grid cells per axis, comma separated [allowed: 4 or more; default: "
                   "16,32,64,128,256]")

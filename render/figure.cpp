@@ -105,7 +105,7 @@ std::string scheme_label(const Snapshot& s) {
   const auto& schemes = scheme_choices();
   const auto it = std::find_if(schemes.begin(), schemes.end(),
                                [&](const auto& c) { return c.key == s.scheme; });
-  if (it != schemes.end() && it->value == Scheme::flip && s.flip_alpha < 1)
+  if (it != schemes.end() && blends_flip(it->value) && s.flip_alpha < 1)
     label += " \u03B1=" + format("%g", s.flip_alpha);
   return label;
 }

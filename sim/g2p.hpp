@@ -18,6 +18,10 @@ template <class K, Scheme S>
 void MpmSimulation<T, D>::g2p_impl(T dt) {
   const T lambda = T(scene_.solver.integrator_lambda());
   const T alpha = T(scene_.solver.flip_alpha);
+  const T beta = T(scene_.solver.asflip_beta);
+  // XPIC(m > 1) gathers Σ w e_i of its grid field (sim/transfer_xpic.hpp).
+  const bool xpic_gather = S == Scheme::xpic && scene_.solver.xpic_order > 1;
+  const Vec<T, D>* xpic_shift = xpic_shift_.data();
   // Sec 5.9: the multilinear kernel's D_p is not k Δx² I. Its lagged C (default) is stable;
   // `bform` keeps C = B D_p⁻¹ with D_p at the particle's next position (unstable).
   const bool multilinear = K::type == KernelType::linear;
@@ -129,11 +133,41 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
         }
       }
     }
+    if constexpr (S == Scheme::xpic) {
+      if (xpic_gather) {
+        Vec<T, D> shift = Vec<T, D>::Zero();
+        st.for_each_row([&](const typename Stencil<T, D, K>::Row& row) {
+          Vec<T, D> s = Vec<T, D>::Zero();
+          for (int i = 0; i < W; ++i) s += wx[i] * xpic_shift[st.off[0][i] + row.off];
+          shift += row.w * s;
+        });
+        gathered.xpic_shift = shift;
+      }
+    }
+    // ASFLIP's position correction reads the FLIP difference before v_p is overwritten.
+    Vec<T, D> flip_difference;
+    if constexpr (S == Scheme::asflip) flip_difference = p_.v[q] - vold_p;
     update_particle_velocity<S>(
         gathered, alpha, multilinear, [&] { return Mat<T, D>(st.inertia()); }, p_.v[q], p_.C[q]);
-    // Particle update: positions on the moved grid (eq 39), F by eq 40.
-    Vec<T, D> x = p_.x[q] + dt * ubar;
-    max_move = std::max(max_move, double((dt * ubar).cwiseAbs().maxCoeff()));
+    // MLS-MPM (Hu et al. 2018): the new C is the velocity gradient, F^{n+1} = (I + Δt C) F.
+    if constexpr (S == Scheme::mls) gradu = p_.C[q];
+    const Mat<T, D> F0 = p_.F[q];
+    for (int b = 0; b < D; ++b)
+      for (int a = 0; a < D; ++a) {
+        T s = F0(a, b);
+        for (int k = 0; k < D; ++k) s += dt * gradu(a, k) * F0(k, b);
+        p_.F[q](a, b) = s;
+      }
+    // Particle update: positions on the moved grid (eq 39), F by eq 40 (above).
+    Vec<T, D> move = dt * ubar;
+    // ASFLIP (Fei et al. 2021, Sec 4): separating particles also move by β α (v_p^n − v_old);
+    // a particle whose volume shrinks this step (ln J^{n+1} < −10⁻³, the threshold of the
+    // authors' pyasflip demo) keeps the grid's motion (β_min = 0).
+    if constexpr (S == Scheme::asflip)
+      if (beta != T(0) && std::log(std::max(p_.F[q].determinant(), T(1e-15))) >= T(-1e-3))
+        move += (dt * beta * alpha) * flip_difference;
+    Vec<T, D> x = p_.x[q] + move;
+    max_move = std::max(max_move, double(move.cwiseAbs().maxCoeff()));
     for (int a = 0; a < D; ++a) {
       if (grid_.periodic[a]) {
         const T L = hi[a] - lo[a];
@@ -144,15 +178,6 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
       }
     }
     p_.x[q] = x;
-    // MLS-MPM (Hu et al. 2018): the new C is the velocity gradient, F^{n+1} = (I + Δt C) F.
-    if constexpr (S == Scheme::mls) gradu = p_.C[q];
-    const Mat<T, D> F0 = p_.F[q];
-    for (int b = 0; b < D; ++b)
-      for (int a = 0; a < D; ++a) {
-        T s = F0(a, b);
-        for (int k = 0; k < D; ++k) s += dt * gradu(a, k) * F0(k, b);
-        p_.F[q](a, b) = s;
-      }
     if (!std::isfinite(x.sum() + p_.v[q].sum())) bad = true;
   }
   non_finite_ = non_finite_ || bad;
@@ -178,6 +203,13 @@ void MpmSimulation<T, D>::grid_to_particles(T dt) {
         break;
       case Scheme::mls:
         g2p_impl<K, Scheme::mls>(dt);
+        break;
+      case Scheme::asflip:
+        g2p_impl<K, Scheme::asflip>(dt);
+        break;
+      case Scheme::xpic:
+        xpic_grid_passes<K>();
+        g2p_impl<K, Scheme::xpic>(dt);
         break;
     }
   });

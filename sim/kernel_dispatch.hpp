@@ -23,8 +23,9 @@ decltype(auto) with_kernel(KernelType type, Fn&& f) {
 }
 
 // APIC and RPIC transfer v_p + C_p (x_i − x_p) (eq 24); PIC and FLIP transfer v_p alone.
+// ASFLIP (Fei et al. 2021) transfers as APIC; XPIC (Hammerquist and Nairn 2017) as PIC.
 constexpr bool is_affine(Scheme s) {
-  return s == Scheme::apic || s == Scheme::rpic || s == Scheme::mls;
+  return s == Scheme::apic || s == Scheme::rpic || s == Scheme::mls || s == Scheme::asflip;
 }
 
 }  // namespace apiclab

@@ -157,6 +157,9 @@ void bytes_per_item(const SceneDesc& scene, MemoryEstimate& e) {
       break;
   }
   e.bytes_per_particle = particles + sizeof(M) + stencil + 4 + 4 + 8;
+  // XPIC(m > 1): the series term and its sum per node (sim/transfer_xpic.hpp).
+  if (scene.solver.scheme == Scheme::xpic && scene.solver.xpic_order > 1)
+    e.bytes_per_node += 2 * sizeof(V);
   if (scene.solver.integrator != Integrator::symplectic) {
     // Implicit: F at y and dP/dF per particle; Newton and CG vectors on the nodes (Sec 4.2).
     e.bytes_per_particle += sizeof(M) + sizeof(Eigen::Matrix<T, D * D, D * D>);

@@ -127,6 +127,8 @@ class MpmSimulation final : public Simulation, public TransferControls {
   template <class K, Scheme S>
   void g2p_impl(T dt);
   template <class K>
+  void xpic_grid_passes();  // sim/transfer_xpic.hpp
+  template <class K>
   void velocity_noise(std::vector<float>& out) const;
   template <class Fn>
   void for_each_box_node(Fn&& fn) {
@@ -186,6 +188,9 @@ class MpmSimulation final : public Simulation, public TransferControls {
   std::vector<Stencil<T, D, LinearKernel>> stencils_linear_;
   std::vector<Stencil<T, D, QuadraticKernel>> stencils_quadratic_;
   std::vector<Stencil<T, D, CubicKernel>> stencils_cubic_;
+  // XPIC(m) only, sized on its first step (sim/transfer_xpic.hpp): the series term (I − S S⁺)^k vⁿ
+  // and the sum e = Σ_{k=1}^{m−1} of those terms, per grid node.
+  std::vector<Vec<T, D>> xpic_term_, xpic_shift_;
   ImplicitSolveState<T, D> imp_;
   NewtonCgReport last_solve_;  // the last grid update's (zero iterations when explicit)
   SolverIterationObserver on_solver_iteration_;

@@ -11,3 +11,4 @@
 #include "p2g.hpp"
 #include "time_step_rules.hpp"
 #include "transfer_schemes.hpp"
+#include "transfer_xpic.hpp"

@@ -22,6 +22,8 @@ void validate_mpm(SceneSection& r, SceneDesc& s) {
   v.scheme = r.choice("scheme", scheme_choices(), v.scheme, "scheme");
   // Ranges are checked once, for every method, by validate() (sim/parameters.hpp).
   v.flip_alpha = r.number("flip_alpha", v.flip_alpha);
+  v.asflip_beta = r.number("asflip_beta", v.asflip_beta);
+  v.xpic_order = r.integer("xpic_order", v.xpic_order);
   v.kernel = r.choice("kernel", kernel_choices(), v.kernel, "kernel");
   if (v.kernel == KernelType::linear && s.time.rule == DtRule::cfl)  // see sim/time_step_rules.hpp
     r.fail("kernel",

@@ -15,7 +15,7 @@ void MpmSimulation<T, D>::set_scheme(Scheme scheme, double flip_alpha) {
   const bool was_affine = is_affine(scene_.solver.scheme);
   scene_.solver.scheme = scheme;
   scene_.solver.flip_alpha = flip_alpha;
-  if (scheme == Scheme::pic || scheme == Scheme::flip) {
+  if (!is_affine(scheme)) {  // PIC, FLIP, XPIC: no C_p
     for (auto& C : p_.C) C.setZero();
   } else if (scheme == Scheme::rpic && was_affine) {
     for (auto& C : p_.C) C = rpic_skew_part<T, D>(C);  // returns a new matrix: C is not aliased

@@ -117,6 +117,27 @@ std::vector<NumericParameter> declare() {
        .help = "FLIP/PIC blend of eq 3: 1 = pure FLIP, 0 = PIC (used by the flip scheme)",
        .get = [](const S& s, int) { return s.solver.flip_alpha; },
        .set = [](S& s, int, double v) { s.solver.flip_alpha = v; }},
+      {.key = "solver.asflip_beta",
+       .label = "ASFLIP position correction beta",
+       .unit = "1",
+       .range = kUnit,
+       .default_value = 1.0,
+       .help = "ASFLIP (Fei et al. 2021, Sec 4): x_p += dt beta alpha (v_p - v_old^PIC) for "
+               "separating particles (ln J > -1e-3); 0 = the plain APIC/FLIP blend (used by the "
+               "asflip scheme)",
+       .get = [](const S& s, int) { return s.solver.asflip_beta; },
+       .set = [](S& s, int, double v) { s.solver.asflip_beta = v; }},
+      {.key = "solver.xpic_order",
+       .label = "XPIC order m",
+       .unit = "1",
+       .range = {1, 1000, false, false},
+       .default_value = 2,
+       .integer = true,
+       .help = "XPIC(m) (Hammerquist and Nairn 2017, Sec 3): terms of the series in the "
+               "particle-grid-particle operator; 1 = PIC, m - 1 extra grid passes (used by the "
+               "xpic scheme)",
+       .get = [](const S& s, int) { return double(s.solver.xpic_order); },
+       .set = [](S& s, int, double v) { s.solver.xpic_order = int(std::min(v, 1e9)); }},
       {.key = "solver.lambda",
        .label = "integrator lambda",
        .unit = "1",

@@ -29,6 +29,8 @@ Setup<T, D> setup_of(const SceneDesc& s) {
   }
   r.scheme = s.solver.scheme;
   r.flip_alpha = T(s.solver.flip_alpha);
+  r.asflip_beta = T(s.solver.asflip_beta);
+  r.xpic_order = s.solver.xpic_order;
   r.kernel = s.solver.kernel;
   r.model = s.materials[0].model;
   r.lame = {T(s.materials[0].mu()), T(s.materials[0].lambda())};

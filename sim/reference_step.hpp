@@ -7,7 +7,10 @@
 // The step is symplectic Euler, λ = 0 in eqs 27-30:
 //   clear grid → P2G (eqs 1, 24-26, 34) → grid update (eq 29 with gravity) → boundary
 //   → G2P (eqs 2, 3, 37-40; RPIC, Secs 2.1 and 5.1; lagged C for multilinear weights, Sec 5.9).
+// Later schemes have a labelled block each: MLS-MPM (Hu et al. 2018), ASFLIP (Fei et al. 2021)
+// and XPIC(m) (Hammerquist and Nairn 2017; its grid series runs between boundary and G2P).
 #pragma once
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
@@ -45,7 +48,9 @@ struct Setup {
   std::array<BoundaryCondition, 2 * D> walls;  // x−, x+, y−, y+, z−, z+
   std::vector<Plane<T, D>> colliders;
   Scheme scheme;
-  T flip_alpha;  // eq 3 blended with PIC: 1 = FLIP, 0 = PIC
+  T flip_alpha;        // eq 3 blended with PIC: 1 = FLIP, 0 = PIC; ASFLIP's α
+  T asflip_beta = 0;   // ASFLIP's position correction β (Fei et al. 2021)
+  int xpic_order = 1;  // XPIC's m (Hammerquist and Nairn 2017)
   KernelType kernel;
   MaterialModel model;
   Lame<T> lame;
@@ -148,8 +153,8 @@ T inertia_k(const Setup<T, D>& s) {
 template <class T, int D>
 void step(const Setup<T, D>& s, ParticleState<T, D>& ps, T dt) {
   Nodes<T, D> g(s);  // clear grid
-  const bool affine =
-      s.scheme == Scheme::apic || s.scheme == Scheme::rpic || s.scheme == Scheme::mls;
+  const bool affine = s.scheme == Scheme::apic || s.scheme == Scheme::rpic ||
+                      s.scheme == Scheme::mls || s.scheme == Scheme::asflip;
   const bool mls = s.scheme == Scheme::mls;
 
   // P2G. Eq 34 with the sign of a force, f = −∂Φ/∂x̃ (the paper prints it without the minus).
@@ -190,11 +195,36 @@ void step(const Setup<T, D>& s, ParticleState<T, D>& ps, T dt) {
         constrain<T, D>(g.v_new[k], c.normal, c.condition);
   }
 
+  // XPIC(m) (Hammerquist and Nairn 2017, Sec 3): v* = Σ_{r=1}^{m} (−1)^{r+1} C(m,r) A^{r−1} vⁿ
+  // with A = S⁺S: interpolate to the particles, then the mass-weighted P2G. Summed as the equal
+  // polynomial Σ_{k=0}^{m−1} (I − A)^k vⁿ (no binomial cancellation); e = v* − vⁿ.
+  std::vector<Vec<T, D>> xpic_e(g.mass.size(), Vec<T, D>::Zero());
+  if (s.scheme == Scheme::xpic) {
+    std::vector<Vec<T, D>> u = g.v, Au(g.mass.size());
+    for (int k = 1; k < s.xpic_order; ++k) {
+      std::fill(Au.begin(), Au.end(), Vec<T, D>::Zero());
+      for (std::size_t p = 0; p < ps.x.size(); ++p) {
+        Vec<T, D> up = Vec<T, D>::Zero();  // S u at x_p
+        for_each_node(s, g, ps.x[p], [&](std::size_t i, T w, const Vec<T, D>&, const Vec<T, D>&) {
+          up += w * u[i];
+        });
+        for_each_node(s, g, ps.x[p], [&](std::size_t i, T w, const Vec<T, D>&, const Vec<T, D>&) {
+          Au[i] += w * ps.mass[p] * up;  // S⁺: Σ_p w m_p u_p, divided by m_i below
+        });
+      }
+      for (std::size_t i = 0; i < g.mass.size(); ++i) {
+        if (g.mass[i] <= T(0)) continue;
+        u[i] -= Au[i] / g.mass[i];  // (I − A)^k vⁿ
+        xpic_e[i] += u[i];
+      }
+    }
+  }
+
   // G2P. With λ = 0 the moved node is x̃_i = x_i + Δt ṽ_i (eq 30).
   constexpr int S = D == 2 ? 1 : 3;  // components of an angular velocity
   for (std::size_t p = 0; p < ps.x.size(); ++p) {
     const Vec<T, D> xp = ps.x[p];
-    Vec<T, D> v_pic = Vec<T, D>::Zero(), flip_change = v_pic, x_new = v_pic;
+    Vec<T, D> v_pic = Vec<T, D>::Zero(), flip_change = v_pic, x_new = v_pic, xpic_shift = v_pic;
     Mat<T, D> grad_v = Mat<T, D>::Zero(), Dp = grad_v;
     Vec<T, S> l = Vec<T, S>::Zero();
     Mat<T, S> K = Mat<T, S>::Zero();
@@ -202,6 +232,7 @@ void step(const Setup<T, D>& s, ParticleState<T, D>& ps, T dt) {
       const Vec<T, D> r = xi - xp, vt = g.v_new[i];
       v_pic += w * vt;                   // eqs 2, 37, 44
       flip_change += w * (vt - g.v[i]);  // eq 3
+      xpic_shift += w * xpic_e[i];       // XPIC: S e
       x_new += w * (xi + dt * vt);       // eq 39: x_p^{n+1} = Σ w x̃_i
       grad_v += vt * grad.transpose();   // eq 40: Σ (x̃_i − x_i) ∇wᵀ = Δt Σ ṽ_i ∇wᵀ
       Dp += w * r * r.transpose();       // eq 25
@@ -214,13 +245,19 @@ void step(const Setup<T, D>& s, ParticleState<T, D>& ps, T dt) {
       }
     });
 
+    const Vec<T, D> v_old = v_pic - flip_change;  // Σ w v_i^n
+    const Vec<T, D> v_n = ps.v[p];
     if (s.scheme == Scheme::pic) {
       ps.v[p] = v_pic;  // eq 2
+    } else if (s.scheme == Scheme::xpic) {
+      ps.v[p] = v_pic + xpic_shift;  // XPIC: S (ṽ − vⁿ + v*)
     } else if (s.scheme == Scheme::flip) {
       ps.v[p] =
           s.flip_alpha * (ps.v[p] + flip_change) + (1 - s.flip_alpha) * v_pic;  // eq 3, blended
-    } else if (s.scheme == Scheme::apic || mls) {
+    } else if (s.scheme == Scheme::apic || mls || s.scheme == Scheme::asflip) {
       ps.v[p] = v_pic;  // eq 37 (MLS-MPM: APIC's transfers)
+      // ASFLIP (Fei et al. 2021, Sec 4): v_p^{n+1} = v^PIC + α (v_p^n − Σ w v_i^n), C as APIC
+      if (s.scheme == Scheme::asflip) ps.v[p] += s.flip_alpha * (v_n - v_old);
       if (s.kernel == KernelType::linear) {
         ps.C[p] = grad_v;  // Sec 5.9: C^{n+1} = Σ ṽ_i ∇w_ipᵀ = B^{n+1} (D_p^n)⁻¹, lagged
       } else {
@@ -245,6 +282,11 @@ void step(const Setup<T, D>& s, ParticleState<T, D>& ps, T dt) {
 
     // eq 40; MLS-MPM: the new C is the velocity gradient
     ps.F[p] = (Mat<T, D>::Identity() + dt * (mls ? ps.C[p] : grad_v)) * ps.F[p];
+
+    // ASFLIP's position correction: x += Δt β α (v_p^n − Σ w v_i^n) for a particle that is not
+    // being compressed (ln det F^{n+1} ≥ −10⁻³, the authors' pyasflip threshold); β_min = 0.
+    if (s.scheme == Scheme::asflip && std::log(std::max(ps.F[p].determinant(), T(1e-15))) >= -1e-3)
+      x_new += dt * s.asflip_beta * s.flip_alpha * (v_n - v_old);
 
     // Positions: a wall keeps the particle in the domain, a periodic axis wraps it.
     for (int a = 0; a < D; ++a) {

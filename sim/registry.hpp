@@ -11,7 +11,7 @@
 
 namespace apiclab {
 
-enum class Scheme { pic, flip, apic, rpic, mls };
+enum class Scheme { pic, flip, apic, rpic, mls, asflip, xpic };
 enum class Integrator { symplectic, midpoint, backward };
 enum class MaterialModel { neo_hookean, fixed_corotated };
 enum class ShapeType { box, ball, annulus, torus, mesh };
@@ -41,9 +41,20 @@ inline const std::vector<Choice<Scheme>>& scheme_choices() {
       {"mls", Scheme::mls,
        "MLS-MPM (Hu et al. 2018, Sec 4): APIC's transfers, C as the velocity gradient: the force "
        "-V P F^T D^-1 fused into P2G's affine term, F <- (I + dt C) F; quadratic or cubic, "
-       "symplectic Euler"}};
+       "symplectic Euler"},
+      {"asflip", Scheme::asflip,
+       "ASFLIP (Fei et al. 2021, Sec 4): APIC's affine transfers, v <- v^PIC + alpha (v_p - "
+       "v_old^PIC) with alpha = solver.flip_alpha, x <- x + dt (v^PIC + beta alpha (v_p - "
+       "v_old^PIC)) for separating particles, beta = solver.asflip_beta (beta = 0: the plain "
+       "APIC/FLIP blend)"},
+      {"xpic", Scheme::xpic,
+       "XPIC(m) (Hammerquist and Nairn 2017, Sec 3): PIC plus the m-term series of the "
+       "particle-grid-particle operator, v <- (I - (I - S S+)^m) v_p + S a dt; m = "
+       "solver.xpic_order, XPIC(1) = PIC"}};
   return c;
 }
+// The schemes that read solver.flip_alpha: FLIP (eq 3) and ASFLIP (Fei et al. 2021).
+constexpr bool blends_flip(Scheme s) { return s == Scheme::flip || s == Scheme::asflip; }
 inline const std::vector<Choice<KernelType>>& kernel_choices() {
   static const std::vector<Choice<KernelType>> c = {
       {"linear", KernelType::linear, "multilinear hat; APIC uses the lagged-C form (Sec 5.9)"},

@@ -12,10 +12,10 @@ namespace apiclab {
 
 RoundTripResult roundtrip_error(KernelType kernel, Scheme scheme, int resolution,
                                 std::uint64_t seed) {
-  if (scheme == Scheme::flip)
+  if (blends_flip(scheme))
     throw std::invalid_argument(
-        "the round trip starts from the grid; FLIP needs prior particle velocities (use pic, apic "
-        "or rpic)");
+        "the round trip starts from the grid; FLIP and ASFLIP need prior particle velocities (use "
+        "pic, apic, rpic, mls or xpic)");
   if (resolution < 4) throw std::invalid_argument("resolution must be at least 4");
   SceneDesc s;
   s.name = "roundtrip";

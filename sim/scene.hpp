@@ -56,6 +56,10 @@ struct SolverDesc {
       "mpm";  // the solver family (sim/method_registry.hpp); the keys below are MPM's
   Scheme scheme = Scheme::apic;
   double flip_alpha = 1.0;  // eq 3 blend: 1 = pure FLIP, 0 = PIC
+  // ASFLIP (Fei et al. 2021): the position correction β for separating particles; 0 = the plain
+  // APIC/FLIP blend.
+  double asflip_beta = 1.0;
+  int xpic_order = 2;  // XPIC(m) (Hammerquist and Nairn 2017): m ≥ 1, XPIC(1) = PIC
   KernelType kernel = KernelType::quadratic;
   Integrator integrator = Integrator::symplectic;
   // Multilinear kernel only: APIC's C as lagged Σ ṽ ∇wᵀ or as the unstable B D_p⁻¹ (Sec 5.9).

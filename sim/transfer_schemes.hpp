@@ -1,5 +1,6 @@
 // The per-scheme particle velocity and affine matrix after G2P (Jiang et al. 2017, Secs 5.1-5.9):
-// PIC (eq 2), FLIP (eq 3), APIC (eqs 37-38), RPIC (Sec 5.6.3). Also the C_p a live scheme
+// PIC (eq 2), FLIP (eq 3), APIC (eqs 37-38), RPIC (Sec 5.6.3), ASFLIP (Fei et al. 2021) and
+// XPIC(m) (Hammerquist and Nairn 2017, with sim/transfer_xpic.hpp). Also the C_p a live scheme
 // switch keeps (set_scheme).
 #pragma once
 #include "math.hpp"
@@ -37,11 +38,13 @@ Mat<T, D> rpic_rigid_part(const Mat<T, D>& C, const Mat<T, D>& Dp) {
 }
 
 // What G2P gathered at one particle: v^PIC = Σ w ṽ_i, Σ w v_i^n, and for the affine schemes
-// C^APIC: B D⁻¹ (eq 38) or, for the multilinear kernel, Σ ṽ_i ∇w_ipᵀ (Sec 5.9).
+// C^APIC: B D⁻¹ (eq 38) or, for the multilinear kernel, Σ ṽ_i ∇w_ipᵀ (Sec 5.9). XPIC also
+// gathers Σ w e_i of its grid field e (sim/transfer_xpic.hpp); zero for the other schemes.
 template <class T, int D>
 struct GatheredVelocity {
   Vec<T, D> pic, old;
   Mat<T, D> apic_C;
+  Vec<T, D> xpic_shift = Vec<T, D>::Zero();
 };
 
 // v_p and C_p of scheme S from the gathered velocities; `inertia()` gives D_p, read only by RPIC
@@ -56,6 +59,15 @@ inline void update_particle_velocity(const GatheredVelocity<T, D>& g, T flip_alp
   } else if constexpr (S == Scheme::apic || S == Scheme::mls) {
     v = g.pic;  // eq 37 (MLS-MPM keeps APIC's transfers)
     C = g.apic_C;
+  } else if constexpr (S == Scheme::asflip) {
+    // Fei et al. 2021, Sec 4: APIC's v^PIC and C plus α times the particle's own FLIP difference
+    // v_p^n − Σ w v_i^n (v_i^n from APIC's affine P2G); α = 0 is APIC.
+    v = g.pic + flip_alpha * (v - g.old);
+    C = g.apic_C;
+  } else if constexpr (S == Scheme::xpic) {
+    // Hammerquist and Nairn 2017, Sec 3: V^{n+1} = S (ṽ − vⁿ + v*) = v^PIC + Σ w e_i with
+    // e = v* − vⁿ; e = 0 for m = 1 (PIC).
+    v = g.pic + g.xpic_shift;
   } else {
     v = g.pic;
     C = lagged ? rpic_rigid_part<T, D>(g.apic_C, inertia()) : rpic_skew_part<T, D>(g.apic_C);

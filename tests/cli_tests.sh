@@ -125,6 +125,9 @@ expect_error "--kernel unknown" "quintic" -- run "$DISK" --kernel quintic
 expect_error "unwritable --csv" "/proc/nope" -- run "$DISK" --t-end 0.01 --csv /proc/nope/x.csv
 expect_error "unwritable --dump" "/proc/nope" -- run "$DISK" --t-end 0.01 --csv "$TMP/d.csv" --dump /proc/nope/dir
 expect_error "roundtrip --scheme flip" "FLIP" -- roundtrip --scheme flip --res 16
+expect_error "roundtrip --scheme asflip" "ASFLIP" "prior particle velocities" -- roundtrip --scheme asflip --res 16
+expect_error "xpic order below 1" "solver.xpic_order" "outside the allowed range" -- run rotating-disk --scheme xpic --set solver.xpic_order=0
+expect_error "asflip beta above 1" "solver.asflip_beta" "outside the allowed range" -- run rotating-disk --scheme asflip --set solver.asflip_beta=1.5
 expect_error "roundtrip --kernel unknown" "quintic" -- roundtrip --kernel quintic --res 16
 
 # ---- bad input, issue 11: each class with one line naming the real cause -------------------

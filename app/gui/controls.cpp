@@ -245,7 +245,7 @@ void panes_section(ViewerState& st, const Published& pub, SimWorker& worker) {
         worker.set_scheme(k, c.scheme, c.flip_alpha);
     }
     const bool mpm = (c.method.empty() ? st.scene.solver.method : c.method) == "mpm";
-    if (mpm && c.scheme == Scheme::flip) {
+    if (mpm && blends_flip(c.scheme)) {
       ImGui::SameLine();
       ImGui::SetNextItemWidth(ImGui::GetContentRegionAvail().x - (st.panes.size() > 1 ? 30 : 0));
       // Live, so not through a restart; the slider stays inside the registry's closed range.

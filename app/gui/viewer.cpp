@@ -58,7 +58,7 @@ std::string pane_label(const PaneState& p) {
   std::string s(key_of(p.config.scheme));
   for (auto& c : s) c = char(std::toupper(static_cast<unsigned char>(c)));
   s = before + s;
-  if (p.config.scheme == Scheme::flip && p.config.flip_alpha != 1.0) {
+  if (blends_flip(p.config.scheme) && p.config.flip_alpha != 1.0) {
     char buf[32];
     std::snprintf(buf, sizeof buf, " a=%.2f", p.config.flip_alpha);
     s += buf;
