@@ -11,7 +11,7 @@ packages=(
   libeigen3-dev nlohmann-json3-dev libtinyobjloader-dev libcli11-dev libgtest-dev
   libegl-dev libgl-dev libegl1 libgl1-mesa-dri libosmesa6-dev libstb-dev fonts-dejavu-core
   libglfw3-dev libimgui-dev xvfb xauth ffmpeg clang-format
-  libnanoflann-dev parallel
+  libnanoflann-dev parallel xdotool
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -52,6 +52,9 @@ void register_gui(CLI::App& root, CommandTable& table) {
                   "Frames before the screenshot (each one simulated frame); alone: run live N "
                   "frames, print fps, exit [allowed: 1 or more; default: 60 with --screenshot, "
                   "else run until closed]");
+  cmd->add_option("--heartbeat", o->heartbeat,
+                  "Rewrite FILE after every frame with 'FRAME SECONDS' (a watchdog's liveness "
+                  "check, tests/gui_soak.sh) [default: none]");
   table.push_back(
       {cmd, [o, run, schemes, size, fast, frames] {
          o->realtime = !*fast;
@@ -78,6 +81,7 @@ void register_gui(CLI::App& root, CommandTable& table) {
          if (!size->empty() && std::sscanf(size->c_str(), "%dx%d", &o->width, &o->height) != 2)
            throw UsageError("--size: expected WxH, e.g. 1600x900");
          if (!o->screenshot.empty()) ensure_writable_file(o->screenshot);
+         if (!o->heartbeat.empty()) ensure_writable_file(o->heartbeat);
          if (!o->screenshot.empty() && o->frames <= 0) o->frames = 60;
          // The scene as the viewer will load it: bad input fails here with exit 2.
          RunOptions check = *run;

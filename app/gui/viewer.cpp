@@ -16,6 +16,7 @@
 
 #include "app/assets.hpp"
 #include "app/clock.hpp"
+#include "app/gui/heartbeat.hpp"
 #include "app/gui/scene_view.hpp"
 #include "app/gui/viewer_state.hpp"
 #include "app/pane_spec.hpp"
@@ -177,6 +178,7 @@ int run_viewer(const ViewerOptions& opt) {
 
     long frame = 0;
     double last = now_seconds();
+    Heartbeat heartbeat(opt.heartbeat);
     while (!glfwWindowShouldClose(window)) {
       const double t0 = now_seconds();
       glfwPollEvents();
@@ -241,6 +243,7 @@ int run_viewer(const ViewerOptions& opt) {
           st.frame_ms == 0 ? (now - last) * 1000 : 0.9 * st.frame_ms + 0.1 * (now - last) * 1000;
       st.frame_cpu_ms = 0.9 * st.frame_cpu_ms + 0.1 * (t1 - t0) * 1000;
       last = now;
+      heartbeat.beat(frame, now);
     }
   }
   ImGui_ImplOpenGL3_Shutdown();

@@ -16,6 +16,8 @@ struct ViewerOptions {
   int width = 1600, height = 900;
   std::string screenshot;  // save the window as PNG after `frames` frames, then exit
   int frames = 0;          // without a screenshot: run live this many frames, print timings, exit
+  std::string
+      heartbeat;  // rewritten after every frame with "FRAME SECONDS" (app/gui/heartbeat.hpp)
 };
 
 // Opens the window and runs until it closes. Returns the process exit code.

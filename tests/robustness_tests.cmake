@@ -1,0 +1,31 @@
+# Robustness (issue 17, README "Fuzzing and sanitizers" and "GUI soak").
+#
+# The three libFuzzer targets, 60 s each from their seeds (label "fuzz"): fuzz.build builds
+# them with clang into build/fuzz-build (a fixture), each fuzz.TARGET runs one. Without clang
+# or libFuzzer every one prints "SKIP: ..." and passes.
+set(_fuzz_build ${CMAKE_BINARY_DIR}/fuzz-build)
+set(_fuzz_script ${CMAKE_CURRENT_SOURCE_DIR}/fuzz/fuzz_test.sh)
+add_test(NAME fuzz.build COMMAND bash ${_fuzz_script} build ${CMAKE_SOURCE_DIR} ${_fuzz_build})
+set_tests_properties(fuzz.build PROPERTIES LABELS "fuzz" TIMEOUT 1500 FIXTURES_SETUP fuzz_targets
+                                           SKIP_REGULAR_EXPRESSION "^SKIP:")
+foreach(_target scene set obj)
+  add_test(NAME fuzz.${_target}
+           COMMAND bash ${_fuzz_script} run ${_target} 60 ${CMAKE_SOURCE_DIR} ${_fuzz_build})
+  set_tests_properties(fuzz.${_target} PROPERTIES LABELS "fuzz" TIMEOUT 300
+                       FIXTURES_REQUIRED fuzz_targets SKIP_REGULAR_EXPRESSION "^SKIP:")
+endforeach()
+
+# The GUI soak: random input for 2 minutes (label "gui"), and the 30-minute one (label "slow").
+if(TARGET apiclab_imgui_glfw)
+  add_test(NAME gui.soak
+           COMMAND ${CMAKE_COMMAND} -E env APICLAB=$<TARGET_FILE:apiclab>
+                   bash ${CMAKE_CURRENT_SOURCE_DIR}/gui_soak.sh --seconds 120
+                   --out ${CMAKE_CURRENT_BINARY_DIR}/gui-soak)
+  set_tests_properties(gui.soak PROPERTIES LABELS "gui" TIMEOUT 300 SKIP_REGULAR_EXPRESSION "^SKIP:")
+  add_test(NAME gui.soak_30min
+           COMMAND ${CMAKE_COMMAND} -E env APICLAB=$<TARGET_FILE:apiclab>
+                   bash ${CMAKE_CURRENT_SOURCE_DIR}/gui_soak.sh --seconds 1800
+                   --out ${CMAKE_CURRENT_BINARY_DIR}/gui-soak-30min)
+  set_tests_properties(gui.soak_30min PROPERTIES LABELS "slow" TIMEOUT 2400
+                                                  SKIP_REGULAR_EXPRESSION "^SKIP:")
+endif()
