@@ -23,6 +23,19 @@ std::vector<std::string> split_commas(const std::string& s) {
   return out;
 }
 
+// The whole of "WxH", each side within what X servers and GL drivers take: GLFW asserts on a
+// negative size, refuses 0 with two lines, and X aborts on a 100000-pixel side (gui soak).
+void parse_window_size(const std::string& text, int& width, int& height) {
+  constexpr int kMaxSide = 8192;
+  int w = 0, h = 0, used = 0;
+  if (std::sscanf(text.c_str(), "%dx%d%n", &w, &h, &used) != 2 || used != int(text.size()))
+    throw UsageError("--size: expected WxH, e.g. 1600x900, got '" + text.substr(0, 40) + "'");
+  if (w < 1 || h < 1 || w > kMaxSide || h > kMaxSide)
+    throw UsageError("--size " + text + ": each side must be 1 to " + std::to_string(kMaxSide) +
+                     " pixels");
+  width = w, height = h;
+}
+
 }  // namespace
 
 void register_gui(CLI::App& root, CommandTable& table) {
@@ -55,53 +68,57 @@ void register_gui(CLI::App& root, CommandTable& table) {
   cmd->add_option("--heartbeat", o->heartbeat,
                   "Rewrite FILE after every frame with 'FRAME SECONDS' (a watchdog's liveness "
                   "check, tests/gui_soak.sh) [default: none]");
-  table.push_back(
-      {cmd, [o, run, schemes, size, fast, frames] {
-         o->realtime = !*fast;
-         o->schemes = split_commas(*schemes);
-         if (o->schemes.size() > 4) throw UsageError("--schemes: at most 4 panes");
-         if (!o->schemes.empty() && !run->scheme.empty())
-           throw UsageError("--scheme and --schemes both pick the scheme; give one");
-         std::vector<PaneSpec> panes;  // the same list as compare's (app/pane_spec.hpp)
-         if (!schemes->empty()) try {
-             panes = parse_panes(*schemes);
-           } catch (const std::invalid_argument& e) {
-             throw UsageError(e.what());
-           }
-         if (*frames && **frames < 1) throw UsageError("--frames must be at least 1");
-         if (*frames) o->frames = **frames;
-         if (!run->scene.empty()) o->scene = run->scene;
-         o->overrides = option_overrides(*run);
-         o->precision = run->precision;
-         try {
-           render::parse_color_mode(o->color);
-         } catch (const std::invalid_argument& e) {
-           throw UsageError(e.what());
-         }
-         if (!size->empty() && std::sscanf(size->c_str(), "%dx%d", &o->width, &o->height) != 2)
-           throw UsageError("--size: expected WxH, e.g. 1600x900");
-         if (!o->screenshot.empty()) ensure_writable_file(o->screenshot);
-         if (!o->heartbeat.empty()) ensure_writable_file(o->heartbeat);
-         if (!o->screenshot.empty() && o->frames <= 0) o->frames = 60;
-         // The scene as the viewer will load it: bad input fails here with exit 2.
-         RunOptions check = *run;
-         check.scene = o->scene;
-         SceneDesc scene = load_scene_with_options(check);
-         if (panes.empty()) panes.push_back({"", scene.solver.method, scene.solver.scheme});
-         // As compare: a scheme that cannot run with this scene, up front.
-         if (const std::string why = pane_conflict(panes, scene.solver); !why.empty())
-           throw UsageError(why);
-         // Each pane keeps its initial state for resets (app/sim_worker.cpp).
-         check_memory_for(scene, precision_of(*run), 2 * int(panes.size()));
-         if (run->flip_alpha && std::none_of(panes.begin(), panes.end(), [](const PaneSpec& p) {
-               return p.method == "mpm" && p.scheme == Scheme::flip;
-             }))
-           std::fprintf(stderr,
-                        "apiclab: warning: --flip-alpha only affects FLIP panes and "
-                        "none is FLIP yet (a pane can switch to FLIP in the window)\n");
-         apply_threads(run->threads);
-         return gui::run_viewer(*o);
-       }});
+  table.push_back({cmd, [o, run, schemes, size, fast, frames] {
+                     o->realtime = !*fast;
+                     o->schemes = split_commas(*schemes);
+                     if (o->schemes.size() > 4) throw UsageError("--schemes: at most 4 panes");
+                     if (!o->schemes.empty() && !run->scheme.empty())
+                       throw UsageError("--scheme and --schemes both pick the scheme; give one");
+                     std::vector<PaneSpec> panes;  // the same list as compare's (app/pane_spec.hpp)
+                     if (!schemes->empty()) try {
+                         panes = parse_panes(*schemes);
+                       } catch (const std::invalid_argument& e) {
+                         throw UsageError(e.what());
+                       }
+                     if (*frames && **frames < 1) throw UsageError("--frames must be at least 1");
+                     if (*frames) o->frames = **frames;
+                     if (!run->scene.empty()) o->scene = run->scene;
+                     o->overrides = option_overrides(*run);
+                     o->precision = run->precision;
+                     try {
+                       render::parse_color_mode(o->color);
+                     } catch (const std::invalid_argument& e) {
+                       throw UsageError(e.what());
+                     }
+                     if (!size->empty()) parse_window_size(*size, o->width, o->height);
+                     if (!o->screenshot.empty()) ensure_writable_file(o->screenshot);
+                     if (!o->heartbeat.empty()) try {
+                         ensure_writable_file(o->heartbeat);
+                       } catch (const UsageError& e) {
+                         throw UsageError(std::string("--heartbeat: ") + e.what());
+                       }
+                     if (!o->screenshot.empty() && o->frames <= 0) o->frames = 60;
+                     // The scene as the viewer will load it: bad input fails here with exit 2.
+                     RunOptions check = *run;
+                     check.scene = o->scene;
+                     SceneDesc scene = load_scene_with_options(check);
+                     if (panes.empty())
+                       panes.push_back({"", scene.solver.method, scene.solver.scheme});
+                     // As compare: a scheme that cannot run with this scene, up front.
+                     if (const std::string why = pane_conflict(panes, scene.solver); !why.empty())
+                       throw UsageError(why);
+                     // Each pane keeps its initial state for resets (app/sim_worker.cpp).
+                     check_memory_for(scene, precision_of(*run), 2 * int(panes.size()));
+                     if (run->flip_alpha &&
+                         std::none_of(panes.begin(), panes.end(), [](const PaneSpec& p) {
+                           return p.method == "mpm" && p.scheme == Scheme::flip;
+                         }))
+                       std::fprintf(stderr,
+                                    "apiclab: warning: --flip-alpha only affects FLIP panes and "
+                                    "none is FLIP yet (a pane can switch to FLIP in the window)\n");
+                     apply_threads(run->threads);
+                     return gui::run_viewer(*o);
+                   }});
 }
 
 bool gui_available() { return gui::display_available(); }

@@ -198,7 +198,7 @@ run_event() { # KIND ARGS...
       xdotool mousemove "$1" "$2" click 1 key ctrl+a
       shift 2
       xdotool type --delay 2 -- "$*"
-      xdotool key Return
+      xdotool key Return mousemove 300 99 click 1 # Enter, then the Open button
       ;;
   esac
 }
