@@ -11,8 +11,11 @@ packages=(
   libeigen3-dev nlohmann-json3-dev libtinyobjloader-dev libcli11-dev libgtest-dev
   libegl-dev libgl-dev libegl1 libgl1-mesa-dri libosmesa6-dev libstb-dev fonts-dejavu-core
   libglfw3-dev libimgui-dev xvfb xauth ffmpeg clang-format
-  libnanoflann-dev parallel xdotool
+  libnanoflann-dev parallel
 )
+# The test set also fuzzes (clang, libFuzzer in libclang-rt-dev, OpenMP for clang) and drives
+# the viewer with random input (xdotool); README "Fuzzing and sanitizers", "GUI soak".
+if [ "$mode" = test ]; then packages+=(clang libclang-rt-dev libomp-dev xdotool); fi
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

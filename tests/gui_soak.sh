@@ -189,10 +189,11 @@ run_event() { # KIND ARGS...
     wheel) xdotool mousemove "$1" "$2" click --repeat "$4" --delay 10 "$3" ;;
     key) xdotool mousemove "$1" "$2" key "$3" ;;
     typefield) # ctrl+click turns an ImGui slider or drag into a text field; select all, type
-      xdotool mousemove "$1" "$2" keydown ctrl click 1 keyup ctrl key ctrl+a
+      # Pauses let a slow frame (software GL on a loaded machine) take each step in turn.
+      xdotool mousemove "$1" "$2" keydown ctrl click 1 keyup ctrl sleep 0.3 key ctrl+a sleep 0.2
       shift 2
-      xdotool type --delay 5 -- "$*"
-      xdotool key Return
+      xdotool type --delay 20 -- "$*"
+      xdotool sleep 0.2 key Return
       ;;
     typepath)
       xdotool mousemove "$1" "$2" click 1 key ctrl+a
@@ -218,6 +219,9 @@ elapsed=$((SECONDS - start))
 [ -e "$out/failure" ] || sleep "$max_gap" 0.5
 kill "$watcher" 2>/dev/null
 wait "$watcher" 2>/dev/null
+# The window as the events left it, for a person to look at (ffmpeg's X11 grab, when present).
+command -v ffmpeg >/dev/null && ffmpeg -loglevel error -y -f x11grab -video_size "${W}x$H" \
+  -i "$DISPLAY" -frames:v 1 "$out/last.png" 2>/dev/null
 read -r worst_gap peak_rss <"$out/watch"
 echo "gui_soak: $event events in $elapsed s; worst frame gap seen $worst_gap s (bound $max_gap s); peak RSS $peak_rss MB (bound $rss_mb MB)"
 if [ -e "$out/failure" ]; then
