@@ -3,7 +3,9 @@
 # The three libFuzzer targets, 60 s each from their seeds (label "fuzz"): fuzz.build builds
 # them with clang into build/fuzz-build (a fixture), each fuzz.TARGET runs one. Without clang
 # or libFuzzer every one prints "SKIP: ..." and passes.
-set(_fuzz_build ${CMAKE_BINARY_DIR}/fuzz-build)
+set(APICLAB_FUZZ_BUILD_DIR ${CMAKE_BINARY_DIR}/fuzz-build
+    CACHE PATH "Where fuzz.build builds the fuzz targets (an existing fuzz tree is reused)")
+set(_fuzz_build ${APICLAB_FUZZ_BUILD_DIR})
 set(_fuzz_script ${CMAKE_CURRENT_SOURCE_DIR}/fuzz/fuzz_test.sh)
 add_test(NAME fuzz.build COMMAND bash ${_fuzz_script} build ${CMAKE_SOURCE_DIR} ${_fuzz_build})
 set_tests_properties(fuzz.build PROPERTIES LABELS "fuzz" TIMEOUT 1500 FIXTURES_SETUP fuzz_targets

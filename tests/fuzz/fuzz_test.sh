@@ -29,12 +29,15 @@ case "$mode" in
     skip_without_clang
     launcher=()
     command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
-    cmake -S "$src" -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_C_COMPILER=clang \
-      -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS=-O1 -DAPICLAB_FUZZ=ON -DAPICLAB_BUILD_GUI=OFF \
-      -DAPICLAB_BUILD_TESTS=OFF -DAPICLAB_NATIVE=OFF "${launcher[@]}" >"$build.configure.log" 2>&1 || {
-      cat "$build.configure.log"
-      exit 1
-    }
+    # A tree configured already (by this script, or by hand as README shows) is only built.
+    if ! grep -q '^APICLAB_FUZZ:BOOL=ON' "$build/CMakeCache.txt" 2>/dev/null; then
+      cmake -S "$src" -B "$build" -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_C_COMPILER=clang \
+        -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS=-O1 -DAPICLAB_FUZZ=ON -DAPICLAB_BUILD_GUI=OFF \
+        -DAPICLAB_BUILD_TESTS=OFF -DAPICLAB_NATIVE=OFF "${launcher[@]}" >"$build.configure.log" 2>&1 || {
+        cat "$build.configure.log"
+        exit 1
+      }
+    fi
     exec cmake --build "$build" --target fuzz_scene fuzz_set fuzz_obj
     ;;
   run)
