@@ -161,6 +161,9 @@ watch() {
     rss=$(awk '/^VmRSS/ { print int($2 / 1024) }' "/proc/$viewer/status" 2>/dev/null || echo 0)
     ((rss > peak)) && peak=$rss
     echo "$worst $peak" >"$out/watch"
+    # Slow frames with the machine's load beside them: a starved process is not a hung one.
+    awk -v g="$gap" -v m="$max_gap" 'BEGIN { exit !(g > m / 2) }' &&
+      echo "$(date +%T) gap $gap s, load $(cut -d' ' -f1-3 /proc/loadavg)" >>"$out/slow-frames.log"
     if awk -v g="$gap" -v m="$max_gap" 'BEGIN { exit !(g > m) }'; then
       echo "no frame for $gap s (bound $max_gap s)" >"$out/failure"
       return
@@ -172,7 +175,7 @@ watch() {
     sleep 0.25
   done
 }
-rm -f "$out/failure" "$out/watch"
+rm -f "$out/failure" "$out/watch" "$out/slow-frames.log"
 watch &
 watcher=$!
 
@@ -223,7 +226,8 @@ wait "$watcher" 2>/dev/null
 command -v ffmpeg >/dev/null && ffmpeg -loglevel error -y -f x11grab -video_size "${W}x$H" \
   -i "$DISPLAY" -frames:v 1 "$out/last.png" 2>/dev/null
 read -r worst_gap peak_rss <"$out/watch"
-echo "gui_soak: $event events in $elapsed s; worst frame gap seen $worst_gap s (bound $max_gap s); peak RSS $peak_rss MB (bound $rss_mb MB)"
+echo "gui_soak: $event events in $elapsed s; worst frame gap seen $worst_gap s (bound $max_gap s); peak RSS $peak_rss MB (bound $rss_mb MB); load $(cut -d' ' -f1-3 /proc/loadavg)"
+[ -s "$out/slow-frames.log" ] && echo "gui_soak: $(wc -l <"$out/slow-frames.log") samples over half the bound, in $out/slow-frames.log"
 if [ -e "$out/failure" ]; then
   echo "FAIL: $(cat "$out/failure") after event $event"
   printf '      %s\n' "${last_events[@]}"
