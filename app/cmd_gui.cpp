@@ -85,6 +85,7 @@ void register_gui(CLI::App& root, CommandTable& table) {
                      if (!run->scene.empty()) o->scene = run->scene;
                      o->overrides = option_overrides(*run);
                      o->precision = run->precision;
+                     o->max_memory_gb = max_memory_gb(run->max_memory);
                      try {
                        render::parse_color_mode(o->color);
                      } catch (const std::invalid_argument& e) {

@@ -129,8 +129,10 @@ else
 fi
 echo "gui_soak: seed $seed, $(grep -vc '^#' "$log") events over ${seconds} s, log $log"
 echo "gui_soak: replay with: APICLAB=$app tests/gui_soak.sh --seed $seed --replay $log"
+# --max-memory caps every scene the viewer loads (all panes' simulations together) below the RSS
+# bound, so an RSS over it is a leak or an estimate gone wrong, not a big scene.
 "$app" gui rotating-disk --schemes pic,flip,apic --vectors --size "${W}x$H" --heartbeat "$beat" \
-  >"$out/viewer.log" 2>&1 &
+  --max-memory "$((rss_mb * 8 / 10))M" >"$out/viewer.log" 2>&1 &
 viewer=$!
 for _ in $(seq 300); do # the first frame (a loaded machine may take a while)
   [ -s "$beat" ] && break

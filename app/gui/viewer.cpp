@@ -74,6 +74,7 @@ void load_scene_file(ViewerState& st, SimWorker& worker, const std::string& path
   try {
     st.scene = load_scene(resolve_scene_path(path), overrides);
     st.scene.asset_dirs.push_back(assets_directory());
+    if (st.max_memory_gb) st.scene.solver.max_memory_gb = st.max_memory_gb;
     st.scene_path = resolve_scene_path(path);
     st.scene_loaded = true;
     st.load_error.clear();
@@ -163,6 +164,7 @@ int run_viewer(const ViewerOptions& opt) {
     st.vectors = opt.vectors;
     st.color = render::parse_color_mode(opt.color);
     st.precision = parse_choice(precision_choices(), opt.precision, "precision");
+    st.max_memory_gb = opt.max_memory_gb;
     for (auto& key : opt.schemes) {  // checked by the command line (app/cmd_gui.cpp)
       const PaneSpec spec = parse_panes(key).front();
       st.panes.push_back({spec.scheme, -1.0, {}, {}, spec.method});

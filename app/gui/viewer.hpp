@@ -1,6 +1,7 @@
 // The interactive viewer: a GLFW window with Dear ImGui controls, the renderer's panes side by
 // side, and live plots, fed by a SimWorker (docs/architecture.md, "Threads").
 #pragma once
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,8 +17,9 @@ struct ViewerOptions {
   int width = 1600, height = 900;
   std::string screenshot;  // save the window as PNG after `frames` frames, then exit
   int frames = 0;          // without a screenshot: run live this many frames, print timings, exit
-  std::string
-      heartbeat;  // rewritten after every frame with "FRAME SECONDS" (app/gui/heartbeat.hpp)
+  // Rewritten after every frame with "FRAME SECONDS" (app/gui/heartbeat.hpp); empty: none.
+  std::string heartbeat;
+  std::optional<double> max_memory_gb;  // --max-memory: the cap for every scene loaded
 };
 
 // Opens the window and runs until it closes. Returns the process exit code.
