@@ -57,7 +57,9 @@ case "$mode" in
     [ -d "$src/tests/fuzz_regressions/$target" ] && seeds+=("$src/tests/fuzz_regressions/$target")
     work="$build/findings/$target"
     rm -rf "$work" && mkdir -p "$work/corpus"
-    "$exe" "$work/corpus" "${seeds[@]}" -dict="$dict" -max_total_time="$seconds" -timeout=10 \
+    # libFuzzer's timeout is wall time: on a loaded machine a 2 s input took 11 s (load 20), so a
+    # hang here is an input over 30 s (the one-hour runs use 10 s and replay each timeout alone).
+    "$exe" "$work/corpus" "${seeds[@]}" -dict="$dict" -max_total_time="$seconds" -timeout=30 \
       -rss_limit_mb=2048 -artifact_prefix="$work/" -print_final_stats=1 >"$work/log" 2>&1
     status=$?
     grep -E '^#[0-9]+ +(INITED|DONE)|stat::number_of_executed_units|Done [0-9]+ runs' "$work/log"
