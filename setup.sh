@@ -13,6 +13,9 @@ packages=(
   libglfw3-dev libimgui-dev xvfb xauth ffmpeg clang-format
   libnanoflann-dev parallel zlib1g-dev
 )
+# The test set also fuzzes (clang, libFuzzer in libclang-rt-dev, OpenMP for clang) and drives
+# the viewer with random input (xdotool); README "Fuzzing and sanitizers", "GUI soak".
+if [ "$mode" = test ]; then packages+=(clang libclang-rt-dev libomp-dev xdotool); fi
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -24,6 +24,19 @@ std::vector<std::string> split_commas(const std::string& s) {
   return out;
 }
 
+// The whole of "WxH", each side within what X servers and GL drivers take: GLFW asserts on a
+// negative size, refuses 0 with two lines, and X aborts on a 100000-pixel side (gui soak).
+void parse_window_size(const std::string& text, int& width, int& height) {
+  constexpr int kMaxSide = 8192;
+  int w = 0, h = 0, used = 0;
+  if (std::sscanf(text.c_str(), "%dx%d%n", &w, &h, &used) != 2 || used != int(text.size()))
+    throw UsageError("--size: expected WxH, e.g. 1600x900, got '" + text.substr(0, 40) + "'");
+  if (w < 1 || h < 1 || w > kMaxSide || h > kMaxSide)
+    throw UsageError("--size " + text + ": each side must be 1 to " + std::to_string(kMaxSide) +
+                     " pixels");
+  width = w, height = h;
+}
+
 }  // namespace
 
 void register_gui(CLI::App& root, CommandTable& table) {
@@ -62,6 +75,9 @@ void register_gui(CLI::App& root, CommandTable& table) {
   cmd->add_option("--sweep-run", *sweep_run,
                   "With --sweep: start with this run (its id, runs.csv's first column) beside "
                   "its reference [default: the first scene's reference run alone]");
+  cmd->add_option("--heartbeat", o->heartbeat,
+                  "Rewrite FILE after every frame with 'FRAME SECONDS' (a watchdog's liveness "
+                  "check, tests/gui_soak.sh) [default: none]");
   table.push_back(
       {cmd, [o, run, schemes, size, fast, frames, sweep_dir, sweep_run] {
          o->realtime = !*fast;
@@ -80,14 +96,19 @@ void register_gui(CLI::App& root, CommandTable& table) {
          if (!run->scene.empty()) o->scene = run->scene;
          o->overrides = option_overrides(*run);
          o->precision = run->precision;
+         o->max_memory_gb = max_memory_gb(run->max_memory);
          try {
            render::parse_color_mode(o->color);
          } catch (const std::invalid_argument& e) {
            throw UsageError(e.what());
          }
-         if (!size->empty() && std::sscanf(size->c_str(), "%dx%d", &o->width, &o->height) != 2)
-           throw UsageError("--size: expected WxH, e.g. 1600x900");
+         if (!size->empty()) parse_window_size(*size, o->width, o->height);
          if (!o->screenshot.empty()) ensure_writable_file(o->screenshot);
+         if (!o->heartbeat.empty()) try {
+             ensure_writable_file(o->heartbeat);
+           } catch (const UsageError& e) {
+             throw UsageError(std::string("--heartbeat: ") + e.what());
+           }
          if (!o->screenshot.empty() && o->frames <= 0) o->frames = 60;
          if (!sweep_run->empty() && sweep_dir->empty())
            throw UsageError("--sweep-run needs --sweep DIR");

@@ -1,8 +1,10 @@
 #include "app/sim_worker.hpp"
 
+#include <algorithm>
 #include <chrono>
 
 #include "app/clock.hpp"
+#include "sim/memory_estimate.hpp"
 #include "sim/method_registry.hpp"
 
 namespace apiclab::gui {
@@ -65,6 +67,20 @@ void SimWorker::load(SceneDesc scene, std::vector<PaneConfig> panes, Precision p
 }
 
 void SimWorker::restart_panes() {
+  // Every pane keeps two simulations (its initial state for resets), all built while the
+  // previous panes still run: the whole set is checked before the first is built, as
+  // `gui` checks its first scene (app/cmd_gui.cpp), not one simulation at a time.
+  MemoryEstimate total;
+  for (auto& p : panes_) {
+    SceneDesc s = *scene_;
+    if (!p.config.method.empty()) s.solver.method = p.config.method;
+    const MemoryEstimate e = estimate_memory(s, precision_);
+    total.grid_nodes += 2 * e.grid_nodes, total.particles += 2 * e.particles;
+    total.bytes_per_node = std::max(total.bytes_per_node, e.bytes_per_node);
+    total.bytes_per_particle = std::max(total.bytes_per_particle, e.bytes_per_particle);
+  }
+  check_memory(total, memory_cap_bytes(*scene_),
+               scene_->source + " (" + std::to_string(2 * panes_.size()) + " simulations at once)");
   for (auto& p : panes_) {
     SceneDesc s = p.config.scene ? *p.config.scene : *scene_;  // as compare's panes
     if (!p.config.method.empty()) s.solver.method = p.config.method;

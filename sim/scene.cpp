@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "input_file.hpp"
+#include "message_text.hpp"
 #include "method_registry.hpp"
 #include "parameters.hpp"
 #include "scene_json.hpp"
@@ -18,12 +19,8 @@ namespace {
 
 using nlohmann::json;
 
-// A value or --set as a message quotes it: a long one cut short, so the error stays one
-// readable line (fuzzed inputs of 200,000 brackets were echoed whole).
-std::string shown(const std::string& s) {
-  if (s.size() <= 120) return s;
-  return s.substr(0, 100) + "... (" + std::to_string(s.size()) + " characters)";
-}
+// A value or --set as a message quotes it on one readable line (sim/message_text.hpp).
+std::string shown(const std::string& s) { return message_text(s); }
 
 // Reads one JSON object strictly: every key must be consumed, so a misspelled key is an error.
 class Reader {
@@ -524,10 +521,18 @@ SceneDesc parse_with_overrides(json j, const std::string& file,
 
 SceneDesc parse_scene_text(const std::string& text, const std::string& source,
                            const std::vector<std::string>& overrides) {
-  json j;
-  JsonError error;
-  if (!parse_json_strict(text, j, error)) throw SceneError(source + ": " + error.text());
-  return parse_with_overrides(std::move(j), source, overrides);
+  try {
+    json j;
+    JsonError error;
+    if (!parse_json_strict(text, j, error)) throw SceneError(source + ": " + error.text());
+    return parse_with_overrides(std::move(j), source, overrides);
+  } catch (const SceneError& e) {
+    // Whatever text of the input a message quotes (a key, a value, a choice, a name), it stays
+    // one line: fuzz_scene found a key holding "\n" split the message in two.
+    const std::string what = e.what();
+    if (what.find_first_of(kControlCharacters) == std::string::npos) throw;
+    throw SceneError(message_text(what, std::string::npos));
+  }
 }
 
 SceneDesc load_scene(const std::string& path, const std::vector<std::string>& overrides) {

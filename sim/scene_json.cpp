@@ -3,6 +3,8 @@
 #include <set>
 #include <vector>
 
+#include "message_text.hpp"
+
 namespace apiclab {
 namespace {
 
@@ -128,9 +130,8 @@ class StrictSax {
 }  // namespace
 
 std::string JsonError::text() const {
-  // A key is text of any length: quoted cut short, so the message stays one readable line.
-  const std::string path =
-      this->path.size() <= 120 ? this->path : this->path.substr(0, 100) + "...";
+  // A key is any text: quoted on one readable line (sim/message_text.hpp).
+  const std::string path = message_text(this->path);
   if (position.empty()) return "key '" + path + "' " + cause;  // a duplicate key
   if (cause.rfind("number ", 0) == 0 && !path.empty())
     return "key '" + path + "': " + cause + " (" + position + ")";

@@ -245,6 +245,12 @@ if "$APICLAB" gui --help >/dev/null 2>&1; then
   expect_error "gui mls pane with an implicit scene" "--schemes mls" "symplectic" -- gui "$DISK" --schemes apic,mls
   expect_error "gui unknown pane" "unknown scheme 'foo'" "solver method without schemes" -- gui eol-spin --schemes apic,foo
   expect_error "gui mpm:eol is no scheme" "unknown scheme 'eol'" -- gui eol-spin --schemes mpm:eol
+  # Window sizes the soak found crashing GLFW (assert on < 0) or X (BadValue on 100000).
+  expect_error "gui --size -5x300" "--size" "1 to 8192" -- gui "$DISK" --size -5x300
+  expect_error "gui --size 0x0" "--size" "1 to 8192" -- gui "$DISK" --size 0x0
+  expect_error "gui --size 100000x100000" "--size" "1 to 8192" -- gui "$DISK" --size 100000x100000
+  expect_error "gui --size with trailing junk" "--size" "WxH" -- gui "$DISK" --size 1600x900px
+  expect_error "gui --heartbeat into a directory" "--heartbeat" "is a directory" -- gui "$DISK" --heartbeat "$TMP"
 fi
 
 # Memory: a typo dx is refused at once with the estimate and the available memory.

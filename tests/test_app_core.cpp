@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "app/frame_loop.hpp"
+#include "app/gui/view_limits.hpp"
 #include "app/jobs.hpp"
 #include "app/lockstep.hpp"
 #include "sim/run_summary.hpp"
@@ -192,4 +193,31 @@ TEST(Jobs, RunKeepsRowsAndSnapshotsAndNamesBadRuns) {
 }
 
 }  // namespace
+// The viewer's own numbers stay usable whatever is typed or turned (the GUI soak typed 1e38 into
+// "particle size" through ImGui's ctrl+click text field; app/gui/view_limits.hpp).
+TEST(GuiViewLimits, TypedValuesAreClampedAndNonFiniteOnesReplaced) {
+  using namespace gui;
+  EXPECT_EQ(within(1e38f, kParticleScale), kParticleScale.hi);
+  EXPECT_EQ(within(-1.0f, kParticleScale), kParticleScale.lo);
+  EXPECT_EQ(within(std::nanf(""), kParticleScale), kParticleScale.fallback);
+  EXPECT_EQ(within(INFINITY, kVectorGain), kVectorGain.fallback);
+  EXPECT_EQ(within(-INFINITY, kColorMax), kColorMax.fallback);
+  EXPECT_EQ(within(2.0f, kVectorGain), 2.0f);  // a value in range is kept as typed
+}
+
+// 2000 wheel notches each way (0.88 per notch, app/gui/scene_view.cpp): unclamped, the half
+// height reaches 0 or inf within about 800, and every projected point becomes NaN.
+TEST(GuiViewLimits, ZoomStaysFiniteAndPositive) {
+  using namespace gui;
+  float in = 1, out = 1;
+  for (int notch = 0; notch < 2000; ++notch) {
+    in = within(in * 0.88f, kViewSize);
+    out = within(out / 0.88f, kViewSize);
+  }
+  EXPECT_EQ(in, kViewSize.lo);
+  EXPECT_EQ(out, kViewSize.hi);
+  EXPECT_GT(in, 0.0f);
+  EXPECT_TRUE(std::isfinite(out));
+}
+
 }  // namespace apiclab

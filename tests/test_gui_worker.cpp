@@ -11,6 +11,7 @@
 
 #include "app/frame_loop.hpp"
 #include "app/sim_worker.hpp"
+#include "sim/memory_estimate.hpp"
 #include "sim/registry.hpp"
 #include "sim/scene.hpp"
 
@@ -167,6 +168,29 @@ TEST(GuiWorker, SceneThatCannotBeBuiltKeepsTheRunningOne) {
   EXPECT_EQ(p->panes[0].snapshot->positions, ok->panes[0].snapshot->positions);
   const auto more = run_frames(w, 1);  // still runs
   EXPECT_EQ(more->frame, 1);
+}
+
+// Four panes keep eight simulations; the whole set is checked against the memory cap before the
+// first is built (the soak's scene switches reached 2.9 GB; each simulation alone fit the cap,
+// so the set was only stopped, if at all, by the machine's memory running low).
+TEST(GuiWorker, PanesAreCheckedForMemoryAsAWhole) {
+  SimWorker w;
+  const auto ok = loaded(w, {{Scheme::apic, 1.0, {}, {}}});
+  SceneDesc scene = disk();
+  const double one = estimate_memory(scene, Precision::dbl).bytes();
+  scene.solver.max_memory_gb = 3 * one / 1e9;  // one simulation fits, eight do not
+  std::vector<PaneConfig> four(4, PaneConfig{Scheme::apic, 1.0, {}, {}});
+  w.load(scene, four);
+  w.sync();
+  const auto p = w.latest();
+  EXPECT_NE(p->error.find("8 simulations at once"), std::string::npos) << p->error;
+  ASSERT_EQ(p->panes.size(), 1u);  // the running pane stays
+  EXPECT_EQ(p->panes[0].snapshot->positions, ok->panes[0].snapshot->positions);
+  scene.solver.max_memory_gb = 9 * one / 1e9;  // eight fit
+  w.load(scene, four);
+  w.sync();
+  EXPECT_TRUE(w.latest()->error.empty()) << w.latest()->error;
+  EXPECT_EQ(w.latest()->panes.size(), 4u);
 }
 
 // A reader that walks every published value while commands rain in: the handoff must be

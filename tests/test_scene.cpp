@@ -153,6 +153,21 @@ TEST(Scene, MalformedJson) {
   }
 }
 
+// fuzz_scene (issue 17, tests/fuzz_regressions/scene/newline-in-key*.json): a key holding the
+// JSON escape "\n" decodes to a line break, which the message quoted as it was, on two lines.
+// Every text of the input a message quotes has its control characters escaped.
+TEST(Scene, InputTextInMessagesStaysOnOneLine) {
+  const std::string disk = std::string(APICLAB_SOURCE_DIR) + "/assets/scenes/rotating-disk.json";
+  expect_scene_error([] { parse_scene_text(edited("/a\nb", 1), "k.json"); }, {"'a\\nb'"},
+                     "unknown key with a line break");
+  expect_scene_error([] { parse_scene_text("{\"a\\nb\\tc\": [}", "k.json"); }, {"a\\nb\\tc"},
+                     "malformed JSON near a key with a line break and a tab");
+  expect_scene_error([&] { load_scene(disk, {"solver.scheme=\"ap\\nic\""}); }, {"ap\\nic"},
+                     "a choice value with a line break");
+  expect_scene_error([&] { load_scene(disk, {"name\r\x01=1"}); }, {"\\r\\x01"},
+                     "a --set key with a carriage return and a control byte");
+}
+
 TEST(Scene, UnknownKeys) {
   bad("/gravty", {0, -1}, "gravty");               // top level, misspelled
   bad("/materials/0/Ee", 1000, "materials.0.Ee");  // nested, misspelled

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 
+#include "app/gui/view_limits.hpp"
 #include "app/gui/viewer_state.hpp"
 #include "render/color.hpp"
 #include "sim/method_registry.hpp"
@@ -362,17 +363,22 @@ void view_section(ViewerState& st, const Published& pub, SimWorker& worker) {
     ImGui::Checkbox("auto scale", &st.auto_scale);
     ImGui::SameLine();
     ImGui::SetNextItemWidth(-1);
-    if (ImGui::DragFloat("##cmax", &st.color_max, st.color_max * 0.01f + 1e-6f, 0, 1e9f,
-                         "max %.3g"))
+    if (ImGui::DragFloat("##cmax", &st.color_max, st.color_max * 0.01f + 1e-6f, kColorMax.lo,
+                         kColorMax.hi, "max %.3g", ImGuiSliderFlags_AlwaysClamp))
       st.auto_scale = false;
+    st.color_max = within(st.color_max, kColorMax);
   }
   ImGui::Checkbox("velocity vectors", &st.vectors);
   ImGui::SameLine();
   ImGui::Checkbox("grid", &st.grid);
-  ImGui::SliderFloat("arrow length", &st.vector_gain, 0.1f, 10, "x%.2f",
-                     ImGuiSliderFlags_Logarithmic);
-  ImGui::SliderFloat("particle size", &st.particle_scale, 0.25f, 4, "x%.2f",
-                     ImGuiSliderFlags_Logarithmic);
+  // Typed values (ctrl+click) are clamped too, and a NaN replaced (app/gui/view_limits.hpp).
+  constexpr ImGuiSliderFlags kFlags = ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_AlwaysClamp;
+  ImGui::SliderFloat("arrow length", &st.vector_gain, kVectorGain.lo, kVectorGain.hi, "x%.2f",
+                     kFlags);
+  st.vector_gain = within(st.vector_gain, kVectorGain);
+  ImGui::SliderFloat("particle size", &st.particle_scale, kParticleScale.lo, kParticleScale.hi,
+                     "x%.2f", kFlags);
+  st.particle_scale = within(st.particle_scale, kParticleScale);
   ImGui::PopItemWidth();
   if (ImGui::Button("Frame domain", ImVec2(-1, 0))) st.framed_generation = ~std::uint64_t(0);
   (void)pub;

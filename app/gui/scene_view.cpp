@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "app/gui/view_limits.hpp"
 #include "render/figure.hpp"
 #include "render/legend.hpp"
 #include "render/snapshot_stats.hpp"
@@ -66,7 +67,7 @@ void handle_input(ViewerState& st, const Snapshot& s, render::Rect r, bool mouse
       const float my = ((r.y + r.h / 2) - io.MousePos.y) * per_px;
       const float f = std::pow(0.88f, io.MouseWheel);
       v.center.x += mx * (1 - f), v.center.y += my * (1 - f);
-      v.half_height *= f;
+      v.half_height = within(v.half_height * f, kViewSize);
     }
     return;
   }
@@ -77,7 +78,8 @@ void handle_input(ViewerState& st, const Snapshot& s, render::Rect r, bool mouse
     const float per_px = 2 * v.distance * std::tan(render::radians(v.fov_y) / 2) / r.h;
     v.target = v.target - right * (d.x * per_px) + up * (d.y * per_px);
   }
-  if (io.MouseWheel != 0) v.distance *= std::pow(0.88f, io.MouseWheel);
+  if (io.MouseWheel != 0)
+    v.distance = within(v.distance * std::pow(0.88f, io.MouseWheel), kViewSize);
 }
 
 // The particle nearest the cursor within a few pixels, or -1.

@@ -16,6 +16,7 @@
 
 #include "app/assets.hpp"
 #include "app/clock.hpp"
+#include "app/gui/heartbeat.hpp"
 #include "app/gui/scene_view.hpp"
 #include "app/gui/viewer_state.hpp"
 #include "app/pane_spec.hpp"
@@ -76,6 +77,7 @@ void load_scene_file(ViewerState& st, SimWorker& worker, const std::string& path
   try {
     st.scene = load_scene(resolve_scene_path(path), overrides);
     st.scene.asset_dirs.push_back(assets_directory());
+    if (st.max_memory_gb) st.scene.solver.max_memory_gb = st.max_memory_gb;
     st.scene_path = resolve_scene_path(path);
     st.scene_loaded = true;
     st.load_error.clear();
@@ -165,6 +167,7 @@ int run_viewer(const ViewerOptions& opt) {
     st.vectors = opt.vectors;
     st.color = render::parse_color_mode(opt.color);
     st.precision = parse_choice(precision_choices(), opt.precision, "precision");
+    st.max_memory_gb = opt.max_memory_gb;
     for (auto& key : opt.schemes) {  // checked by the command line (app/cmd_gui.cpp)
       const PaneSpec spec = parse_panes(key).front();
       st.panes.push_back({spec.scheme, -1.0, {}, {}, spec.method});
@@ -186,6 +189,7 @@ int run_viewer(const ViewerOptions& opt) {
 
     long frame = 0;
     double last = now_seconds();
+    Heartbeat heartbeat(opt.heartbeat);
     while (!glfwWindowShouldClose(window)) {
       const double t0 = now_seconds();
       glfwPollEvents();
@@ -256,6 +260,7 @@ int run_viewer(const ViewerOptions& opt) {
           st.frame_ms == 0 ? (now - last) * 1000 : 0.9 * st.frame_ms + 0.1 * (now - last) * 1000;
       st.frame_cpu_ms = 0.9 * st.frame_cpu_ms + 0.1 * (t1 - t0) * 1000;
       last = now;
+      heartbeat.beat(frame, now);
     }
   }
   ImGui_ImplOpenGL3_Shutdown();

@@ -2,6 +2,7 @@
 // side, and live plots, fed by a SimWorker (docs/architecture.md, "Threads").
 #pragma once
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -25,6 +26,9 @@ struct ViewerOptions {
   // shown beside its reference at the start (-1: the first scene's reference run alone).
   std::shared_ptr<const sweep::OpenedSweep> sweep;
   long sweep_run = -1;
+  // Rewritten after every frame with "FRAME SECONDS" (app/gui/heartbeat.hpp); empty: none.
+  std::string heartbeat;
+  std::optional<double> max_memory_gb;  // --max-memory: the cap for every scene loaded
 };
 
 // Opens the window and runs until it closes. Returns the process exit code.

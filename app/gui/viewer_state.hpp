@@ -5,6 +5,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,7 @@ struct ViewerState {
   std::string load_error, notice;
   std::vector<PaneConfig> panes;
   Precision precision = Precision::dbl;
+  std::optional<double> max_memory_gb;  // gui --max-memory, applied to every scene loaded
   char open_path[512] = "";
 
   // A sweep folder (app/sweep/open.hpp): its charts under the panes; a click opens a run.
