@@ -331,6 +331,9 @@ void view_section(ViewerState& st, const Published& pub, SimWorker& worker) {
   ImGui::Checkbox("velocity vectors", &st.vectors);
   ImGui::SameLine();
   ImGui::Checkbox("grid", &st.grid);
+  ImGui::Checkbox("surface", &st.surface);
+  ImGui::SameLine();
+  ImGui::Checkbox("surface vectors", &st.surface_vectors);
   ImGui::SliderFloat("arrow length", &st.vector_gain, 0.1f, 10, "x%.2f",
                      ImGuiSliderFlags_Logarithmic);
   ImGui::SliderFloat("particle size", &st.particle_scale, 0.25f, 4, "x%.2f",
