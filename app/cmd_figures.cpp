@@ -7,8 +7,10 @@
 //   fig6_ring_collision.png/.csv   Fig 6: Sec 6.4
 //   fig10_ringing_energy.png/.csv  Fig 10: total and kinetic energy of the ringing test, Sec 6.7
 //   fig11_roundtrip.png/.csv       Fig 11: round-trip transfer error against Δx, Sec 6.8
+//   eol_fig6_translation.png/.csv  Fan et al. 2013 Fig 6: grid nodes and memory, EoL/Eulerian
 //   eol_fig7_spin.png/.csv         Fan et al. 2013 Fig 7: ω(t) of a spinning disk, EoL/Eulerian
-//   eol_fig8_drop.png/.csv         Fan et al. 2013 Fig 8: Δt against time of the drop
+//   eol_fig8_drop.png/.csv         Fan et al. 2013 Fig 8: Δt against time of the drop, coloured
+//                                  by the bound that set it
 #include <algorithm>
 #include <cstdio>
 #include <thread>

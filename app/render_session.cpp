@@ -45,6 +45,10 @@ void add_render_options(CLI::App* cmd, RenderOptions& o, RunOptionSet which) {
   cmd->add_option("--particle-scale", o.particle_scale,
                   "multiply the drawn particle radius [allowed: > 0; default: 1]");
   cmd->add_flag("--grid", o.grid, "draw the grid lines [default: off]");
+  cmd->add_flag("--no-surface", o.no_surface,
+                "leave out the objects' surfaces (solver.method eol, eulerian) [default: drawn]");
+  cmd->add_flag("--surface-vectors", o.surface_vectors,
+                "draw velocity arrows on the surfaces' vertices (eol, eulerian) [default: off]");
   cmd->add_option("--fit", o.fit,
                   "frame the whole domain, or the particles of the first frame (with room "
                   "around them): domain|particles [default: domain]");
@@ -79,6 +83,8 @@ RenderSession::RenderSession(const RenderOptions& o) {
   style.color_max = float(o.color_max);
   style.particle_scale = float(o.particle_scale);
   style.grid = o.grid;
+  style.surface = !o.no_surface;
+  style.surface_vectors = o.surface_vectors;
   style.legend = !o.no_legend;
   if (o.fit != "domain" && o.fit != "particles")
     throw UsageError("unknown --fit '" + o.fit + "' (expected domain|particles)");

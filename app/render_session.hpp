@@ -19,6 +19,7 @@ struct RenderOptions {
   std::string out, size = "1280x720", color = "speed", backend = "auto", video, schemes;
   std::string fit = "domain";
   bool vectors = false, grid = false, no_legend = false;
+  bool no_surface = false, surface_vectors = false;
   double vector_scale = 0, color_max = 0, particle_scale = 1;
   int vector_every = 0;
 };

@@ -50,6 +50,8 @@ SceneStyle resolve_scene_style(const FigureStyle& style, const std::vector<const
   SceneStyle s;
   s.color = style.color;
   s.vectors = style.vectors;
+  s.surface = style.surface;
+  s.surface_vectors = style.surface_vectors;
   s.grid = style.grid;
   s.box = style.box;
   s.colliders = style.colliders;

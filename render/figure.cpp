@@ -64,8 +64,9 @@ Layout layout(Renderer& r, int width, int height, int panes, const Snapshot& fir
       std::clamp(std::round(std::min(float(height), 0.75f * float(width)) / 36.0f), 9.0f, 40.0f);
   l.pad = std::round(0.6f * l.font);
   const float header = style.header ? std::round(1.7f * l.font) : 0;
-  const float legend_w =
-      style.legend ? legend_width(r, l.font, l.pad, style.color, style.vectors, first) : 0;
+  const float legend_w = style.legend ? legend_width(r, l.font, l.pad, style.color,
+                                                     style.vectors || style.surface_vectors, first)
+                                      : 0;
   // Pane grid: the number of columns that shows the scene largest; scenes keep their aspect
   // and the group of panes and legend sits in the middle of the image.
   const Rect area{l.pad, header, float(width) - legend_w - 2 * l.pad,

@@ -12,9 +12,10 @@ struct FigureStyle {
   ColorMode color = ColorMode::speed;
   float color_max = 0;  // top of the speed/noise colour scale
   bool vectors = false;
-  float vector_scale = 0;  // world length of an arrow per unit of speed
-  float vector_gain = 1;   // multiplies the automatic arrow length (the GUI's slider)
-  int vector_every = 0;    // one arrow per this many particles
+  bool surface = true, surface_vectors = false;  // object surfaces (EoL), arrows on them
+  float vector_scale = 0;                        // world length of an arrow per unit of speed
+  float vector_gain = 1;  // multiplies the automatic arrow length (the GUI's slider)
+  int vector_every = 0;   // one arrow per this many particles
   bool grid = false, box = true, colliders = true, legend = true, header = true;
   float particle_scale = 1;
   int up_axis = 1;            // 3D: the axis that points up on screen (up_axis_from_gravity)

@@ -117,7 +117,8 @@ void draw_legend(Renderer& r, Rect area, float font, float pad, const SceneStyle
     y += 1.0f * f;
   }
   // The arrow key needs four lines; small images go without it.
-  if (s.vectors && s.vector_scale > 0 && pixels_per_unit > 0 && y + 4 * f <= area.y + area.h) {
+  if ((s.vectors || s.surface_vectors) && s.vector_scale > 0 && pixels_per_unit > 0 &&
+      y + 4 * f <= area.y + area.h) {
     // A reference arrow of a round speed, about four text heights long.
     const float px_per_speed = s.vector_scale * pixels_per_unit;
     const float speed = nice_floor(4 * f / px_per_speed);

@@ -214,12 +214,14 @@ void Renderer::draw_scene(const Snapshot& s, const Camera& camera, Rect rect,
   // 3. Domain box and colliders over the particles (depth-tested in 3D), then the arrows.
   scene_lines_.clear();
   scene_fills_.clear();
+  if (style.surface && !s.surfaces.empty()) add_surface_layers(s, camera, style.line_px);
   if (style.box) add_box(box, s.dim, style.line_px);
   if (style.colliders)
     for (const ColliderDesc& c : s.colliders) add_collider(c, box, s.dim, style.line_px, ppu);
   draw_fills(scene_fills_, view_projection);
   draw_segments(scene_lines_, camera.view, camera.projection, viewport);
-  if (style.vectors && style.vector_scale > 0) draw_arrows(s, camera, viewport, style);
+  if ((style.vectors || style.surface_vectors) && style.vector_scale > 0)
+    draw_arrows(s, camera, viewport, style);
 
   gl::DepthMask(GL_TRUE);
   gl::Disable(GL_DEPTH_TEST);
@@ -286,7 +288,7 @@ void Renderer::draw_arrows(const Snapshot& s, const Camera& camera, Vec2 viewpor
   arrows.clear();
   const float lw = style.line_px, head = std::max(4.0f, 3.5f * lw);
   const float fallback_radius = float(s.dx) * 0.25f;
-  for (std::size_t i = 0; i < s.count(); ++i) {
+  for (std::size_t i = 0; i < (style.vectors ? s.count() : 0); ++i) {
     if (!carries_arrow(i, style.vector_every)) continue;
     Vec3 x, v;
     for (int k = 0; k < s.dim; ++k) {
@@ -298,6 +300,17 @@ void Renderer::draw_arrows(const Snapshot& s, const Camera& camera, Vec2 viewpor
     arrows.push_back(
         {x, x + v * style.vector_scale, kArrow, 0.9f * lw, head, s.dim == 3 ? r : 0.0f});
   }
+  // Arrows on the surface vertices (sim/snapshot.hpp SurfaceLayer), one in vector_every.
+  for (const SurfaceLayer& layer : s.surfaces)
+    for (std::size_t i = 0; style.surface_vectors && i * s.dim < layer.positions.size(); ++i) {
+      if (!carries_arrow(i, style.vector_every)) continue;
+      Vec3 x, v;
+      for (int k = 0; k < s.dim; ++k) {
+        x[k] = layer.positions[i * s.dim + k];
+        v[k] = layer.velocities[i * s.dim + k];
+      }
+      arrows.push_back({x, x + v * style.vector_scale, kArrow, 0.9f * lw, head, 0.0f});
+    }
   // A pale halo under every arrow first, so dark arrows read on dark particles too.
   std::vector<SegmentInstance> halos = arrows;
   const float halo = std::max(0.75f, 0.6f * lw);

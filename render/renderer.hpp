@@ -29,8 +29,9 @@ struct SceneStyle {
   ColorMode color = ColorMode::speed;
   float color_max = 1;  // speed or noise at the top of the colormap
   bool vectors = false;
-  float vector_scale = 0.1f;  // world length of an arrow per unit of speed
-  int vector_every = 1;       // one arrow per this many particles, picked by a hash of the id
+  bool surface = true, surface_vectors = false;  // object surfaces (EoL), arrows on them
+  float vector_scale = 0.1f;                     // world length of an arrow per unit of speed
+  int vector_every = 1;  // one arrow per this many particles, picked by a hash of the id
   bool box = true, colliders = true, grid = false;
   float particle_scale = 1;  // multiplies each particle's drawing radius
   float line_px = 1;         // width of thin lines, pixels
@@ -104,6 +105,8 @@ class Renderer {
   // The snapshot's grid layers into scene_lines_ / scene_fills_ (render/grid_layers.cpp).
   void add_grid_layers(const Snapshot& s, const Camera& camera, float line_px,
                        float pixels_per_unit, const std::string& field);
+  // The snapshot's surfaces (render/surface_layers.cpp): lines (2D), shaded triangles (3D).
+  void add_surface_layers(const Snapshot& s, const Camera& camera, float line_px);
   void draw_arrows(const Snapshot& s, const Camera& camera, Vec2 viewport, const SceneStyle& style);
   // The floor of a 3D domain (the face at the minimum of axis `up`) with contact shadows.
   void draw_floor(const Box3& box, int up, const Mat4& view_projection, Rect rect);

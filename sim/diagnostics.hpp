@@ -21,6 +21,9 @@ struct DiagnosticsRow {
   double newton_iters = 0, cg_iters = 0, residual = 0;  // implicit integrators
   bool converged = true;  // the implicit solve met its tolerance within its caps
   std::string dt_limit;   // which bound set dt (EoL, Sec 3.6: advection|elastic|max|frame|fixed)
+  // Grid storage the solver holds (EoL: nodes of every object's grid, bytes of their per-node
+  // and per-cell arrays); not in the diagnostics CSV: Fig 6's CSV carries them.
+  double grid_nodes = 0, grid_bytes = 0;
 };
 
 inline const char* diagnostics_header() {

@@ -37,6 +37,15 @@ struct GridLayer {
   std::size_t node_count() const { return std::size_t(nodes[0]) * nodes[1] * nodes[2]; }
 };
 
+// An object's surface placed in space (Eulerian-on-Lagrangian, Fan et al. 2013 Sec 3.8): dim
+// floats per vertex for positions and velocities, and dim vertex indices per element
+// (segments in 2D, triangles counter-clockwise from outside in 3D).
+struct SurfaceLayer {
+  std::string name;
+  std::vector<float> positions, velocities;
+  std::vector<std::uint32_t> elements;
+};
+
 struct Snapshot {
   int dim = 2;
   long step = 0;
@@ -56,6 +65,7 @@ struct Snapshot {
   std::vector<std::string> material_names;
   std::vector<std::string> object_names;  // the scene's, by object index ("" when unnamed)
   std::vector<GridLayer> grids;           // optional grid layers (none for the MPM solvers)
+  std::vector<SurfaceLayer> surfaces;     // optional object surfaces (none for the MPM solvers)
   std::optional<Failure> failure;
   std::size_t count() const { return dim ? positions.size() / size_t(dim) : 0; }
 };

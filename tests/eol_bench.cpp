@@ -1,7 +1,8 @@
 // Per-stage timing of the EoL step in the form of Fan et al. 2013, Table II: two spheres on
 // 2 × 32³ grids (no object–object contact: part 2), ms per step for forces, assembly (the
 // impulse update and the node–plane rows), the least-squares split (with the Δt choice's two
-// projections, eq 32) and the rest (advection, extrapolation, mass), and the whole step.
+// projections, eq 32), the rest (advection, extrapolation, mass), the surface placement
+// (Algorithm 2) and the whole step.
 //   build/tests/eol_bench [steps]
 #include <chrono>
 #include <cstdio>
@@ -50,12 +51,15 @@ int main(int argc, char** argv) {
   std::printf("EoL Table II form: 2 spheres, %zu x %dx%dx%d nodes, %d steps, dt %.3g s (%s)\n",
               eol->objects().size(), g.n[0], g.n[1], g.n[2], steps, row.dt, row.dt_limit.c_str());
   std::printf(
-      "| Forces | Assembly | LS | Forces+Assembly+LS | Advection etc. | Step (with "
-      "diagnostics) |\n|---|---|---|---|---|---|\n");
+      "| Forces | Assembly | LS | Forces+Assembly+LS | Advection etc. | Surface | Step (with "
+      "diagnostics) |\n|---|---|---|---|---|---|---|\n");
   const double f = (after.forces - before.forces) * ms,
                as = (after.assembly - before.assembly) * ms, ls = (after.split - before.split) * ms,
-               adv = (after.advection - before.advection) * ms;
-  std::printf("| %.2f | %.2f | %.2f | %.2f | %.2f | %.2f |\n", f, as, ls, f + as + ls, adv,
-              wall * ms);
+               adv = (after.advection - before.advection) * ms,
+               surf = (after.surface - before.surface) * ms;
+  std::printf("| %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f |\n", f, as, ls, f + as + ls, adv,
+              surf, wall * ms);
+  std::printf("surface: %zu + %zu vertices\n", eol->objects()[0].surface.size(),
+              eol->objects()[1].surface.size());
   return 0;
 }

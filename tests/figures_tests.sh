@@ -55,9 +55,10 @@ check "Fig 11: APIC's error below PIC's at every resolution" \
 time_figure fig10_ringing_energy "pic flip apic"
 check "fig1_ringing.png: three schemes' frames" "[ -s $out/fig1_ringing.png ] && '$check_png' $out/fig1_ringing.png 1000 1000"
 
-# Fan et al. 2013 Figs 7 and 8 (EoL against the Eulerian baseline), CSVs with dt_limit.
-eol_header="$time_header,dt_limit"
-for name in eol_fig7_spin eol_fig8_drop; do
+# Fan et al. 2013 Figs 6, 7 and 8 (EoL against the Eulerian baseline), CSVs with dt_limit and
+# the grid's nodes and bytes.
+eol_header="$time_header,dt_limit,grid_nodes,grid_bytes"
+for name in eol_fig6_translation eol_fig7_spin eol_fig8_drop; do
   check "$name.png and $name.csv exist" "[ -s $out/$name.png ] && [ -s $out/$name.csv ]"
   check "$name.csv header" "[ \"\$(head -1 $out/$name.csv)\" = '$eol_header' ]"
   check "$name.csv series: eol eulerian" "[ \"\$(csv_schemes $out/$name.csv)\" = 'eol eulerian ' ]"
@@ -71,7 +72,23 @@ check "Fig 7 (quick): EoL keeps omega within 0.1 %, Eulerian loses more than 0.4
   "awk 'BEGIN {l = $(lz_loss $f7 eol); exit !(l < 0.1 && l > -0.1 && $(lz_loss $f7 eulerian) > 0.4)}'"
 check "Fig 8: every EoL row names the bound that set dt" \
   "! awk -F, '\$1 == \"eol\" && \$10 !~ /^(advection|elastic|max|frame|fixed)\$/ {bad = 1} END {exit !bad}' $out/eol_fig8_drop.csv"
-check "Fig 8: the drop's dt is bound by the elastic limit in some steps" "grep -q '^eol,.*,elastic\$' $out/eol_fig8_drop.csv"
+check "Fig 8: the drop's dt is bound by the elastic limit in some steps" "grep -q '^eol,.*,elastic,' $out/eol_fig8_drop.csv"
+# Fig 8's Δt is coloured by its bound: the elastic limit's purple (app/figures/time_figure.cpp).
+check "Fig 8: the Δt curve is drawn in the elastic limit's colour" "'$check_png' $out/eol_fig8_drop.png 800 350 7b3294"
+# Fig 6: the grids each solver allocated (EolSimulation::grid_bytes): nodes the same in every
+# row, bytes peaking once the work arrays are allocated; README quotes them (the quick run's
+# grids are the full run's: they do not change in time).
+f6e=$out/eol_fig6_translation.csv
+col() { awk -F, -v s="$2" -v c="$3" '$1 == s {print $c}' "$1" | sort -u | tr '\n' ' '; }
+check "Fig 6: each method's grid keeps its nodes in every row" \
+  "[ \$(col $f6e eol 11 | wc -w) = 1 ] && [ \$(col $f6e eulerian 11 | wc -w) = 1 ]"
+peak() { awk -F, -v s="$2" -v c="$3" '$1 == s && $c > m {m = $c} END {print m}' "$1"; }
+n_eol=$(col $f6e eol 11 | tr -d ' ') n_eul=$(col $f6e eulerian 11 | tr -d ' ')
+b_eol=$(peak $f6e eol 12) b_eul=$(peak $f6e eulerian 12)
+check "Fig 6: EoL's grid is smaller than the world grid" "[ $n_eol -lt $n_eul ] && [ $b_eol -lt $b_eul ]"
+says6() { local text6; text6=$(tr '\n' ' ' <"$readme" | tr -s ' ')
+  if [[ "$text6" == *"$1"* ]]; then ok "README says: $1"; else fail "README does not say: $1"; fi; }
+says6 "EoL's grid has $n_eol nodes ($(awk "BEGIN {printf \"%.1f\", $b_eol / 1024}") KiB), the Eulerian baseline's $n_eul ($(awk "BEGIN {printf \"%.0f\", $b_eul / 1024}") KiB): $(awk "BEGIN {printf \"%.0f\", $n_eul / $n_eol}")× the nodes, $(awk "BEGIN {printf \"%.0f\", $b_eul / $b_eol}")× the memory"
 
 # README.md's numbers against the full runs.
 full="$out-full"

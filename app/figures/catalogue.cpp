@@ -11,11 +11,14 @@ double angular_momentum(const DiagnosticsRow& r) { return r.L[2]; }
 double total_energy(const DiagnosticsRow& r) { return r.total; }
 double kinetic_energy(const DiagnosticsRow& r) { return r.kinetic; }
 double time_step(const DiagnosticsRow& r) { return r.dt; }
+double grid_nodes(const DiagnosticsRow& r) { return r.grid_nodes; }
+double grid_mib(const DiagnosticsRow& r) { return r.grid_bytes / (1024.0 * 1024.0); }
 
 }  // namespace
 
 const std::vector<std::string>& figure_ids() {
-  static const std::vector<std::string> ids{"1", "3", "4", "5", "6", "10", "11", "eol7", "eol8"};
+  static const std::vector<std::string> ids{"1",  "3",  "4",    "5",    "6",
+                                            "10", "11", "eol6", "eol7", "eol8"};
   return ids;
 }
 
@@ -40,7 +43,12 @@ std::vector<TimeFigure> time_figures() {
   // much), so L_z(t) / L_z(0) is ω(t) / ω₀.
   const Quantity omega{"Angular velocity (L_z / I0)", "omega / omega0 = L_z(t) / L_z(0)",
                        angular_momentum, false, true};
-  const Quantity dt{"Time step", "dt [s]", time_step};
+  Quantity dt{"Time step, coloured by the bound that set it", "dt [s]", time_step};
+  dt.by_dt_limit = true;
+  // Fig 6: what each solver allocated for its grids (EolSimulation::grid_bytes), per step.
+  Quantity nodes{"Grid nodes", "grid nodes", grid_nodes};
+  Quantity memory{"Grid memory", "grid memory [MiB]", grid_mib};
+  nodes.log_y = memory.log_y = true;
   const Quantity KJ{"Kinetic energy", "kinetic energy [J]", kinetic_energy};
   const std::vector<std::string> eol_methods{"eol", "eulerian"};
   // cost: relative run time, so that the job pool starts the longest runs first.
@@ -95,7 +103,18 @@ std::vector<TimeFigure> time_figures() {
        E,
        K,
        {}},
-      // Fan et al. 2013 (Eulerian-on-Lagrangian), Figs 7 and 8.
+      // Fan et al. 2013 (Eulerian-on-Lagrangian), Figs 6, 7 and 8.
+      {"eol6",
+       "eol_fig6_translation",
+       "Fan et al. 2013, Fig. 6 — Translation: grid EoL and Eulerian allocate",
+       "eol-translation",
+       0.25,
+       3,
+       eol_methods,
+       nodes,
+       memory,
+       {},
+       true},
       {"eol7",
        "eol_fig7_spin",
        "Fan et al. 2013, Fig. 7 — Spinning disk: EoL against Eulerian",

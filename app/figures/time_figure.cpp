@@ -1,5 +1,6 @@
 #include "app/figures/time_figure.hpp"
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 
@@ -31,7 +32,49 @@ std::string series_label(const jobs::Run& r) {
   return label;
 }
 
+// The bounds of Sec 3.6 in the order of the legend, each with its colour (none of the schemes').
+struct LimitStyle {
+  const char* key;
+  const char* label;
+  ImU32 color;
+};
+const LimitStyle kLimits[] = {
+    {"elastic", "elastic limit", IM_COL32(123, 50, 148, 255)},
+    {"advection", "advection, eq 33", IM_COL32(230, 159, 0, 255)},
+    {"frame", "frame time", IM_COL32(30, 30, 30, 255)},
+    {"max", "time.dt.value", IM_COL32(150, 150, 150, 255)},
+    {"fixed", "fixed", IM_COL32(140, 90, 40, 255)},
+};
+
+// One series per run and bound: the steps that bound set, the others left out (gaps). A bound
+// that set fewer than half the steps gets a dot on each of its steps, so single steps show.
+// Row 0 is the state at t = 0, before any step: it has no bound.
+std::vector<gui::PlotSeries> limit_series(const std::vector<jobs::Run>& runs, const Quantity& q) {
+  std::vector<gui::PlotSeries> out;
+  for (const jobs::Run& r : runs)
+    for (const LimitStyle& l : kLimits) {
+      std::size_t steps = 0;
+      for (const DiagnosticsRow& d : r.rows) steps += d.step > 0 && d.dt_limit == l.key;
+      if (steps == 0) continue;
+      gui::PlotSeries s;
+      s.label = series_label(r) + ": " + l.label;
+      s.color = l.color;
+      s.count = r.rows.size();
+      s.x = [&r](std::size_t i) { return r.rows[i].t; };
+      s.y = [&r, &q, key = std::string(l.key)](std::size_t i) {
+        const DiagnosticsRow& d = r.rows[i];
+        return d.step > 0 && d.dt_limit == key ? value(r, q, i) : std::nan("");
+      };
+      s.thickness = 2.0f;
+      s.dashed = r.method != "eol";
+      s.markers = 2 * steps < r.rows.size();
+      out.push_back(std::move(s));
+    }
+  return out;
+}
+
 std::vector<gui::PlotSeries> time_series(const std::vector<jobs::Run>& runs, const Quantity& q) {
+  if (q.by_dt_limit) return limit_series(runs, q);
   std::vector<gui::PlotSeries> out;
   for (const jobs::Run& r : runs) {
     gui::PlotSeries s;
@@ -54,13 +97,15 @@ void write_time_figure(ChartCanvas& canvas, const TimeFigure& f, const std::stri
   {
     std::ofstream csv(base.string() + ".csv");
     csv << "scheme,step,t,dt,kinetic,kinetic_grid,potential,total_energy,angular_momentum"
-        << (f.methods ? ",dt_limit\n" : "\n");
+        << (f.methods ? ",dt_limit,grid_nodes,grid_bytes\n" : "\n");
     csv.precision(17);
     for (const jobs::Run& r : f.runs)
       for (const DiagnosticsRow& d : r.rows)
         csv << key_of(r) << ',' << d.step << ',' << d.t << ',' << d.dt << ',' << d.kinetic << ','
             << d.kinetic_grid << ',' << d.potential << ',' << d.total << ',' << d.L[2]
-            << (f.methods ? "," + d.dt_limit + "\n" : "\n");
+            << (f.methods ? "," + d.dt_limit + "," + std::to_string(std::llround(d.grid_nodes)) +
+                                "," + std::to_string(std::llround(d.grid_bytes)) + "\n"
+                          : "\n");
     if (!csv) throw cli::UsageError("cannot write " + base.string() + ".csv");
   }
   // The runs behind the CSV, as a sidecar (app/run_outputs.hpp): scene, scheme, overrides.
@@ -83,6 +128,7 @@ void write_time_figure(ChartCanvas& canvas, const TimeFigure& f, const std::stri
       o.y_label = q->y_label;
       o.x_label = "time t [s]";
       o.interactive = false;
+      o.log_y = q->log_y;
       o.legend_corner = gui::PlotOptions::Corner::best;
       ImGui::SetCursorScreenPos(ImVec2(10 + k * (w + 10), top));
       gui::plot(q->title.c_str(), ImVec2(w, h), o, time_series(f.runs, *q));

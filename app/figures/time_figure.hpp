@@ -16,6 +16,10 @@ struct Quantity {
   double (*of)(const DiagnosticsRow&);
   bool dashed = false;
   bool relative = false;  // divided by the run's value at t = 0
+  bool log_y = false;
+  // Coloured by the step's dt_limit (EoL, Sec 3.6) instead of by run: one line per run and
+  // limit, the runs told apart by dashes (Fig 8).
+  bool by_dt_limit = false;
 };
 
 struct TimeFigure {
@@ -26,7 +30,8 @@ struct TimeFigure {
   std::vector<std::string> schemes;  // solver.scheme keys, or solver.method keys when `methods`
   Quantity left, right;
   std::vector<jobs::Run> runs;  // one per scheme, filled by the caller
-  bool methods = false;         // EoL figures: one run per solver method, CSV with dt_limit
+  bool methods = false;  // EoL figures: one run per solver method, CSV with dt_limit, grid_nodes,
+                         // grid_bytes
 };
 
 // DIR/<file>.png and DIR/<file>.csv; throws UsageError when the CSV cannot be written.

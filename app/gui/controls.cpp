@@ -371,6 +371,9 @@ void view_section(ViewerState& st, const Published& pub, SimWorker& worker) {
   ImGui::Checkbox("velocity vectors", &st.vectors);
   ImGui::SameLine();
   ImGui::Checkbox("grid", &st.grid);
+  ImGui::Checkbox("surface", &st.surface);
+  ImGui::SameLine();
+  ImGui::Checkbox("surface vectors", &st.surface_vectors);
   // Typed values (ctrl+click) are clamped too, and a NaN replaced (app/gui/view_limits.hpp).
   constexpr ImGuiSliderFlags kFlags = ImGuiSliderFlags_Logarithmic | ImGuiSliderFlags_AlwaysClamp;
   ImGui::SliderFloat("arrow length", &st.vector_gain, kVectorGain.lo, kVectorGain.hi, "x%.2f",

@@ -141,6 +141,8 @@ render::FigureStyle figure_style(const ViewerState& st, int up_axis) {
   style.vectors = st.vectors;
   style.vector_gain = st.vector_gain;
   style.grid = st.grid;
+  style.surface = st.surface;
+  style.surface_vectors = st.surface_vectors;
   style.particle_scale = st.particle_scale;
   style.up_axis = up_axis;
   return style;
@@ -161,8 +163,8 @@ std::vector<render::Rect> draw_scene_panes(render::Renderer& r, ViewerState& st,
   const int up_axis = pub.scene ? render::up_axis_from_gravity(pub.scene->gravity, first.dim) : 1;
   const render::FigureStyle wanted = figure_style(st, up_axis);
   // The legend is the renderer's, as in the PNGs, in a column right of the panes.
-  const float legend_w =
-      render::legend_width(r, kLegendFont, kLegendPad, st.color, st.vectors, first);
+  const float legend_w = render::legend_width(r, kLegendFont, kLegendPad, st.color,
+                                              st.vectors || st.surface_vectors, first);
   const render::Rect panes_area{area.x, area.y, area.w - legend_w, area.h - kHint};
   const render::Rect legend{area.x + area.w - legend_w, area.y + kTitle, legend_w,
                             area.h - kHint - kTitle};

@@ -46,6 +46,7 @@ struct ViewerState {
   std::uint64_t framed_generation = ~std::uint64_t(0);
   render::ColorMode color = render::ColorMode::speed;
   bool vectors = false, grid = false, auto_scale = true;
+  bool surface = true, surface_vectors = false;  // object surfaces (EoL panes), arrows on them
   float color_max = 0;    // top of the colormap: shown (auto scale) or set by hand
   float vector_gain = 1;  // multiplies the automatic arrow length
   float particle_scale = 1;

@@ -16,6 +16,7 @@
 #include "sim/eol/forces.hpp"
 #include "sim/eol/frame.hpp"
 #include "sim/eol/impulse_solve.hpp"
+#include "sim/eol/rest_surface.hpp"
 #include "sim/eol/time_step.hpp"
 #include "sim/simulation.hpp"
 
@@ -31,6 +32,20 @@ struct EolObject {
   std::vector<Vec<T, D>> r, x, u, force, scratch, vstar;
   ElasticForces<T, D> elastic;
   Extrapolation<T, D> extrapolation;
+  // The surface (Sec 3.8): built once in material space; Algorithm 2 places it every step at
+  // intermediate positions surface_y (world: R y + p). surface_misses: vertices not found in
+  // the last placement (kept where they were).
+  RestSurface<D> surface;
+  std::vector<Vec<T, D>> surface_y;
+  int surface_misses = 0;
+  // Grid storage held (Fig 6): every per-node and per-cell array of this object's grid.
+  std::size_t grid_bytes() const {
+    std::size_t b = grid.bytes() + elastic.bytes() + extrapolation.bytes() + held_bytes(owner);
+    for (const auto* f : {&r, &x, &u, &force, &scratch, &vstar}) b += held_bytes(*f);
+    return b;
+  }
+  Vec<T, D> surface_world(std::size_t s) const { return frame.rotation() * surface_y[s] + frame.p; }
+  Vec<T, D> surface_velocity(std::size_t s) const { return grid.interpolate(u, surface_y[s]); }
 };
 
 template <class T, int D>
@@ -63,6 +78,7 @@ class EolSimulation final : public Simulation {
   void compute_forces(EolObject<T, D>& o);  // f_e + f_b + f_qvv, world axes
   double choose_dt(double t_limit, DtLimit* limit);
   void finish_step(double dt);  // impulse, planes, split, frame, advection, extrapolation
+  void place_surface(EolObject<T, D>& o);  // Algorithm 2
 
   bool lagrangian() const { return lagrangian_; }
   // Mutable access: the state may change, so the forces computed ahead are recomputed.
@@ -81,7 +97,7 @@ class EolSimulation final : public Simulation {
   // Time spent in each phase (seconds, summed over steps): forces, split (with the Δt choice's
   // projections), everything else (advection, extrapolation, mass).
   struct StageSeconds {
-    double forces = 0, assembly = 0, split = 0, advection = 0;
+    double forces = 0, assembly = 0, split = 0, advection = 0, surface = 0;
   };
   const StageSeconds& stage_seconds() const { return stages_; }
 

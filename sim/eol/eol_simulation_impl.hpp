@@ -9,6 +9,7 @@
 #include "sim/eol/eol_simulation.hpp"
 #include "sim/eol/least_squares_split.hpp"
 #include "sim/eol/rest_shape.hpp"
+#include "sim/eol/surface_placement.hpp"
 
 namespace apiclab::eol {
 namespace detail {
@@ -117,6 +118,11 @@ void EolSimulation<T, D>::add_object_grid(const std::vector<int>& shapes, const 
       for (int a = 0; a < 3; ++a) w[a] = T(obj.angular_velocity[std::size_t(a)]);
     return std::pair<Vec<T, D>, Spin<T, D>>(V + spin_cross<T, D>(w, Vec<T, D>(x - c)), w);
   };
+  // The surface at half the cell (Sec 3.8); at rest X = p + y, so y_s = X_s − p exactly.
+  for (int s : shapes)
+    append_rest_surface<D>(scene_.objects[std::size_t(s)].shape, s, 0.5 * dx, o.surface);
+  for (const Vec<double, D>& Xs : o.surface.X)
+    o.surface_y.push_back(Vec<T, D>(Xs.template cast<T>() - o.frame.p));
   if (lagrangian_) {
     auto [nu, w] = initial_velocity(shapes[0], o.frame.p);
     o.frame.nu = nu;
@@ -301,9 +307,17 @@ void EolSimulation<T, D>::finish_step(double dt_in) {
     update_mass(o, true);
     update_spatial(o);
     stages_.advection += detail::seconds_since(start);
+    place_surface(o);
   }
   time_ += dt_in;
   ++steps_;
+}
+
+template <class T, int D>
+void EolSimulation<T, D>::place_surface(EolObject<T, D>& o) {
+  const auto start = std::chrono::steady_clock::now();
+  o.surface_misses = eol::place_surface(o.grid, o.surface.X, o.surface_y, parallel_);
+  stages_.surface += detail::seconds_since(start);
 }
 
 template <class T, int D>
@@ -392,6 +406,10 @@ DiagnosticsRow EolSimulation<T, D>::measure() const {
   r.p = {p[0], p[1], p[2]};
   r.L = {L[0], L[1], L[2]};
   r.dt_limit = dt_limit_name(last_limit_);
+  for (const auto& o : objects_) {
+    r.grid_nodes += double(o.grid.size());
+    r.grid_bytes += double(o.grid_bytes());
+  }
   return r;
 }
 

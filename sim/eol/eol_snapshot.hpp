@@ -1,7 +1,8 @@
 // What the EoL solver shows (Fan et al. 2013, Sec 3.8 and Figs 2, 6): every node that holds
 // material as a dot at its world position with its spatial velocity (the renderer's particle
 // path, so colours, vectors and auto-scaling work unchanged), and each object's grid as a
-// GridLayer in its frame with the node fields mass, speed and det(∇X) (empty nodes NaN).
+// GridLayer in its frame with the node fields mass, speed and det(∇X) (empty nodes NaN), and
+// its surface as placed by Algorithm 2 (Sec 3.8) with the interpolated spatial velocity.
 #pragma once
 #include <limits>
 
@@ -52,7 +53,18 @@ std::shared_ptr<Snapshot> EolSimulation<T, D>::snapshot() const {
       det.values.push_back(full ? float(g.gradient(g.X, i).determinant()) : nan);
     }
     layer.fields = {std::move(mass), std::move(speed), std::move(det)};
+    SurfaceLayer surface;
+    surface.name = layer.name;
+    for (std::size_t v = 0; v < o.surface.size(); ++v) {
+      const Vec<T, D> x = o.surface_world(v), u = o.surface_velocity(v);
+      for (int a = 0; a < D; ++a) {
+        surface.positions.push_back(float(x[a]));
+        surface.velocities.push_back(float(u[a]));
+      }
+    }
+    surface.elements = o.surface.simplex;
     s->grids.push_back(std::move(layer));
+    s->surfaces.push_back(std::move(surface));
   }
   s->domain_min = scene_.domain.min;
   s->domain_max = scene_.domain.max;

@@ -14,6 +14,12 @@
 
 namespace apiclab::eol {
 
+// Bytes a vector holds (its capacity): what the solver has allocated, for Fig 6's memory.
+template <class V>
+std::size_t held_bytes(const std::vector<V>& v) {
+  return v.capacity() * sizeof(V);
+}
+
 template <class T, int D>
 struct EulerianGrid {
   std::array<int, D> n{};                // nodes per axis
@@ -31,6 +37,10 @@ struct EulerianGrid {
     mass.assign(count, T(0));
     fill.assign(count, T(0));
     material.assign(count, -1);
+  }
+  std::size_t bytes() const {
+    return held_bytes(X) + held_bytes(v) + held_bytes(mass) + held_bytes(fill) +
+           held_bytes(material);
   }
   std::size_t size() const {
     std::size_t s = 1;
@@ -97,6 +107,39 @@ struct EulerianGrid {
       out += w * f[index(k)];
     }
     return out;
+  }
+  // The same multilinear interpolant of a vector field and its Jacobian ∂f/∂y there (column
+  // a = ∂f/∂y_a, the derivative of the cell's multilinear form; exact for an affine f).
+  void interpolate_with_jacobian(const std::vector<Vec<T, D>>& f, const Vec<T, D>& at,
+                                 Vec<T, D>& value, Mat<T, D>& jacobian) const {
+    std::array<int, D> c;
+    std::array<T, D> t;
+    for (int a = 0; a < D; ++a) {
+      const T u = (at[a] - origin[a]) / dx;
+      c[a] = std::clamp(int(std::floor(u)), 0, std::max(n[a] - 2, 0));
+      t[a] = u - T(c[a]);
+    }
+    value.setZero();
+    jacobian.setZero();
+    for (int corner = 0; corner < (1 << D); ++corner) {
+      std::array<T, D> w1;  // the corner's factor along each axis
+      std::array<int, D> k = c;
+      for (int a = 0; a < D; ++a) {
+        const bool up = corner & (1 << a);
+        w1[a] = up ? t[a] : T(1) - t[a];
+        k[a] += up;
+      }
+      const Vec<T, D>& fk = f[index(k)];
+      T w = T(1);
+      for (int a = 0; a < D; ++a) w *= w1[a];
+      value += w * fk;
+      for (int a = 0; a < D; ++a) {
+        T dw = (corner & (1 << a) ? T(1) : T(-1)) / dx;
+        for (int b = 0; b < D; ++b)
+          if (b != a) dw *= w1[b];
+        jacobian.col(a) += dw * fk;
+      }
+    }
   }
 };
 

@@ -17,6 +17,10 @@ namespace apiclab::eol {
 template <class T, int D>
 class Extrapolation {
  public:
+  std::size_t bytes() const {
+    return held_bytes(state_) + held_bytes(front_) + held_bytes(next_) + held_bytes(newX_) +
+           held_bytes(newv_);
+  }
   void apply(EulerianGrid<T, D>& g) {
     state_.assign(g.size(), kUnknown);
     front_.clear();

@@ -137,6 +137,10 @@ void stress_and_energy(const ElasticMaterial<T>& mat, const Mat<T, D>& F, Mat<T,
 template <class T, int D>
 class ElasticForces {
  public:
+  std::size_t bytes() const {
+    return held_bytes(cells_) + held_bytes(cell_of_) + held_bytes(tau_) + held_bytes(point_mass_) +
+           held_bytes(cell_energy_) + held_bytes(mass_active_) + held_bytes(force_active_);
+  }
   // The lumped node masses of the same quadrature (eq 6 with J̄ = det ∇X): each Gauss point's
   // ρ₀ V₀ shared by N_k. Mass and force come from the same points, so a node at the surface
   // gets as little force as it has mass (a node mass from its own fill alone would leave
