@@ -28,11 +28,9 @@ struct SchemeLook {
   std::string_view key, label;
   int color;
 };
-inline constexpr SchemeLook kSchemeLooks[] = {{"pic", "PIC", 0},
-                                              {"flip", "FLIP", 1},
-                                              {"apic", "APIC", 2},
-                                              {"rpic", "RPIC", 3},
-                                              {"mls", "MLS", 4}};
+inline constexpr SchemeLook kSchemeLooks[] = {
+    {"pic", "PIC", 0}, {"flip", "FLIP", 1}, {"apic", "APIC", 2},      {"rpic", "RPIC", 3},
+    {"mls", "MLS", 4}, {"tpic", "TPIC", 5}, {"polypic", "PolyPIC", 6}};
 
 // The scheme's colour; a key outside the table gets the palette's grey.
 constexpr Rgba8 scheme_color(std::string_view key) {

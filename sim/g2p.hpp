@@ -5,6 +5,7 @@
 
 #include "kernel_dispatch.hpp"
 #include "mpm.hpp"
+#include "transfer_polypic.hpp"
 #include "transfer_schemes.hpp"
 
 namespace apiclab {
@@ -25,6 +26,8 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
   const bool bform_multilinear = multilinear && !lagged;
   const T inv_k = multilinear ? T(0) : T(1) / inertia_scale();
   const std::ptrdiff_t n = std::ptrdiff_t(p_.size());
+  const int polypic_kept = polypic::kept_modes(scene_.solver.polypic_modes, D);
+  const int polypic_extra = int(p_.modes.size());
   bool bad = false;
   double max_move = 0;
   Vec<T, D> lo, hi;
@@ -101,8 +104,10 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
     // Velocity and affine matrix per scheme (sim/transfer_schemes.hpp).
     GatheredVelocity<T, D> gathered{vpic, vold_p, Mat<T, D>::Zero()};
     if constexpr (is_affine(S)) {
-      if (lagged) {
-        gathered.apic_C = gradv;  // Sec 5.9: C = Σ ṽ_i ∇w_ipᵀ
+      if (lagged || S == Scheme::tpic) {
+        // Sec 5.9: C = Σ ṽ_i ∇w_ipᵀ; TPIC (Nakamura et al. 2023) takes this velocity gradient
+        // for every kernel: P2G's v_p + ∇v_p (x_i − x_p) is the first-order Taylor expansion.
+        gathered.apic_C = gradv;
       } else {
         Mat<T, D> B = Bsum;
         if (lambda != T(0)) {
@@ -131,6 +136,12 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
     }
     update_particle_velocity<S>(
         gathered, alpha, multilinear, [&] { return Mat<T, D>(st.inertia()); }, p_.v[q], p_.C[q]);
+    if constexpr (S == Scheme::polypic) {  // Fu et al. 2017: the kept modes, by projection
+      polypic::keep_linear_modes<T, D>(p_.C[q], polypic_kept);
+      if constexpr (K::type == KernelType::quadratic)
+        polypic::gather_modes<T, D>(st, grid_.inv_dx, grid_.velocity_new, polypic_extra, p_.modes,
+                                    std::size_t(q));
+    }
     // Particle update: positions on the moved grid (eq 39), F by eq 40.
     Vec<T, D> x = p_.x[q] + dt * ubar;
     max_move = std::max(max_move, double((dt * ubar).cwiseAbs().maxCoeff()));
@@ -178,6 +189,12 @@ void MpmSimulation<T, D>::grid_to_particles(T dt) {
         break;
       case Scheme::mls:
         g2p_impl<K, Scheme::mls>(dt);
+        break;
+      case Scheme::tpic:
+        g2p_impl<K, Scheme::tpic>(dt);
+        break;
+      case Scheme::polypic:
+        g2p_impl<K, Scheme::polypic>(dt);
         break;
     }
   });

@@ -11,7 +11,7 @@
 
 namespace apiclab {
 
-enum class Scheme { pic, flip, apic, rpic, mls };
+enum class Scheme { pic, flip, apic, rpic, mls, tpic, polypic };
 enum class Integrator { symplectic, midpoint, backward };
 enum class MaterialModel { neo_hookean, fixed_corotated };
 enum class ShapeType { box, ball, annulus, torus, mesh };
@@ -41,7 +41,14 @@ inline const std::vector<Choice<Scheme>>& scheme_choices() {
       {"mls", Scheme::mls,
        "MLS-MPM (Hu et al. 2018, Sec 4): APIC's transfers, C as the velocity gradient: the force "
        "-V P F^T D^-1 fused into P2G's affine term, F <- (I + dt C) F; quadratic or cubic, "
-       "symplectic Euler"}};
+       "symplectic Euler"},
+      {"tpic", Scheme::tpic,
+       "TPIC (Nakamura et al. 2023): the particle's velocity gradient sum v_i grad w_ip^T from "
+       "G2P as the affine term of P2G (a first-order Taylor expansion); every kernel"},
+      {"polypic", Scheme::polypic,
+       "PolyPIC (Fu et al. 2017): per-particle polynomial velocity modes orthogonal under the "
+       "weights, solver.polypic_modes of them (1 = PIC, 3 in 2D / 4 in 3D = APIC's affine, 9 / 27 "
+       "= all); quadratic kernel"}};
   return c;
 }
 inline const std::vector<Choice<KernelType>>& kernel_choices() {

@@ -15,7 +15,8 @@ double time_step(const DiagnosticsRow& r) { return r.dt; }
 }  // namespace
 
 const std::vector<std::string>& figure_ids() {
-  static const std::vector<std::string> ids{"1", "3", "4", "5", "6", "10", "11", "eol7", "eol8"};
+  static const std::vector<std::string> ids{"1",  "3",  "4",    "5",    "6",
+                                            "10", "11", "eol7", "eol8", "scheme-energy"};
   return ids;
 }
 
