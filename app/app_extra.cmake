@@ -46,7 +46,7 @@ target_link_libraries(apiclab_charts PUBLIC apiclab_imgui_opengl3 apiclab_render
 # `apiclab figures`: the paper's charts and frames.
 target_sources(apiclab PRIVATE cmd_figures.cpp figures/catalogue.cpp figures/time_figure.cpp
                                figures/roundtrip_figure.cpp figures/ringing_frames.cpp
-                               figures/chart_style.cpp)
+                               figures/chart_style.cpp figures/scheme_energy_figure.cpp)
 target_sources(apiclab PRIVATE sweep/charts.cpp)  # `apiclab sweep`'s charts
 target_link_libraries(apiclab PRIVATE apiclab_charts)
 target_compile_definitions(apiclab PRIVATE APICLAB_HAVE_FIGURES=1)

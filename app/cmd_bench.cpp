@@ -34,6 +34,7 @@ struct BenchOptions {
   std::string scene;
   int frames = 3;
   double domain_times = 1;  // --scene: the domain grown to this × its area (2D) or volume (3D)
+  int polypic_modes = 0;    // solver.polypic_modes of the block (0 = all)
 };
 
 // A block of fixed-corotated material, spinning and falling, filling a quarter of the domain
@@ -56,7 +57,11 @@ std::string bench_scene(const BenchOptions& o, long particles, double& dx) {
       {"domain", {{"min", zero}, {"max", ones}, {"dx", dx}, {"boundary", "sticky"}}},
       {"gravity", d2 ? json{0, -9.8} : json{0, -9.8, 0}},
       {"time", {{"end", 1}, {"fps", 24}, {"dt", {{"rule", "fixed"}, {"value", 0.3 * dx / 3.7}}}}},
-      {"solver", {{"scheme", o.scheme}, {"kernel", o.kernel}, {"integrator", o.integrator}}},
+      {"solver",
+       {{"scheme", o.scheme},
+        {"kernel", o.kernel},
+        {"integrator", o.integrator},
+        {"polypic_modes", o.polypic_modes}}},
       {"materials", json::array({{{"name", "jelly"},
                                   {"model", "fixed-corotated"},
                                   {"E", 10000},
@@ -339,6 +344,10 @@ void register_bench(CLI::App& root, CommandTable& table) {
                   "kernel: " + choice_keys(kernel_choices()) + " [default: quadratic]");
   cmd->add_option("--integrator", o->integrator,
                   "integrator: " + choice_keys(integrator_choices()) + " [default: symplectic]");
+  cmd->add_option("--polypic-modes", o->polypic_modes,
+                  "PolyPIC's modes kept per component (solver.polypic_modes) [allowed: 0-27; "
+                  "default: 0 = all]")
+      ->check(CLI::Range(0, 27));
   cmd->add_option("--max-memory", o->max_memory,
                   "refuse a block whose estimated memory exceeds this: BYTES (e.g. 8G), auto or "
                   "none [default: auto = the available memory]");

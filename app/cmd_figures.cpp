@@ -11,6 +11,7 @@
 //   eol_fig7_spin.png/.csv         Fan et al. 2013 Fig 7: ω(t) of a spinning disk, EoL/Eulerian
 //   eol_fig8_drop.png/.csv         Fan et al. 2013 Fig 8: Δt against time of the drop, coloured
 //                                  by the bound that set it
+//   scheme_energy.png/.csv         issue 15: two-ring total energy at a fixed time, every scheme
 #include <algorithm>
 #include <cstdio>
 #include <thread>
@@ -20,6 +21,7 @@
 #include "app/figures/chart_canvas.hpp"
 #include "app/figures/ringing_frames.hpp"
 #include "app/figures/roundtrip_figure.hpp"
+#include "app/figures/scheme_energy_figure.hpp"
 #include "app/figures/time_figure.hpp"
 #include "app/jobs.hpp"
 #include "cli.hpp"
@@ -110,6 +112,16 @@ int run_figures(const FiguresOptions& o) {
         o.quick ? std::vector<int>{16, 32, 64} : std::vector<int>{16, 32, 64, 128, 256};
     write_roundtrip_figure(*canvas, res, threads, o.out);
     std::fprintf(stderr, "apiclab figures: wrote %s/fig11_roundtrip.png and .csv (%.1f s)\n",
+                 o.out.c_str(), now_seconds() - t0);
+  }
+  if (wanted(o.only, figures::kSchemeEnergyId)) {
+    const double t0 = now_seconds();
+    try {
+      write_scheme_energy_figure(*canvas, o.quick, threads, o.out);
+    } catch (const jobs::JobError& e) {
+      throw UsageError(e.what());
+    }
+    std::fprintf(stderr, "apiclab figures: wrote %s/scheme_energy.png and .csv (%.1f s)\n",
                  o.out.c_str(), now_seconds() - t0);
   }
   std::fprintf(stderr, "apiclab figures: done in %.1f s\n", now_seconds() - t_start);

@@ -13,9 +13,12 @@
 
 namespace apiclab::render {
 
-// Blue, vermillion, bluish green, reddish purple, orange, sky blue, yellow, dark grey.
+// Blue, vermillion, bluish green, reddish purple, orange, sky blue, yellow (Okabe & Ito), then
+// indigo and wine (Tol's muted scheme) for the ninth and tenth scheme, and dark grey last (the
+// colour of anything outside the table).
 inline constexpr Rgba8 kPalette[] = {{0, 114, 178}, {213, 94, 0},   {0, 158, 115},  {204, 121, 167},
-                                     {230, 159, 0}, {86, 180, 233}, {240, 228, 66}, {60, 60, 60}};
+                                     {230, 159, 0}, {86, 180, 233}, {240, 228, 66}, {51, 34, 136},
+                                     {136, 34, 85}, {60, 60, 60}};
 inline constexpr int kPaletteSize = int(sizeof kPalette / sizeof kPalette[0]);
 
 // Colour `index` of the palette, cycling (negative indices too).
@@ -29,8 +32,9 @@ struct SchemeLook {
   int color;
 };
 inline constexpr SchemeLook kSchemeLooks[] = {
-    {"pic", "PIC", 0}, {"flip", "FLIP", 1},     {"apic", "APIC", 2}, {"rpic", "RPIC", 3},
-    {"mls", "MLS", 4}, {"asflip", "ASFLIP", 5}, {"xpic", "XPIC", 6}};
+    {"pic", "PIC", 0},   {"flip", "FLIP", 1}, {"apic", "APIC", 2},
+    {"rpic", "RPIC", 3}, {"mls", "MLS", 4},   {"asflip", "ASFLIP", 5},
+    {"xpic", "XPIC", 6}, {"tpic", "TPIC", 7}, {"polypic", "PolyPIC", 8}};
 
 // The scheme's colour; a key outside the table gets the palette's grey.
 constexpr Rgba8 scheme_color(std::string_view key) {

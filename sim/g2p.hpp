@@ -5,6 +5,7 @@
 
 #include "kernel_dispatch.hpp"
 #include "mpm.hpp"
+#include "transfer_polypic.hpp"
 #include "transfer_schemes.hpp"
 
 namespace apiclab {
@@ -29,6 +30,8 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
   const bool bform_multilinear = multilinear && !lagged;
   const T inv_k = multilinear ? T(0) : T(1) / inertia_scale();
   const std::ptrdiff_t n = std::ptrdiff_t(p_.size());
+  const int polypic_kept = polypic::kept_modes(scene_.solver.polypic_modes, D);
+  const int polypic_extra = int(p_.modes.size());
   bool bad = false;
   double max_move = 0;
   Vec<T, D> lo, hi;
@@ -105,8 +108,10 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
     // Velocity and affine matrix per scheme (sim/transfer_schemes.hpp).
     GatheredVelocity<T, D> gathered{vpic, vold_p, Mat<T, D>::Zero()};
     if constexpr (is_affine(S)) {
-      if (lagged) {
-        gathered.apic_C = gradv;  // Sec 5.9: C = Σ ṽ_i ∇w_ipᵀ
+      if (lagged || S == Scheme::tpic) {
+        // Sec 5.9: C = Σ ṽ_i ∇w_ipᵀ; TPIC (Nakamura et al. 2023) takes this velocity gradient
+        // for every kernel: P2G's v_p + ∇v_p (x_i − x_p) is the first-order Taylor expansion.
+        gathered.apic_C = gradv;
       } else {
         Mat<T, D> B = Bsum;
         if (lambda != T(0)) {
@@ -149,6 +154,12 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
     if constexpr (S == Scheme::asflip) flip_difference = p_.v[q] - vold_p;
     update_particle_velocity<S>(
         gathered, alpha, multilinear, [&] { return Mat<T, D>(st.inertia()); }, p_.v[q], p_.C[q]);
+    if constexpr (S == Scheme::polypic) {  // Fu et al. 2017: the kept modes, by projection
+      polypic::keep_linear_modes<T, D>(p_.C[q], polypic_kept);
+      if constexpr (K::type == KernelType::quadratic)
+        polypic::gather_modes<T, D>(st, grid_.inv_dx, grid_.velocity_new, polypic_extra, p_.modes,
+                                    std::size_t(q));
+    }
     // MLS-MPM (Hu et al. 2018): the new C is the velocity gradient, F^{n+1} = (I + Δt C) F.
     if constexpr (S == Scheme::mls) gradu = p_.C[q];
     const Mat<T, D> F0 = p_.F[q];
@@ -210,6 +221,12 @@ void MpmSimulation<T, D>::grid_to_particles(T dt) {
       case Scheme::xpic:
         xpic_grid_passes<K>();
         g2p_impl<K, Scheme::xpic>(dt);
+        break;
+      case Scheme::tpic:
+        g2p_impl<K, Scheme::tpic>(dt);
+        break;
+      case Scheme::polypic:
+        g2p_impl<K, Scheme::polypic>(dt);
         break;
     }
   });

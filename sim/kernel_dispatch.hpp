@@ -22,10 +22,12 @@ decltype(auto) with_kernel(KernelType type, Fn&& f) {
   return std::forward<Fn>(f)(CubicKernel{});
 }
 
-// APIC and RPIC transfer v_p + C_p (x_i − x_p) (eq 24); PIC and FLIP transfer v_p alone.
-// ASFLIP (Fei et al. 2021) transfers as APIC; XPIC (Hammerquist and Nairn 2017) as PIC.
+// APIC, RPIC, MLS, TPIC and PolyPIC transfer v_p + C_p (x_i − x_p) (eq 24; PolyPIC adds its
+// higher modes, sim/transfer_polypic.hpp); PIC and FLIP transfer v_p alone. ASFLIP (Fei et al.
+// 2021) transfers as APIC; XPIC (Hammerquist and Nairn 2017) as PIC.
 constexpr bool is_affine(Scheme s) {
-  return s == Scheme::apic || s == Scheme::rpic || s == Scheme::mls || s == Scheme::asflip;
+  return s == Scheme::apic || s == Scheme::rpic || s == Scheme::mls || s == Scheme::asflip ||
+         s == Scheme::tpic || s == Scheme::polypic;
 }
 
 }  // namespace apiclab

@@ -14,6 +14,7 @@
 #include "particles.hpp"
 #include "sampling.hpp"
 #include "stencil.hpp"
+#include "transfer_polypic.hpp"
 
 namespace apiclab {
 namespace {
@@ -160,6 +161,10 @@ void bytes_per_item(const SceneDesc& scene, MemoryEstimate& e) {
   // XPIC(m > 1): the series term and its sum per node (sim/transfer_xpic.hpp).
   if (scene.solver.scheme == Scheme::xpic && scene.solver.xpic_order > 1)
     e.bytes_per_node += 2 * sizeof(V);
+  if (scene.solver.scheme == Scheme::polypic)  // its higher modes, and their sort copy
+    e.bytes_per_particle +=
+        2.0 * polypic::extra_modes(polypic::kept_modes(scene.solver.polypic_modes, D), D) *
+        sizeof(V);
   if (scene.solver.integrator != Integrator::symplectic) {
     // Implicit: F at y and dP/dF per particle; Newton and CG vectors on the nodes (Sec 4.2).
     e.bytes_per_particle += sizeof(M) + sizeof(Eigen::Matrix<T, D * D, D * D>);

@@ -32,8 +32,8 @@ const SolverMethod* find_method(const std::string& name);
 std::vector<std::string> method_names();
 
 // Why an MPM scheme cannot run with the rest of these solver settings ("" when it can): MLS-MPM
-// needs the quadratic or cubic kernel and symplectic Euler. The scene reader and compare's panes
-// check it.
+// needs the quadratic or cubic kernel and symplectic Euler, PolyPIC the quadratic kernel. The
+// scene reader and compare's panes check it.
 std::string scheme_conflict(const SolverDesc& solver);
 
 // The built-in methods, each defined with its solver.

@@ -156,6 +156,9 @@ class MpmSimulation final : public Simulation, public TransferControls {
   // P2G keeps every particle's stencil for the steps that read it again.
   bool keeps_stencils() const { return uses_implicit_solve() || !mesh_.empty(); }
   void add_triangulated_object(int object_index);
+  void allocate_polypic_modes();  // Particles::modes for PolyPIC only (sim/transfer_polypic.hpp)
+  template <class K>
+  void p2g_polypic_modes();  // PolyPIC's higher modes into the P2G momentum
   void rebuild_index_of_id();
   template <class K>
   void add_mesh_forces();

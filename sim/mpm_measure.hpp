@@ -2,6 +2,7 @@
 #pragma once
 #include "kernel_dispatch.hpp"
 #include "mpm.hpp"
+#include "transfer_polypic.hpp"
 
 namespace apiclab {
 
@@ -25,7 +26,7 @@ double MpmSimulation<T, D>::elastic_energy() const {
 }
 
 // Energies and momenta of the particle state, with the affine terms ½ m tr(C D Cᵀ) and
-// m (Bᵀ : ε), B = C D_p (docs/architecture.md, Diagnostics CSV).
+// m (Bᵀ : ε), B = C D_p (docs/architecture.md, Diagnostics CSV), and PolyPIC's higher modes.
 template <class T, int D>
 DiagnosticsRow MpmSimulation<T, D>::measure() const {
   DiagnosticsRow r;
@@ -64,6 +65,15 @@ DiagnosticsRow MpmSimulation<T, D>::measure() const {
       const Mat<T, D>& C = p_.C[q];
       kin += 0.5 * m * double((C * Dp * C.transpose()).trace());
       L += m * permutation_contract<T, D>(Mat<T, D>((C * Dp).transpose()));
+    }
+    if (!p_.modes.empty()) {
+      // PolyPIC's higher modes: ½ m Σ_j |c_j|² Σ_i w s_j² (orthogonal modes); they add no
+      // angular momentum, being orthogonal to the linear modes (sim/transfer_polypic.hpp).
+      Stencil<T, D, QuadraticKernel> st;
+      st.compute(p_.x[q], grid_);
+      kin +=
+          0.5 * m *
+          double(polypic::modes_energy_density<T, D>(st, grid_.inv_dx, p_.modes, std::size_t(q)));
     }
     Lx += L[0];
     Ly += L[1];

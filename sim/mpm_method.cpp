@@ -3,6 +3,7 @@
 #include "memory_estimate.hpp"
 #include "method_registry.hpp"
 #include "mpm.hpp"
+#include "transfer_polypic.hpp"
 
 namespace apiclab {
 namespace {
@@ -33,6 +34,11 @@ void validate_mpm(SceneSection& r, SceneDesc& s) {
   v.apic_linear_form = r.choice("apic_linear_form", apic_linear_form_choices(), v.apic_linear_form,
                                 "APIC linear form");
   v.integrator = r.choice("integrator", integrator_choices(), v.integrator, "integrator");
+  v.polypic_modes = r.integer("polypic_modes", v.polypic_modes);
+  if (v.scheme == Scheme::polypic && v.polypic_modes > polypic::full_modes(s.dim))
+    r.fail("polypic_modes", "PolyPIC has " + std::to_string(polypic::full_modes(s.dim)) +
+                                " modes in " + std::to_string(s.dim) + "D (got " +
+                                std::to_string(v.polypic_modes) + ")");
   if (const std::string why = scheme_conflict(v); !why.empty()) r.fail("scheme", why);
   if (r.has("lambda")) v.lambda = r.number("lambda", 0);
   v.newton_tolerance = r.number("newton_tolerance", v.newton_tolerance);
@@ -47,6 +53,9 @@ void validate_mpm(SceneSection& r, SceneDesc& s) {
 }  // namespace
 
 std::string scheme_conflict(const SolverDesc& v) {
+  if (v.scheme == Scheme::polypic && v.kernel != KernelType::quadratic)
+    return "polypic needs the quadratic kernel (its modes are Fu et al. 2017's basis for the "
+           "quadratic B-spline, 3 per axis)";
   if (v.scheme != Scheme::mls) return "";
   if (v.kernel == KernelType::linear)
     return "mls needs the quadratic or cubic kernel (its force uses D_p^-1 = 1/(k dx^2))";

@@ -6,6 +6,7 @@
 
 #include "kernel_dispatch.hpp"
 #include "mpm.hpp"
+#include "transfer_polypic.hpp"
 #include "transfer_schemes.hpp"
 
 namespace apiclab {
@@ -20,6 +21,7 @@ void MpmSimulation<T, D>::set_scheme(Scheme scheme, double flip_alpha) {
   } else if (scheme == Scheme::rpic && was_affine) {
     for (auto& C : p_.C) C = rpic_skew_part<T, D>(C);  // returns a new matrix: C is not aliased
   }
+  allocate_polypic_modes();  // zero higher modes when switching to polypic, none otherwise
 }
 
 // |v_p − Σ w_ip v_i| with v_i from a fresh P2G of the current particles (this scheme's own
@@ -53,6 +55,10 @@ void MpmSimulation<T, D>::velocity_noise(std::vector<float>& out) const {
       mass[i] += w * m;
       mom[i] += w * m * (affine ? Vec<T, D>(p_.v[q] + p_.C[q] * r) : p_.v[q]);
     });
+    if constexpr (K::type == KernelType::quadratic)  // PolyPIC's higher modes, if any
+      polypic::scatter_modes<T, D>(
+          st, grid_.inv_dx, p_.modes, q,
+          [&](std::size_t i, T w, const Vec<T, D>& v) { mom[i] += w * m * v; });
   }
   out.assign(p_.size(), 0.f);
   for (std::size_t q = 0; q < p_.size(); ++q) {

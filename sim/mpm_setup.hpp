@@ -6,6 +6,7 @@
 #include "kernel_dispatch.hpp"
 #include "mpm.hpp"
 #include "sampling.hpp"
+#include "transfer_polypic.hpp"
 
 namespace apiclab {
 
@@ -53,9 +54,24 @@ MpmSimulation<T, D>::MpmSimulation(const SceneDesc& scene) : scene_(scene) {
       }
     }
   }
+  allocate_polypic_modes();
   rebuild_index_of_id();
   boundary_.init(scene);
   energy_ref_ = energy_reference();
+}
+
+// PolyPIC's higher modes exist only while the scheme is polypic; its C keeps only the linear
+// modes among the kept ones (1 mode: C = 0, PIC).
+template <class T, int D>
+void MpmSimulation<T, D>::allocate_polypic_modes() {
+  if (scene_.solver.scheme != Scheme::polypic) {
+    p_.set_mode_count(0);
+    scratch_.set_mode_count(0);
+    return;
+  }
+  const int kept = polypic::kept_modes(scene_.solver.polypic_modes, D);
+  p_.set_mode_count(std::size_t(polypic::extra_modes(kept, D)));
+  for (auto& C : p_.C) polypic::keep_linear_modes<T, D>(C, kept);
 }
 
 // Particle index of every id (tests may build particles by hand, so ids are not trusted to be

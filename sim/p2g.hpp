@@ -2,6 +2,7 @@
 #pragma once
 #include "kernel_dispatch.hpp"
 #include "mpm.hpp"
+#include "transfer_polypic.hpp"
 
 namespace apiclab {
 
@@ -149,8 +150,38 @@ void MpmSimulation<T, D>::particles_to_grid(bool with_forces) {
       with_forces ? p2g_impl<K, true, true>() : p2g_impl<K, true, false>();
     else
       with_forces ? p2g_impl<K, false, true>() : p2g_impl<K, false, false>();
+    if constexpr (K::type == KernelType::quadratic)
+      if (!p_.modes.empty()) p2g_polypic_modes<K>();
   });
   unpack_accumulator();
+}
+
+// PolyPIC (Fu et al. 2017): (m v)_i += Σ_p w_ip m_p Σ_j c_pj s_j(x_i − x_p) for the modes
+// beyond the affine ones (which p2g_impl transferred as C_p); mass and forces are unchanged.
+// A pass of its own over the same coloured blocks, so the affine path stays as fast as APIC's.
+template <class T, int D>
+template <class K>
+void MpmSimulation<T, D>::p2g_polypic_modes() {
+  using Lanes = typename Grid<T, D>::NodeLanes;
+  auto* acc = grid_.accumulator.data();
+  const T inv_dx = grid_.inv_dx;
+  blocks_.for_each_block_coloured(
+      [&](std::uint32_t begin, std::uint32_t end) {
+        for (std::uint32_t q = begin; q < end; ++q) {
+          Stencil<T, D, K> st;
+          st.compute(p_.x[q], grid_);
+          const T m = p_.mass[q];
+          polypic::scatter_modes<T, D>(st, inv_dx, p_.modes, q,
+                                       [&](std::size_t i, T w, const Vec<T, D>& v) {
+                                         const Vec<T, D> mv = (w * m) * v;
+                                         if constexpr (D == 2)
+                                           acc[i] += Lanes::of(T(0), mv[0], mv[1]);
+                                         else
+                                           acc[i] += Lanes::of(T(0), mv[0], mv[1], mv[2]);
+                                       });
+        }
+      },
+      parallel_worthwhile());
 }
 
 }  // namespace apiclab

@@ -14,6 +14,16 @@ struct Particles {
   std::vector<Mat<T, D>> F;     // deformation gradient
   std::vector<T> mass, volume0;
   std::vector<std::int32_t> material, object, id;  // id: stable order for dumps and snapshots
+  // PolyPIC's mode coefficients beyond the affine ones, one array per mode
+  // (sim/transfer_polypic.hpp); empty for every other scheme.
+  std::vector<std::vector<Vec<T, D>>> modes;
+
+  // Allocates `count` zeroed mode arrays (0 frees them).
+  void set_mode_count(std::size_t count) {
+    modes.resize(count);
+    modes.shrink_to_fit();
+    for (auto& m : modes) m.assign(size(), Vec<T, D>::Zero());
+  }
 
   std::size_t size() const { return x.size(); }
   void resize(std::size_t n) {
@@ -26,9 +36,11 @@ struct Particles {
     material.resize(n);
     object.resize(n);
     id.resize(n);
+    for (auto& m : modes) m.resize(n, Vec<T, D>::Zero());
   }
   // out[k] = this[order[k]] for every array; `out` keeps its capacity between calls.
   void gather_into(const std::vector<std::uint32_t>& order, Particles& out) const {
+    if (out.modes.size() != modes.size()) out.modes.resize(modes.size());
     out.resize(order.size());
     for (std::size_t k = 0; k < order.size(); ++k) {
       std::uint32_t s = order[k];
@@ -42,6 +54,8 @@ struct Particles {
       out.object[k] = object[s];
       out.id[k] = id[s];
     }
+    for (std::size_t j = 0; j < modes.size(); ++j)
+      for (std::size_t k = 0; k < order.size(); ++k) out.modes[j][k] = modes[j][order[k]];
   }
 };
 

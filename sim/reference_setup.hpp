@@ -32,6 +32,7 @@ Setup<T, D> setup_of(const SceneDesc& s) {
   r.asflip_beta = T(s.solver.asflip_beta);
   r.xpic_order = s.solver.xpic_order;
   r.kernel = s.solver.kernel;
+  r.polypic_modes = s.solver.polypic_modes;
   r.model = s.materials[0].model;
   r.lame = {T(s.materials[0].mu()), T(s.materials[0].lambda())};
   return r;
@@ -41,6 +42,7 @@ template <class T, int D>
 ParticleState<T, D> state_of(const Particles<T, D>& p) {
   ParticleState<T, D> r;
   r.x = p.x, r.v = p.v, r.C = p.C, r.F = p.F, r.mass = p.mass, r.volume = p.volume0;
+  r.modes = p.modes;
   return r;
 }
 

@@ -7,8 +7,9 @@
 // The step is symplectic Euler, λ = 0 in eqs 27-30:
 //   clear grid → P2G (eqs 1, 24-26, 34) → grid update (eq 29 with gravity) → boundary
 //   → G2P (eqs 2, 3, 37-40; RPIC, Secs 2.1 and 5.1; lagged C for multilinear weights, Sec 5.9).
-// Later schemes have a labelled block each: MLS-MPM (Hu et al. 2018), ASFLIP (Fei et al. 2021)
-// and XPIC(m) (Hammerquist and Nairn 2017; its grid series runs between boundary and G2P).
+// Later schemes have a labelled block each: MLS-MPM (Hu et al. 2018), ASFLIP (Fei et al. 2021),
+// XPIC(m) (Hammerquist and Nairn 2017; its grid series runs between boundary and G2P), TPIC
+// (Nakamura et al. 2023) and PolyPIC (Fu et al. 2017).
 #pragma once
 #include <algorithm>
 #include <array>
@@ -19,6 +20,7 @@
 #include "materials.hpp"
 #include "math.hpp"
 #include "registry.hpp"
+#include "transfer_polypic.hpp"  // the order of PolyPIC's modes only
 
 namespace apiclab::reference {
 
@@ -28,6 +30,8 @@ struct ParticleState {
   std::vector<Vec<T, D>> x, v;
   std::vector<Mat<T, D>> C, F;
   std::vector<T> mass, volume;  // m_p and the initial volume V_p⁰
+  // PolyPIC: the coefficient of mode 1 + D + j of every particle in modes[j] (Fu et al. 2017).
+  std::vector<std::vector<Vec<T, D>>> modes;
 };
 
 // A collider plane: nodes on or behind it (against `normal`, a unit vector) are constrained.
@@ -55,6 +59,7 @@ struct Setup {
   MaterialModel model;
   Lame<T> lame;
   Vec<T, D> gravity;
+  int polypic_modes = 0;  // PolyPIC's kept modes, 0 = all
   bool periodic(int a) const { return walls[2 * a] == BoundaryCondition::periodic; }
 };
 
@@ -149,13 +154,41 @@ T inertia_k(const Setup<T, D>& s) {
   return (s.kernel == KernelType::cubic ? T(1) / 3 : T(0.25)) * s.dx * s.dx;
 }
 
+// PolyPIC (Fu et al. 2017): the scalar mode r at x_i for a particle at x_p, a product over axes
+// of 1, u = (x_i − x_p)_a / Δx, or G, the function on the axis's three nodes orthogonal to 1 and
+// u under the weights: the cross product of (N_k) and (N_k u_k), scaled by 8 (k = 0, 1, 2 from
+// the lowest node; zero off the three).
+template <class T, int D>
+T polypic_mode(const Setup<T, D>& s, int mode, const Vec<T, D>& xp, const Vec<T, D>& r) {
+  T value = 1;
+  for (int a = 0; a < D; ++a) {
+    const int degree = polypic::mode_degrees<D>()[std::size_t(mode)][std::size_t(a)];
+    const T u = r[a] / s.dx;
+    if (degree == 1) value *= u;
+    if (degree != 2) continue;
+    const T xg = (xp[a] - s.min[a]) / s.dx;
+    const int lowest = int(std::floor(xg - T(0.5)));
+    const int k = int(std::lround(xg + u)) - lowest;  // this node among the three
+    T N[3], dN;
+    for (int m = 0; m < 3; ++m) bspline(s.kernel, xg - T(lowest + m), N[m], dN);
+    const T G[3] = {8 * N[1] * N[2], -16 * N[0] * N[2], 8 * N[0] * N[1]};
+    value *= k >= 0 && k < 3 ? G[k] : T(0);
+  }
+  return value;
+}
+
 // One step of size dt; the particles are updated in place.
 template <class T, int D>
 void step(const Setup<T, D>& s, ParticleState<T, D>& ps, T dt) {
   Nodes<T, D> g(s);  // clear grid
   const bool affine = s.scheme == Scheme::apic || s.scheme == Scheme::rpic ||
-                      s.scheme == Scheme::mls || s.scheme == Scheme::asflip;
+                      s.scheme == Scheme::mls || s.scheme == Scheme::asflip ||
+                      s.scheme == Scheme::tpic || s.scheme == Scheme::polypic;
   const bool mls = s.scheme == Scheme::mls;
+  const bool polypic = s.scheme == Scheme::polypic;
+  const int kept = polypic::kept_modes(s.polypic_modes, D);
+  const int extra = polypic ? polypic::extra_modes(kept, D) : 0;
+  ps.modes.resize(std::size_t(extra), std::vector<Vec<T, D>>(ps.x.size(), Vec<T, D>::Zero()));
 
   // P2G. Eq 34 with the sign of a force, f = −∂Φ/∂x̃ (the paper prints it without the minus).
   for (std::size_t p = 0; p < ps.x.size(); ++p) {
@@ -167,6 +200,10 @@ void step(const Setup<T, D>& s, ParticleState<T, D>& ps, T dt) {
           const Vec<T, D> r = xi - ps.x[p];
           // eq 26 (APIC; RPIC's eq 43 with C_p = ω_p*), or eq 1 (PIC, FLIP)
           g.momentum[i] += w * ps.mass[p] * (affine ? Vec<T, D>(ps.v[p] + ps.C[p] * r) : ps.v[p]);
+          // PolyPIC: plus Σ_j c_pj s_j(x_i − x_p) over the modes beyond the affine ones
+          for (int j = 0; j < extra; ++j)
+            g.momentum[i] += w * ps.mass[p] * polypic_mode(s, 1 + D + j, ps.x[p], r) *
+                             ps.modes[std::size_t(j)][p];
           // eq 34, or MLS-MPM (Hu et al. 2018): ∇w ≈ D⁻¹ w (x_i − x_p), D = kΔx² I
           g.force[i] += mls ? Vec<T, D>(stress * (w / inertia_k(s) * r)) : Vec<T, D>(stress * grad);
         });
@@ -254,8 +291,11 @@ void step(const Setup<T, D>& s, ParticleState<T, D>& ps, T dt) {
     } else if (s.scheme == Scheme::flip) {
       ps.v[p] =
           s.flip_alpha * (ps.v[p] + flip_change) + (1 - s.flip_alpha) * v_pic;  // eq 3, blended
-    } else if (s.scheme == Scheme::apic || mls || s.scheme == Scheme::asflip) {
-      ps.v[p] = v_pic;  // eq 37 (MLS-MPM: APIC's transfers)
+    } else if (s.scheme == Scheme::tpic) {
+      ps.v[p] = v_pic;   // eq 37
+      ps.C[p] = grad_v;  // TPIC: C = ∇v_p = Σ ṽ_i ∇w_ipᵀ, every kernel
+    } else if (s.scheme == Scheme::apic || mls || polypic || s.scheme == Scheme::asflip) {
+      ps.v[p] = v_pic;  // eq 37 (MLS-MPM and PolyPIC's linear modes: APIC's transfers)
       // ASFLIP (Fei et al. 2021, Sec 4): v_p^{n+1} = v^PIC + α (v_p^n − Σ w v_i^n), C as APIC
       if (s.scheme == Scheme::asflip) ps.v[p] += s.flip_alpha * (v_n - v_old);
       if (s.kernel == KernelType::linear) {
@@ -268,6 +308,22 @@ void step(const Setup<T, D>& s, ParticleState<T, D>& ps, T dt) {
                (vt * (xi - xp + xt - x_new).transpose() + (xi - xp - xt + x_new) * vt.transpose());
         });
         ps.C[p] = B * Dp.inverse();  // eq 26: C = B D⁻¹, D_p = kΔx² I (quadratic ¼, cubic ⅓)
+      }
+      if (polypic) {
+        // PolyPIC: the linear modes beyond the kept ones dropped; each higher mode by projection,
+        // c_j = Σ w ṽ_i s_j / Σ w s_j².
+        for (int c = polypic::linear_modes(kept, D); c < D; ++c) ps.C[p].col(c).setZero();
+        for (int j = 0; j < extra; ++j) {
+          Vec<T, D> num = Vec<T, D>::Zero();
+          T den = 0;
+          for_each_node(s, g, xp, [&](std::size_t i, T w, const Vec<T, D>&, const Vec<T, D>& xi) {
+            const T mode = polypic_mode(s, 1 + D + j, xp, Vec<T, D>(xi - xp));
+            num += w * mode * g.v_new[i];
+            den += w * mode * mode;
+          });
+          // a mode the grid cannot see (a weight exactly 0) gets 0 (transfer_polypic.hpp)
+          ps.modes[std::size_t(j)][p] = den > T(0) ? Vec<T, D>(num / den) : Vec<T, D>::Zero();
+        }
       }
     } else {
       ps.v[p] = v_pic;  // eq 44

@@ -11,7 +11,7 @@
 
 namespace apiclab {
 
-enum class Scheme { pic, flip, apic, rpic, mls, asflip, xpic };
+enum class Scheme { pic, flip, apic, rpic, mls, asflip, xpic, tpic, polypic };
 enum class Integrator { symplectic, midpoint, backward };
 enum class MaterialModel { neo_hookean, fixed_corotated };
 enum class ShapeType { box, ball, annulus, torus, mesh };
@@ -50,7 +50,14 @@ inline const std::vector<Choice<Scheme>>& scheme_choices() {
       {"xpic", Scheme::xpic,
        "XPIC(m) (Hammerquist and Nairn 2017, Sec 3): PIC plus the m-term series of the "
        "particle-grid-particle operator, v <- (I - (I - S S+)^m) v_p + S a dt; m = "
-       "solver.xpic_order, XPIC(1) = PIC"}};
+       "solver.xpic_order, XPIC(1) = PIC"},
+      {"tpic", Scheme::tpic,
+       "TPIC (Nakamura et al. 2023): the particle's velocity gradient sum v_i grad w_ip^T from "
+       "G2P as the affine term of P2G (a first-order Taylor expansion); every kernel"},
+      {"polypic", Scheme::polypic,
+       "PolyPIC (Fu et al. 2017): per-particle polynomial velocity modes orthogonal under the "
+       "weights, solver.polypic_modes of them (1 = PIC, 3 in 2D / 4 in 3D = APIC's affine, 9 / 27 "
+       "= all); quadratic kernel"}};
   return c;
 }
 // The schemes that read solver.flip_alpha: FLIP (eq 3) and ASFLIP (Fei et al. 2021).

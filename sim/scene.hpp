@@ -64,6 +64,8 @@ struct SolverDesc {
   Integrator integrator = Integrator::symplectic;
   // Multilinear kernel only: APIC's C as lagged Σ ṽ ∇wᵀ or as the unstable B D_p⁻¹ (Sec 5.9).
   ApicLinearForm apic_linear_form = ApicLinearForm::lagged;
+  // PolyPIC (Fu et al. 2017): modes kept per velocity component, 0 = all (9 in 2D, 27 in 3D).
+  int polypic_modes = 0;
   std::optional<double> lambda;  // λ of eqs 27-30; empty: the integrator's
   double newton_tolerance = 1e-6;
   int newton_max_iterations = 20;

@@ -12,6 +12,7 @@
 #include <cmath>
 
 #include "mpm.hpp"
+#include "transfer_polypic.hpp"
 
 namespace apiclab {
 
@@ -31,7 +32,16 @@ double MpmSimulation<T, D>::choose_dt(double t_limit) const {
     for (std::ptrdiff_t q = 0; q < n; ++q) {
       double v = double(p_.v[q].norm());
       vmax = std::max(vmax, v);
-      cterm = std::max(cterm, v + affine_reach * double(p_.C[q].norm()));  // |v_p| + 6√d/Δx ‖B_p‖_F
+      double modes = 0;  // PolyPIC: the largest speed its higher modes give a stencil node
+      if (!p_.modes.empty()) {
+        Stencil<T, D, QuadraticKernel> st;
+        st.compute(p_.x[q], grid_);
+        polypic::scatter_modes<T, D>(
+            st, grid_.inv_dx, p_.modes, std::size_t(q),
+            [&](std::size_t, T, const Vec<T, D>& u) { modes = std::max(modes, double(u.norm())); });
+      }
+      // |v_p| + 6√d/Δx ‖B_p‖_F
+      cterm = std::max(cterm, v + affine_reach * double(p_.C[q].norm()) + modes);
     }
     if (tm.rule == DtRule::cfl) {
       dt_star = std::min(dt_star, tm.nu * dx / std::max(cterm, 1e-300));

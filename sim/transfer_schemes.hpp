@@ -1,7 +1,7 @@
 // The per-scheme particle velocity and affine matrix after G2P (Jiang et al. 2017, Secs 5.1-5.9):
-// PIC (eq 2), FLIP (eq 3), APIC (eqs 37-38), RPIC (Sec 5.6.3), ASFLIP (Fei et al. 2021) and
-// XPIC(m) (Hammerquist and Nairn 2017, with sim/transfer_xpic.hpp). Also the C_p a live scheme
-// switch keeps (set_scheme).
+// PIC (eq 2), FLIP (eq 3), APIC (eqs 37-38), RPIC (Sec 5.6.3), ASFLIP (Fei et al. 2021),
+// XPIC(m) (Hammerquist and Nairn 2017, with sim/transfer_xpic.hpp), TPIC and PolyPIC. Also the
+// C_p a live scheme switch keeps (set_scheme).
 #pragma once
 #include "math.hpp"
 #include "registry.hpp"
@@ -56,8 +56,11 @@ inline void update_particle_velocity(const GatheredVelocity<T, D>& g, T flip_alp
     v = g.pic;  // eq 2
   } else if constexpr (S == Scheme::flip) {
     v = flip_alpha * (v + g.pic - g.old) + (T(1) - flip_alpha) * g.pic;  // eq 3, PIC blend
-  } else if constexpr (S == Scheme::apic || S == Scheme::mls) {
-    v = g.pic;  // eq 37 (MLS-MPM keeps APIC's transfers)
+  } else if constexpr (S == Scheme::apic || S == Scheme::mls || S == Scheme::tpic ||
+                       S == Scheme::polypic) {
+    // eq 37 (MLS-MPM keeps APIC's transfers; TPIC's C is ∇v_p; PolyPIC's linear modes are
+    // APIC's C, its higher modes are gathered in sim/g2p.hpp)
+    v = g.pic;
     C = g.apic_C;
   } else if constexpr (S == Scheme::asflip) {
     // Fei et al. 2021, Sec 4: APIC's v^PIC and C plus α times the particle's own FLIP difference

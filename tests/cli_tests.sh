@@ -455,5 +455,7 @@ expect_error "compare --dump with a pane without particles" "--dump" "eol" -- co
 
 expect_error "compare mls pane with an implicit scene" "--schemes mls" "symplectic" -- compare rotating-disk --schemes apic,mls --out "$TMP/cmpmls"
 expect_error "mls with an implicit integrator" "'solver.scheme'" "symplectic" -- run rotating-disk --scheme mls
+expect_error "polypic with the cubic kernel" "'solver.scheme'" "quadratic kernel" -- run rotating-disk --scheme polypic --kernel cubic
+expect_error "polypic with more modes than 2D has" "'solver.polypic_modes'" "9 modes in 2D" -- run rotating-disk --scheme polypic --set solver.polypic_modes=12
 
 finish cli_tests

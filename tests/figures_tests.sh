@@ -90,13 +90,42 @@ says6() { local text6; text6=$(tr '\n' ' ' <"$readme" | tr -s ' ')
   if [[ "$text6" == *"$1"* ]]; then ok "README says: $1"; else fail "README does not say: $1"; fi; }
 says6 "EoL's grid has $n_eol nodes ($(awk "BEGIN {printf \"%.1f\", $b_eol / 1024}") KiB), the Eulerian baseline's $n_eul ($(awk "BEGIN {printf \"%.0f\", $b_eul / 1024}") KiB): $(awk "BEGIN {printf \"%.0f\", $n_eul / $n_eol}")× the nodes, $(awk "BEGIN {printf \"%.0f\", $b_eul / $b_eol}")× the memory"
 
+# The two-ring energy table (issue 15): one row per scheme; PIC lowest, FLIP highest, every
+# other scheme that ran to the end between (the claim of issue 15, checked on the CSV). A run
+# that blew up (PolyPIC with all 9 modes does, README "Further transfer schemes") has its
+# failure in the last column and is left out of the order; pic, flip, apic, rpic, mls and tpic
+# must have run to the end.
+# XPIC(2) and ASFLIP (α = β = 1) are left out of the order: measured, XPIC(2) ends below PIC
+# (241.8 against 359.1 J at t = 0.01 s) and ASFLIP above FLIP at t = 0.005 s (2108 against
+# 1848 J, most of it elastic), which issue 15's expectation does not foresee; README
+# "The two-ring energy table" reports both as open questions, not as facts checked here.
+energy_order() {  # CSV: exit 0 when pic < every affine scheme < flip
+  awk -F, 'NR > 1 {if ($7 == "") e[$1] = $3; else failed[$1] = 1}
+    END {split("pic flip apic rpic mls tpic", need, " ")
+      for (k in need) if (!(need[k] in e)) exit 1
+      for (s in e) if (s != "pic" && s != "flip" && s != "xpic" && s != "asflip" &&
+                       !(e["pic"] < e[s] && e[s] < e["flip"])) exit 1}' "$1"
+}
+se=$out/scheme_energy.csv
+check "scheme_energy.png and .csv exist" "[ -s $out/scheme_energy.png ] && [ -s $se ]"
+check "scheme_energy.csv header" "[ \"\$(head -1 $se)\" = 'scheme,t,total_energy,kinetic,potential,initial_total,failure' ]"
+has_schemes() {  # CSV SCHEME...: a row for each
+  local csv=$1 s
+  shift
+  for s in "$@"; do grep -q "^$s," "$csv" || return 1; done
+}
+check "scheme_energy.csv: every scheme (pic flip apic rpic mls tpic polypic at least)" \
+  "has_schemes $se pic flip apic rpic mls tpic polypic"
+check "scheme_energy (quick): PIC lowest, FLIP highest, the affine schemes between" "energy_order $se"
+check "scheme_energy.png shows the schemes' colours" "'$check_png' $out/scheme_energy.png 800 350 ${color[pic]} ${color[flip]} ${color[apic]}"
+
 # README.md's numbers against the full runs.
 full="$out-full"
 start=$SECONDS
-"$app" figures --out "$full" --only 3,5,6,11 2>"$full.log"
+"$app" figures --out "$full" --only 3,5,6,11,scheme-energy 2>"$full.log"
 status=$?
-check "figures --only 3,5,6,11 exits 0" "[ $status = 0 ]"
-echo "figures --only 3,5,6,11 took $((SECONDS - start)) s"
+check "figures --only 3,5,6,11,scheme-energy exits 0" "[ $status = 0 ]"
+echo "figures --only 3,5,6,11,scheme-energy took $((SECONDS - start)) s"
 text=$(tr '\n' ' ' <"$readme" | tr -s ' ')
 says() {  # PHRASE: README.md says it, word for word (line breaks as spaces)
   if [[ "$text" == *"$1"* ]]; then ok "README says: $1"; else fail "README does not say: $1"; fi
@@ -150,6 +179,12 @@ slope() {  # least-squares slope of log error against log dx
 says "APIC is $(ratio 16)× below PIC at 16² and $(ratio 256)× at 256²; APIC's slope is $(slope apic)"
 says "PIC's $(slope pic) over the range"
 says "APIC's error is $(ratio 16)–$(ratio 128)× below PIC's over 16²…128²"
+
+check "scheme_energy (full, t = 0.01 s): PIC lowest, FLIP highest, the affine schemes between" \
+  "energy_order $full/scheme_energy.csv"
+while IFS= read -r row; do  # the Markdown table the figure printed, row by row, in README.md
+  says "$row"
+done < <(grep '^| ' "$full.log")
 
 echo "$passed passed, $failed failed"
 [ "$failed" = 0 ]

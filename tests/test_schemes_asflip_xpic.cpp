@@ -85,10 +85,13 @@ TEST(AsflipXpic, XpicIsTheOperatorSeriesAndDropsTheNullSpace) {
   for (std::size_t q = 0; q < n; ++q)
     bp.mass[q] = 1, bp.volume0[q] = 1;  // P symmetric; F = I: no stress
   // P from the weights at xⁿ (the state's own order: the solver sorts a copy).
-  Eigen::MatrixXd W = Eigen::MatrixXd::Zero(Eigen::Index(base.grid().size()), Eigen::Index(n));
+  // The whole domain's nodes (the solver's own grid stores only the box it needs, from a sort).
+  Grid<double, 2> whole = base.grid();
+  whole.store_whole_domain();
+  Eigen::MatrixXd W = Eigen::MatrixXd::Zero(Eigen::Index(whole.size()), Eigen::Index(n));
   for (std::size_t q = 0; q < n; ++q) {
     Stencil<double, 2, QuadraticKernel> st;
-    st.compute(bp.x[q], base.grid());
+    st.compute(bp.x[q], whole);
     st.for_each([&](std::size_t i, double w, const Vec<double, 2>&, const Vec<double, 2>&) {
       W(Eigen::Index(i), Eigen::Index(q)) += w;
     });

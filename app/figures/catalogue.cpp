@@ -17,8 +17,8 @@ double grid_mib(const DiagnosticsRow& r) { return r.grid_bytes / (1024.0 * 1024.
 }  // namespace
 
 const std::vector<std::string>& figure_ids() {
-  static const std::vector<std::string> ids{"1",  "3",  "4",    "5",    "6",
-                                            "10", "11", "eol6", "eol7", "eol8"};
+  static const std::vector<std::string> ids{
+      "1", "3", "4", "5", "6", "10", "11", "eol6", "eol7", "eol8", "scheme-energy"};
   return ids;
 }
 
