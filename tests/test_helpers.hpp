@@ -80,6 +80,37 @@ void randomize_particles(MpmSimulation<double, D>& sim, std::size_t n, std::uint
   }
 }
 
+// The grid's momentum Σ m_i ṽ_i and angular momentum Σ x̃_i × m_i ṽ_i (x̃_i = x_i + Δt ṽ_i, ṽ
+// the velocity_new of every node with mass), with the scales Σ |m ṽ| and Σ |x̃| |m ṽ| that the
+// G2P conservation tests divide by.
+struct GridMoments {
+  Eigen::Vector3d p = Eigen::Vector3d::Zero(), L = Eigen::Vector3d::Zero();
+  double p_scale = 0, L_scale = 0;
+};
+template <int D>
+GridMoments grid_moments(const Grid<double, D>& g, double dt) {
+  GridMoments m;
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    if (g.mass[i] <= 0) continue;
+    const Vec<double, D> xt = g.node_position(i) + dt * g.velocity_new[i];
+    const Vec<double, D> mv = g.mass[i] * g.velocity_new[i];
+    for (int a = 0; a < D; ++a) m.p[a] += mv[a];
+    m.L += cross_moment<double, D>(xt, mv);
+    m.p_scale += mv.norm();
+    m.L_scale += xt.norm() * mv.norm();
+  }
+  return m;
+}
+
+// rotating-disk with symplectic Euler and the explicit elastic time-step limit (the scene itself
+// runs the paper's midpoint rule), scheme `scheme`, then the `extra` overrides.
+inline SceneDesc disk_symplectic(const std::string& scheme, std::vector<std::string> extra = {}) {
+  extra.insert(extra.begin(),
+               {"solver.integrator=symplectic", R"(time.dt={"rule":"elastic","nu":0.3})"});
+  extra.push_back("solver.scheme=" + scheme);
+  return load_scene(std::string(APICLAB_SOURCE_DIR) + "/assets/scenes/rotating-disk.json", extra);
+}
+
 inline double norm3(const Eigen::Vector3d& a) { return a.norm(); }
 inline Eigen::Vector3d to3(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
 

@@ -20,13 +20,10 @@ namespace {
 using test::make_scene;
 using test::randomize_particles;
 
-const std::string kDisk = std::string(APICLAB_SOURCE_DIR) + "/assets/scenes/rotating-disk.json";
-
+// The disk with symplectic Euler at the explicit elastic limit (tests/test_implicit.cpp covers
+// the scene's own midpoint rule).
 SceneDesc disk(const std::string& scheme, std::vector<std::string> extra = {}) {
-  extra.insert(extra.begin(),
-               {"solver.integrator=symplectic", R"(time.dt={"rule":"elastic","nu":0.3})"});
-  extra.push_back("solver.scheme=" + scheme);
-  return load_scene(kDisk, extra);
+  return test::disk_symplectic(scheme, std::move(extra));
 }
 
 // Largest |a − b| over x, v, C and F after `steps` whole steps, particles matched by id.
@@ -175,21 +172,14 @@ Moments g2p_moments(const std::string& scheme, const std::vector<std::string>& s
   auto& g = sim.grid();
   std::mt19937_64 rng(5);
   const double dt = 0.01;
-  Eigen::Vector3d p = Eigen::Vector3d::Zero(), L = Eigen::Vector3d::Zero();
-  double sp = 0, sL = 0;
-  for (std::size_t i = 0; i < g.size(); ++i) {
-    if (g.mass[i] <= 0) continue;
-    g.velocity_new[i] = g.velocity[i] + test::random_vector<double, D>(rng, -0.5, 0.5);
-    const Vec<double, D> xt = g.node_position(i) + dt * g.velocity_new[i];
-    const Vec<double, D> mv = g.mass[i] * g.velocity_new[i];
-    for (int a = 0; a < D; ++a) p[a] += mv[a];
-    L += cross_moment<double, D>(xt, mv);
-    sp += mv.norm();
-    sL += xt.norm() * mv.norm();
-  }
+  for (std::size_t i = 0; i < g.size(); ++i)
+    if (g.mass[i] > 0)
+      g.velocity_new[i] = g.velocity[i] + test::random_vector<double, D>(rng, -0.5, 0.5);
+  const test::GridMoments m = test::grid_moments<D>(g, dt);
   sim.grid_to_particles(dt);
   const DiagnosticsRow after = sim.measure();
-  return {(test::to3(after.p) - p).norm() / sp, (test::to3(after.L) - L).norm() / sL};
+  return {(test::to3(after.p) - m.p).norm() / m.p_scale,
+          (test::to3(after.L) - m.L).norm() / m.L_scale};
 }
 
 template <int D>

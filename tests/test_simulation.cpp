@@ -19,13 +19,10 @@ namespace {
 
 const std::string kDisk = std::string(APICLAB_SOURCE_DIR) + "/assets/scenes/rotating-disk.json";
 
-// The disk with symplectic Euler and the explicit elastic time-step limit (the scene itself
-// runs the paper's midpoint rule; tests/test_implicit.cpp covers that).
+// The disk with symplectic Euler at the explicit elastic limit (tests/test_implicit.cpp covers
+// the scene's own midpoint rule).
 SceneDesc disk(const std::string& scheme, std::vector<std::string> extra = {}) {
-  extra.insert(extra.begin(),
-               {"solver.integrator=symplectic", R"(time.dt={"rule":"elastic","nu":0.3})"});
-  extra.push_back("solver.scheme=" + scheme);
-  return load_scene(kDisk, extra);
+  return test::disk_symplectic(scheme, std::move(extra));
 }
 
 double sim_dx() { return load_scene(kDisk).domain.dx; }

@@ -84,21 +84,15 @@ Change g2p_change(const std::string& scheme, const std::string& kernel, int mode
   sim.grid_velocity_update(0.0);
   auto& g = sim.grid();
   std::mt19937_64 rng(99);
-  Eigen::Vector3d p = Eigen::Vector3d::Zero(), L = Eigen::Vector3d::Zero();
-  double sp = 0, sL = 0;
   for (std::size_t i = 0; i < g.size(); ++i) {
     if (g.mass[i] <= 0) continue;
-    const Vec<double, D> v = test::random_vector<double, D>(rng, -1.0, 1.0);
-    g.velocity[i] = g.velocity_new[i] = v;
-    const Vec<double, D> mv = g.mass[i] * v;
-    for (int a = 0; a < D; ++a) p[a] += mv[a];
-    L += cross_moment<double, D>(g.node_position(i), mv);
-    sp += mv.norm();
-    sL += g.node_position(i).norm() * mv.norm();
+    g.velocity[i] = g.velocity_new[i] = test::random_vector<double, D>(rng, -1.0, 1.0);
   }
+  const test::GridMoments m = test::grid_moments<D>(g, 0.0);
   sim.grid_to_particles(0.0);
   const DiagnosticsRow after = sim.measure();
-  return {(test::to3(after.p) - p).norm() / sp, (test::to3(after.L) - L).norm() / sL};
+  return {(test::to3(after.p) - m.p).norm() / m.p_scale,
+          (test::to3(after.L) - m.L).norm() / m.L_scale};
 }
 
 // Sums of ~1e4 O(1) products in double: round-off ~1e-15 relative; 1e-12 leaves room and is

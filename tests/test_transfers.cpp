@@ -99,30 +99,23 @@ void g2p_conserves(const std::string& scheme, const std::string& kernel, double 
   sim.grid_velocity_update(0.0);
   auto& g = sim.grid();
   std::mt19937_64 rng(99);
-  Eigen::Vector3d p = Eigen::Vector3d::Zero(), L = Eigen::Vector3d::Zero();
-  double sp = 0, sL = 0;
   for (std::size_t i = 0; i < g.size(); ++i) {
     if (g.mass[i] <= 0) continue;
     Vec<double, D> v = test::random_vector<double, D>(rng, -1.0, 1.0);
     g.velocity[i] = v;  // v_i^n = ṽ (only FLIP would read it with λ = 0)
     g.velocity_new[i] = v;
-    Vec<double, D> xt = g.node_position(i) + dt * v;
-    Vec<double, D> mv = g.mass[i] * v;
-    for (int a = 0; a < D; ++a) p[a] += mv[a];
-    L += cross_moment<double, D>(xt, mv);
-    sp += mv.norm();
-    sL += xt.norm() * mv.norm();
   }
+  const test::GridMoments m = test::grid_moments<D>(g, dt);
   sim.grid_to_particles(dt);
   const DiagnosticsRow after = sim.measure();
-  worst.add((test::to3(after.p) - p).norm() / sp,
-            scheme == "pic" ? 0.0 : (test::to3(after.L) - L).norm() / sL);
+  worst.add((test::to3(after.p) - m.p).norm() / m.p_scale,
+            scheme == "pic" ? 0.0 : (test::to3(after.L) - m.L).norm() / m.L_scale);
   // Same budget as P2G: sums of ~1e4 O(1) products, 1e-12 relative to the absolute scale.
-  EXPECT_LE((test::to3(after.p) - p).norm(), 1e-12 * sp)
-      << "particles p " << test::to3(after.p).transpose() << " grid p " << p.transpose();
+  EXPECT_LE((test::to3(after.p) - m.p).norm(), 1e-12 * m.p_scale)
+      << "particles p " << test::to3(after.p).transpose() << " grid p " << m.p.transpose();
   if (scheme != "pic") {
-    EXPECT_LE((test::to3(after.L) - L).norm(), 1e-12 * sL)
-        << "particles L " << test::to3(after.L).transpose() << " grid L " << L.transpose();
+    EXPECT_LE((test::to3(after.L) - m.L).norm(), 1e-12 * m.L_scale)
+        << "particles L " << test::to3(after.L).transpose() << " grid L " << m.L.transpose();
   }
 }
 

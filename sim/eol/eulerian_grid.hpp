@@ -84,17 +84,21 @@ struct EulerianGrid {
     }
     return G;
   }
+  // The cell holding y (its lower corner c, clamped to the grid) and y's fraction t across it.
+  void cell_at(const Vec<T, D>& at, std::array<int, D>& c, std::array<T, D>& t) const {
+    for (int a = 0; a < D; ++a) {
+      const T u = (at[a] - origin[a]) / dx;
+      c[a] = std::clamp(int(std::floor(u)), 0, std::max(n[a] - 2, 0));
+      t[a] = u - T(c[a]);
+    }
+  }
   // Multilinear interpolation of f at y. Outside the grid the nearest cell's multilinear form
   // is extended (its weights still reproduce affine fields), so an affine f is exact anywhere.
   template <class V>
   V interpolate(const std::vector<V>& f, const Vec<T, D>& at) const {
     std::array<int, D> c;
     std::array<T, D> t;
-    for (int a = 0; a < D; ++a) {
-      const T u = (at[a] - origin[a]) / dx;
-      c[a] = std::clamp(int(std::floor(u)), 0, std::max(n[a] - 2, 0));
-      t[a] = u - T(c[a]);
-    }
+    cell_at(at, c, t);
     V out = f[0] * T(0);
     for (int corner = 0; corner < (1 << D); ++corner) {
       T w = T(1);
@@ -114,11 +118,7 @@ struct EulerianGrid {
                                  Vec<T, D>& value, Mat<T, D>& jacobian) const {
     std::array<int, D> c;
     std::array<T, D> t;
-    for (int a = 0; a < D; ++a) {
-      const T u = (at[a] - origin[a]) / dx;
-      c[a] = std::clamp(int(std::floor(u)), 0, std::max(n[a] - 2, 0));
-      t[a] = u - T(c[a]);
-    }
+    cell_at(at, c, t);
     value.setZero();
     jacobian.setZero();
     for (int corner = 0; corner < (1 << D); ++corner) {
