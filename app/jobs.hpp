@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "app/thread_pool.hpp"
 #include "sim/simulation.hpp"
 
 namespace apiclab::jobs {
@@ -37,9 +38,7 @@ struct JobError : std::runtime_error {
 // Runs one job on this thread. Throws SceneError for a bad scene or override.
 void execute(Run& run);
 
-// job(0), job(1), ... on up to `threads` threads, each index once, started in order.
-// Rethrows, after every thread ended, the first exception a job threw.
-void run_pool(std::size_t count, int threads, const std::function<void(std::size_t)>& job);
+using apiclab::run_pool;  // app/thread_pool.hpp
 
 // Every run: the untimed ones on the pool, costliest first; then the timed ones one by one,
 // alone. Throws JobError naming the first run that could not start.

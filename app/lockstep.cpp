@@ -1,6 +1,9 @@
 #include "app/lockstep.hpp"
 
+#include <omp.h>
+
 #include "app/clock.hpp"
+#include "app/thread_pool.hpp"
 
 namespace apiclab {
 
@@ -18,14 +21,29 @@ bool Lockstep::all_failed() const {
 
 double Lockstep::step_round(double t, const OnRow& on_row) {
   const double t0 = now_seconds();
+  due_.clear();
+  bool side_by_side = true;
+  for (std::size_t k = 0; k < panes_.size(); ++k)
+    if (!reached(*panes_[k], t)) {
+      due_.push_back(k);
+      side_by_side = side_by_side && !panes_[k]->steps_in_parallel();
+    }
+  rows_.resize(panes_.size());
+  has_row_.assign(panes_.size(), 0);
+  // A failed step has no row: the failure is the pane's state from now on.
+  const auto step_one = [&](std::size_t j) {
+    const std::size_t k = due_[j];
+    has_row_[k] = !panes_[k]->step(t, &rows_[k]);
+  };
+  const int threads = omp_get_max_threads();
+  if (side_by_side && due_.size() > 1 && threads > 1)
+    run_pool(due_.size(), threads, step_one);
+  else
+    for (std::size_t j = 0; j < due_.size(); ++j) step_one(j);
   double particle_steps = 0;
-  DiagnosticsRow row;
-  for (std::size_t k = 0; k < panes_.size(); ++k) {
-    Simulation& s = *panes_[k];
-    if (reached(s, t)) continue;
-    // A failed step has no row: the failure is the pane's state from now on.
-    if (!s.step(t, &row) && on_row) on_row(k, row);
-    particle_steps += double(particle_count(s));
+  for (std::size_t k : due_) {
+    if (has_row_[k] && on_row) on_row(k, rows_[k]);
+    particle_steps += double(particle_count(*panes_[k]));
   }
   stepping_seconds_ += now_seconds() - t0;
   return particle_steps;

@@ -1,9 +1,12 @@
-// Several simulations advanced to the same times, one step per pane in turn, so that no pane
-// runs ahead of the others: compare's panes and the GUI's panes. A pane that failed stays
-// frozen where it failed (its state, and therefore its picture, no longer changes).
+// Several simulations advanced to the same times, one step per pane per round, so that no pane
+// runs ahead of the others: compare's panes and the GUI's panes. Panes whose steps run on one
+// thread (small scenes) take their steps of a round side by side, one per core; larger ones in
+// turn, each with every core. A pane that failed stays frozen where it failed (its state, and
+// therefore its picture, no longer changes).
 #pragma once
 #include <cstddef>
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include "sim/simulation.hpp"
@@ -24,7 +27,8 @@ class Lockstep {
   bool all_reached(double t) const;
   bool all_failed() const;
 
-  // One step of every pane short of t (steps land exactly on t); on_row sees each step's row.
+  // One step of every pane short of t (steps land exactly on t); on_row sees each step's row,
+  // in pane order, on the calling thread.
   // Returns the particle-steps taken, 0 when every pane had reached t.
   double step_round(double t, const OnRow& on_row = {});
   // Rounds until every pane reached t.
@@ -36,6 +40,10 @@ class Lockstep {
  private:
   std::vector<Simulation*> panes_;
   double stepping_seconds_ = 0;
+  // One round's work, kept so that a round allocates nothing.
+  std::vector<std::size_t> due_;
+  std::vector<DiagnosticsRow> rows_;
+  std::vector<char> has_row_;
 };
 
 }  // namespace apiclab

@@ -21,6 +21,7 @@ struct ImplicitSolveState {
   std::vector<Vec<T, D>> dv, grad;                 // Δv = ṽ − v, ∇E(Δv)
   std::vector<Mat<T, D>> Fy;                       // F_p at the force position y
   std::vector<Eigen::Matrix<T, D * D, D * D>> hessian;  // ∂P/∂F per particle
+  std::vector<Mat<T, D>> block_inverse;  // block-Jacobi: each node's D×D block of H, inverted
   NewtonCgVectors<T, D> cg;
   std::vector<double> residuals;  // Newton residuals of the last step, in order
 };

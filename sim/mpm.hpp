@@ -54,6 +54,7 @@ class MpmSimulation final : public Simulation, public TransferControls {
     return m;
   }
   const std::optional<Failure>& failure() const override { return failure_; }
+  bool steps_in_parallel() const override { return parallel_worthwhile(); }
   std::shared_ptr<Snapshot> snapshot() const override;
   void on_solver_iteration(SolverIterationObserver observer) override {
     on_solver_iteration_ = std::move(observer);
@@ -111,6 +112,10 @@ class MpmSimulation final : public Simulation, public TransferControls {
   template <class K>
   void implicit_hessian_apply(const std::vector<Vec<T, D>>& in, std::vector<Vec<T, D>>& out);
   void implicit_project(std::vector<Vec<T, D>>& z) const;
+  template <class K>
+  void implicit_block_jacobi();  // after implicit_update_hessian
+  void implicit_precondition(const std::vector<Vec<T, D>>& r, std::vector<Vec<T, D>>& z) const;
+  const std::vector<Mat<T, D>>& block_jacobi_inverse() const { return imp_.block_inverse; }
   const std::vector<std::uint32_t>& active_nodes() const { return imp_.active; }
   const std::vector<Vec<T, D>>& implicit_gradient() const { return imp_.grad; }
   const std::vector<Vec<T, D>>& implicit_dv() const { return imp_.dv; }

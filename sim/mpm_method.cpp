@@ -34,6 +34,8 @@ void validate_mpm(SceneSection& r, SceneDesc& s) {
   v.apic_linear_form = r.choice("apic_linear_form", apic_linear_form_choices(), v.apic_linear_form,
                                 "APIC linear form");
   v.integrator = r.choice("integrator", integrator_choices(), v.integrator, "integrator");
+  v.preconditioner = r.choice("preconditioner", cg_preconditioner_choices(), v.preconditioner,
+                              "CG preconditioner");
   v.polypic_modes = r.integer("polypic_modes", v.polypic_modes);
   if (v.scheme == Scheme::polypic && v.polypic_modes > polypic::full_modes(s.dim))
     r.fail("polypic_modes", "PolyPIC has " + std::to_string(polypic::full_modes(s.dim)) +

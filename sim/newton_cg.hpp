@@ -1,8 +1,10 @@
 // Newton's method for a minimisation over velocity-like node vectors (Gast et al. 2015;
 // Jiang et al. 2017, Sec 4.2, Algorithm 1). Each Newton system P H P d = −P g is solved by
-// conjugate gradients on M⁻¹ P H P in the mass inner product <u, w> = Σ_i m_i u_i·w_i, so
-// every CG vector is velocity-like; a backtracking (Armijo) line search on E then takes the
-// step, never accepting E = +∞. Only the nodes in `active` are read or written.
+// preconditioned conjugate gradients: with C = M⁻¹ that is CG on M⁻¹ P H P in the mass inner
+// product <u, w> = Σ_i m_i u_i·w_i (the paper's), with C = the inverse of H's node blocks it
+// is block-Jacobi CG; either way every search direction is velocity-like. The CG stops on
+// the residual's M⁻¹ norm relative to g's. A backtracking (Armijo) line search on E then
+// takes the step, never accepting E = +∞. Only the nodes in `active` are read or written.
 #pragma once
 #include <cmath>
 #include <cstdint>
@@ -15,7 +17,7 @@ namespace apiclab {
 
 template <class T, int D>
 struct NewtonCgVectors {
-  std::vector<Vec<T, D>> direction, residual, search, product, trial;
+  std::vector<Vec<T, D>> direction, residual, precond, search, product, trial;
 };
 
 struct NewtonCgOptions {
@@ -37,7 +39,10 @@ struct NewtonCgReport {
 
 // Problem: energy(x, gradient) → E(x), writing ∇E into `grad` when gradient is true (+∞ for an
 // inadmissible x); update_hessian() at the last x whose gradient was taken; hessian_apply(in,
-// out) → out = H in; project(z) applies P, the constraints. x holds the start and the result.
+// out) → out = H in; project(z) applies P, the constraints; precondition(r, z) → z = C r, C
+// symmetric positive definite on P's range (M⁻¹ for the paper's CG); deflate_translation()
+// whether uniform velocities u are null directions of the forces (H u = M u, no constraints),
+// to be solved exactly. x holds the start and the result.
 template <class T, int D, class Problem>
 NewtonCgReport newton_cg_minimise(Problem& problem, std::vector<Vec<T, D>>& x,
                                   std::vector<Vec<T, D>>& grad,
@@ -45,10 +50,25 @@ NewtonCgReport newton_cg_minimise(Problem& problem, std::vector<Vec<T, D>>& x,
                                   const std::vector<T>& mass, double mass_sum,
                                   const NewtonCgOptions& options, NewtonCgVectors<T, D>& v,
                                   std::vector<double>& residuals) {
-  auto dot_m = [&](const std::vector<Vec<T, D>>& a, const std::vector<Vec<T, D>>& b) {
+  auto dot = [&](const std::vector<Vec<T, D>>& a, const std::vector<Vec<T, D>>& b) {
     double s = 0;
-    for (std::uint32_t i : active) s += double(mass[i]) * double(a[i].dot(b[i]));
+    for (std::uint32_t i : active) s += double(a[i].dot(b[i]));
     return s;
+  };
+  auto norm_minv = [&](const std::vector<Vec<T, D>>& r) {  // Σ |r_i|² / m_i: |M⁻¹r| in the M norm
+    double s = 0;
+    for (std::uint32_t i : active) s += double(r[i].squaredNorm()) / double(mass[i]);
+    return s;
+  };
+  // search ← z + β search; deflated, z loses its mass-weighted mean first, so that every search
+  // direction carries no momentum (Σ m p = 0) and Σ r stays 0 (deflated CG, Saad et al. 2000).
+  auto set_search = [&](const std::vector<Vec<T, D>>& z, bool deflate, T beta) {
+    Vec<T, D> mean = Vec<T, D>::Zero();
+    if (deflate) {
+      for (std::uint32_t i : active) mean += mass[i] * z[i];
+      mean /= T(mass_sum);
+    }
+    for (std::uint32_t i : active) v.search[i] = z[i] - mean + beta * v.search[i];
   };
   auto& dir = v.direction;
   double energy = problem.energy(x, true);
@@ -66,31 +86,45 @@ NewtonCgReport newton_cg_minimise(Problem& problem, std::vector<Vec<T, D>>& x,
         report.newton_iterations >= options.max_newton_iterations)
       break;
     problem.update_hessian();
-    // CG on A = M⁻¹ P H P, rhs = −M⁻¹ P g (Algorithm 1).
+    // Preconditioned CG on P H P d = −P g (Algorithm 1): r is force-like, z = C r and every
+    // search direction velocity-like. C = M⁻¹ is the paper's CG in the mass inner product.
+    const bool deflate = problem.deflate_translation();
     for (std::uint32_t i : active) {
       dir[i].setZero();
-      v.residual[i] = -grad[i] / mass[i];
-      v.search[i] = v.residual[i];
+      v.residual[i] = -grad[i];
     }
-    double gamma = dot_m(v.residual, v.residual), rhs_norm = std::sqrt(gamma);
+    const double rhs_norm = std::sqrt(norm_minv(v.residual));
+    if (deflate) {  // d₀ = the uniform velocity u with Σ (−g − H d₀) = 0, since H u = M u
+      Vec<T, D> u = Vec<T, D>::Zero();
+      for (std::uint32_t i : active) u += v.residual[i];
+      u /= T(mass_sum);
+      for (std::uint32_t i : active) {
+        dir[i] = u;
+        v.residual[i] -= mass[i] * u;
+      }
+    }
+    problem.precondition(v.residual, v.precond);
+    set_search(v.precond, deflate, T(0));
+    double gamma = dot(v.residual, v.precond), rho = norm_minv(v.residual);
     for (int k = 0; k < options.max_cg_iterations; ++k) {
-      if (std::sqrt(gamma) <= options.cg_tolerance * rhs_norm) break;
+      if (std::sqrt(rho) <= options.cg_tolerance * rhs_norm) break;
       problem.hessian_apply(v.search, v.product);
-      for (std::uint32_t i : active) v.product[i] /= mass[i];
       problem.project(v.product);
-      double ps = dot_m(v.search, v.product);
+      double ps = dot(v.search, v.product);
       ++report.cg_iterations;
       if (options.on_iteration)
         (*options.on_iteration)(report.newton_iterations, report.cg_iterations, report.residual);
       if (!(ps > 0)) break;
       T alpha = T(gamma / ps);
+      rho = 0;
       for (std::uint32_t i : active) {
         dir[i] += alpha * v.search[i];
         v.residual[i] -= alpha * v.product[i];
+        rho += double(v.residual[i].squaredNorm()) / double(mass[i]);
       }
-      double kappa = dot_m(v.residual, v.residual);
-      T beta = T(kappa / gamma);
-      for (std::uint32_t i : active) v.search[i] = v.residual[i] + beta * v.search[i];
+      problem.precondition(v.residual, v.precond);
+      double kappa = dot(v.residual, v.precond);
+      set_search(v.precond, deflate, T(kappa / gamma));
       gamma = kappa;
     }
     // Backtracking line search on E (Armijo), never accepting an inverted F (E = +∞).

@@ -21,6 +21,7 @@ enum class DtRule { fixed, cfl, elastic, two_step };
 enum class Precision { single, dbl };
 // APIC's affine matrix with the multilinear kernel (Sec 5.9).
 enum class ApicLinearForm { lagged, bform };
+enum class CgPreconditioner { block_jacobi, mass };
 // How particles are coloured (render/, the GUI and `render --color`).
 enum class ColorMode { speed, material, object, noise };
 
@@ -134,6 +135,15 @@ inline const std::vector<Choice<ApicLinearForm>>& apic_linear_form_choices() {
   return c;
 }
 
+inline const std::vector<Choice<CgPreconditioner>>& cg_preconditioner_choices() {
+  static const std::vector<Choice<CgPreconditioner>> c = {
+      {"block-jacobi", CgPreconditioner::block_jacobi,
+       "the inverse of each node's block of the Hessian, translations deflated (default)"},
+      {"mass", CgPreconditioner::mass,
+       "M^-1: CG in the mass inner product, Algorithm 1 (Sec 4.2)"}};
+  return c;
+}
+
 inline const std::vector<Choice<ColorMode>>& color_mode_choices() {
   static const std::vector<Choice<ColorMode>> c = {
       {"speed", ColorMode::speed, "particle speed |v_p|"},
@@ -176,6 +186,9 @@ inline std::string_view key_of(MaterialModel m) { return choice_key(material_cho
 inline std::string_view key_of(BoundaryCondition b) { return choice_key(boundary_choices(), b); }
 inline std::string_view key_of(DtRule r) { return choice_key(dt_rule_choices(), r); }
 inline std::string_view key_of(Precision p) { return choice_key(precision_choices(), p); }
+inline std::string_view key_of(CgPreconditioner c) {
+  return choice_key(cg_preconditioner_choices(), c);
+}
 inline std::string_view key_of(ApicLinearForm f) {
   return choice_key(apic_linear_form_choices(), f);
 }

@@ -71,6 +71,7 @@ struct SolverDesc {
   int newton_max_iterations = 20;
   double cg_tolerance = 1e-6;
   int cg_max_iterations = 200;
+  CgPreconditioner preconditioner = CgPreconditioner::block_jacobi;
   bool stop_on_nonconvergence = false;
   double blowup_energy_factor = 10.0;
   // solver.max_memory_gb: cap on the estimated memory (sim/memory_estimate.hpp); empty: the

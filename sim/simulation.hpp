@@ -49,6 +49,10 @@ class Simulation {
       std::function<void(int newton_iteration, int cg_iterations, double residual)>;
   virtual void on_solver_iteration(SolverIterationObserver) {}
 
+  // Whether one step spreads over several threads (OpenMP, above a size threshold). Panes
+  // whose steps do not are stepped side by side, one per core (app/lockstep.cpp).
+  virtual bool steps_in_parallel() const = 0;
+
   // Immutable copy of the state for drawing.
   virtual std::shared_ptr<Snapshot> snapshot() const = 0;
 

@@ -41,6 +41,7 @@ endif()
 if(NOT APICLAB_TSAN)
   add_executable(test_app_core_tsan test_app_core.cpp ${CMAKE_SOURCE_DIR}/app/jobs.cpp
                                     ${CMAKE_SOURCE_DIR}/app/lockstep.cpp
+                                    ${CMAKE_SOURCE_DIR}/app/thread_pool.cpp
                                     ${CMAKE_SOURCE_DIR}/app/frame_loop.cpp
                                     ${CMAKE_SOURCE_DIR}/app/assets.cpp)
   target_include_directories(test_app_core_tsan PRIVATE ${CMAKE_SOURCE_DIR})

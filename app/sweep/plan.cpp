@@ -51,6 +51,7 @@ std::string scene_value(const SceneDesc& s, const std::string& key) {
   if (key == "solver.kernel") return std::string(key_of(s.solver.kernel));
   if (key == "solver.integrator") return std::string(key_of(s.solver.integrator));
   if (key == "solver.apic_linear_form") return std::string(key_of(s.solver.apic_linear_form));
+  if (key == "solver.preconditioner") return std::string(key_of(s.solver.preconditioner));
   if (key == "time.dt.rule") return std::string(key_of(s.time.rule));
   if (key == "precision") return "double";
   int index = 0;

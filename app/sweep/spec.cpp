@@ -28,6 +28,8 @@ void check_choice(const std::string& key, const std::string& value) {
     parse_choice(integrator_choices(), value, "integrator");
   else if (key == "solver.apic_linear_form")
     parse_choice(apic_linear_form_choices(), value, "APIC linear form");
+  else if (key == "solver.preconditioner")
+    parse_choice(cg_preconditioner_choices(), value, "CG preconditioner");
   else if (key == "time.dt.rule")
     parse_choice(dt_rule_choices(), value, "time-step rule");
   else if (key == "precision")
@@ -40,8 +42,8 @@ void check_choice(const std::string& key, const std::string& value) {
 }
 bool is_choice_key(const std::string& key) {
   return key == "solver.scheme" || key == "solver.kernel" || key == "solver.integrator" ||
-         key == "solver.apic_linear_form" || key == "time.dt.rule" || key == "precision" ||
-         key == "solver.method";
+         key == "solver.apic_linear_form" || key == "solver.preconditioner" ||
+         key == "time.dt.rule" || key == "precision" || key == "solver.method";
 }
 
 class Checker {
@@ -104,7 +106,8 @@ class Checker {
            "unknown axis key (expected a numeric registry key such as materials.0.E or "
            "solver.flip_alpha, a choice key "
            "solver.method|solver.scheme|solver.kernel|solver.integrator|"
-           "solver.apic_linear_form|time.dt.rule, or scene|resolution|dt_factor|precision|"
+           "solver.apic_linear_form|solver.preconditioner|time.dt.rule, or "
+           "scene|resolution|dt_factor|precision|"
            "threads)");
     if (!v.is_number) fail(key, "expected a number, got '" + v.text + "'");
     if (auto e = parameter_error(*p, index, v.number, source_)) throw UsageError(*e);

@@ -70,6 +70,7 @@ class EolSimulation final : public Simulation {
   DiagnosticsRow measure() const override;
   double total_mass() const override;
   const std::optional<Failure>& failure() const override { return failure_; }
+  bool steps_in_parallel() const override { return parallel_; }
   std::shared_ptr<Snapshot> snapshot() const override;
 
   // The phases, public for tests.
