@@ -169,6 +169,7 @@ SceneDesc load_scene_with_options(const RunOptions& o) {
   }
   check_memory(scene, precision_of(o));  // before the overlap check samples anything
   warn_about_overlaps(scene);
+  warn_about_scheme(scene);
   return scene;
 }
 

@@ -7,6 +7,7 @@
 #include "sim/memory_estimate.hpp"
 #include "sim/object_overlap.hpp"
 #include "sim/parameters.hpp"
+#include "sim/transfer_polypic.hpp"
 
 namespace apiclab::cli {
 
@@ -77,6 +78,18 @@ void check_memory_for(const SceneDesc& scene, Precision precision, int copies) {
 void warn_about_overlaps(const SceneDesc& scene) {
   for (const std::string& w : object_overlaps(scene))
     std::fprintf(stderr, "apiclab: warning: %s: %s\n", scene.source.c_str(), w.c_str());
+}
+
+void warn_about_scheme(const SceneDesc& scene) {
+  if (scene.solver.scheme != Scheme::polypic) return;
+  const int kept = polypic::kept_modes(scene.solver.polypic_modes, scene.dim);
+  if (!polypic::keeps_g_modes(kept, scene.dim)) return;
+  std::fprintf(
+      stderr,
+      "apiclab: warning: %s: polypic with %d modes keeps the G modes, which blow up "
+      "where stressed material meets nearly empty grid nodes (impacts, contact); "
+      "impacts run with solver.polypic_modes=%d or fewer (README, Further transfer schemes)\n",
+      scene.source.c_str(), kept, 1 << scene.dim);
 }
 
 }  // namespace apiclab::cli

@@ -33,4 +33,8 @@ void check_memory_for(const SceneDesc& scene, Precision precision, int copies);
 // Prints "apiclab: warning: ..." for each pair of objects that overlap (sim/object_overlap.hpp).
 void warn_about_overlaps(const SceneDesc& scene);
 
+// Prints one "apiclab: warning: ..." line when the scene runs PolyPIC with its G modes, which
+// blow up where stressed material meets nearly empty grid nodes (impacts).
+void warn_about_scheme(const SceneDesc& scene);
+
 }  // namespace apiclab::cli

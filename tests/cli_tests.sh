@@ -458,4 +458,18 @@ expect_error "mls with an implicit integrator" "'solver.scheme'" "symplectic" --
 expect_error "polypic with the cubic kernel" "'solver.scheme'" "quadratic kernel" -- run rotating-disk --scheme polypic --kernel cubic
 expect_error "polypic with more modes than 2D has" "'solver.polypic_modes'" "9 modes in 2D" -- run rotating-disk --scheme polypic --set solver.polypic_modes=12
 
+# PolyPIC with its G modes (5 or more in 2D) runs, with one warning line naming the cause and the
+# mode count that runs impacts; 4 modes run without it (README, Further transfer schemes).
+run_cli run rotating-disk --scheme polypic --t-end 0.01 --csv "$TMP/polypic9.csv"
+if [ $RC -eq 0 ] && [ "$(grep -c 'warning: .*polypic with 9 modes keeps the G modes' "$ERR")" = 1 ] &&
+  grep -q 'polypic_modes=4 or fewer' "$ERR"; then
+  ok "polypic with 9 modes: runs, one warning line"
+else
+  nok "polypic with 9 modes warning (rc $RC)" "$(cat "$ERR")"
+fi
+run_cli run rotating-disk --scheme polypic --set solver.polypic_modes=4 --t-end 0.01 --csv "$TMP/polypic4.csv"
+if [ $RC -eq 0 ] && ! grep -q 'G modes' "$ERR"; then ok "polypic with 4 modes: no warning"; else
+  nok "polypic with 4 modes (rc $RC)" "$(cat "$ERR")"
+fi
+
 finish cli_tests

@@ -36,6 +36,8 @@ bad_spec "unknown spec key" "key 'axis'" "{$D, \"axis\": {}}"
 bad_spec "empty axis" "key 'solver.scheme': empty axis" "{$D, \"axes\": {\"solver.scheme\": []}}"
 bad_spec "unknown scheme" "key 'solver.scheme': unknown scheme 'apik'" \
   "{$D, \"axes\": {\"solver.scheme\": [\"apik\"]}}"
+bad_spec "scheme axis neither a list nor all" "key 'solver.scheme': expected an array of values or \"all\"" \
+  "{$D, \"axes\": {\"solver.scheme\": \"al\"}}"
 bad_spec "registry range" "key 'materials.0.E'" "{$D, \"axes\": {\"materials.0.E\": [1000, -5]}}"
 bad_spec "registry range (flip_alpha)" "key 'solver.flip_alpha'" \
   "{$D, \"axes\": {\"solver.flip_alpha\": [0.5, 1.5]}}"

@@ -31,7 +31,11 @@ double fitted_slope(const std::vector<RoundTripResult>& r) {
 
 void write_roundtrip_figure(ChartCanvas& canvas, const std::vector<int>& resolutions, int threads,
                             const std::string& dir) {
-  const std::vector<std::string> schemes{"pic", "apic"};
+  // Every scheme in the registry the probe can run: FLIP and ASFLIP blend with a prior
+  // particle velocity, which a probe that starts from a grid field does not have.
+  std::vector<std::string> schemes;
+  for (const auto& c : scheme_choices())
+    if (!blends_flip(c.value)) schemes.emplace_back(c.key);
   std::vector<std::vector<RoundTripResult>> results(
       schemes.size(), std::vector<RoundTripResult>(resolutions.size()));
   // Largest resolutions first, so that the pool ends together.
@@ -100,11 +104,15 @@ void write_roundtrip_figure(ChartCanvas& canvas, const std::vector<int>& resolut
     gui::plot("roundtrip", ImVec2(W - 20, H - top - 6), o, series);
   });
   render::write_png(image, base.string() + ".png");
+  const auto at = [&](const char* key) {
+    return std::size_t(std::find(schemes.begin(), schemes.end(), key) - schemes.begin());
+  };
+  const std::size_t pic_at = at("pic"), apic_at = at("apic");
   std::fprintf(stderr,
                "apiclab figures: Fig 11 slopes: PIC %.3f, APIC %.3f; error ratio PIC/APIC at "
                "Δx=%.4g: %.1f\n",
-               slopes[0], slopes[1], results[0].front().dx,
-               results[0].front().l2_error / results[1].front().l2_error);
+               slopes[pic_at], slopes[apic_at], results[pic_at].front().dx,
+               results[pic_at].front().l2_error / results[apic_at].front().l2_error);
 }
 
 }  // namespace apiclab::figures
