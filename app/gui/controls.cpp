@@ -320,6 +320,8 @@ void solver_section(ViewerState& st, SimWorker& worker) {
          {"solver.lambda", "solver.newton_tolerance", "solver.newton_max_iterations",
           "solver.cg_tolerance", "solver.cg_max_iterations"})
       parameter_field(st, worker, key);
+    if (choice_combo("CG preconditioner", s.solver.preconditioner, cg_preconditioner_choices()))
+      restart_because(st, worker, "CG preconditioner");
   }
   for (std::size_t m = 0; m < s.materials.size(); ++m) {
     MaterialDesc& mat = s.materials[m];
