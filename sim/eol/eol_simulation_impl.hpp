@@ -307,8 +307,8 @@ void EolSimulation<T, D>::finish_step(double dt_in) {
     update_mass(o, true);
     update_spatial(o);
     stages_.advection += detail::seconds_since(start);
-    place_surface(o);
   }
+  surfaces_placed_ = false;
   time_ += dt_in;
   ++steps_;
 }
@@ -318,6 +318,20 @@ void EolSimulation<T, D>::place_surface(EolObject<T, D>& o) {
   const auto start = std::chrono::steady_clock::now();
   o.surface_misses = eol::place_surface(o.grid, o.surface.X, o.surface_y, parallel_);
   stages_.surface += detail::seconds_since(start);
+}
+
+template <class T, int D>
+void EolSimulation<T, D>::place_surfaces() {
+  if (surfaces_placed_) return;
+  for (auto& o : objects_) place_surface(o);
+  surfaces_placed_ = true;
+}
+
+template <class T, int D>
+std::vector<Vec<T, D>> EolSimulation<T, D>::placed_surface(const EolObject<T, D>& o) const {
+  std::vector<Vec<T, D>> y = o.surface_y;
+  if (!surfaces_placed_) eol::place_surface(o.grid, o.surface.X, y, parallel_);
+  return y;
 }
 
 template <class T, int D>
@@ -340,6 +354,7 @@ std::optional<Failure> EolSimulation<T, D>::step(double t_limit, DiagnosticsRow*
   for (auto& o : objects_) forces(o);
   forces_ready_ = true;
   if (t_limit - time_ < 1e-12 * std::max(1.0, std::abs(t_limit))) time_ = t_limit;
+  if (time_ == t_limit) place_surfaces();  // a frame time: the surface is drawn or recorded
   DiagnosticsRow r = measure();
   r.dt = dt;
   r.dt_limit = dt_limit_name(last_limit_);
