@@ -299,9 +299,8 @@ void EolSimulation<T, D>::finish_step(double dt_in) {
     stages_.split += detail::seconds_since(start);
     start = std::chrono::steady_clock::now();
     // Eq 15 for X (Algorithm 1 step 4) and v (step 2), both by v*.
-    advect(o.grid, o.vstar, dt, o.grid.X, o.scratch, parallel_);
+    advect_pair(o.grid, o.vstar, dt, o.grid.X, o.scratch, o.vstar, o.grid.v, parallel_);
     std::swap(o.grid.X, o.scratch);
-    advect(o.grid, o.vstar, dt, o.vstar, o.grid.v, parallel_);
     update_mass(o, false);
     o.extrapolation.apply(o.grid);
     update_mass(o, true);

@@ -333,34 +333,38 @@ class ElasticForces {
     return true;
   }
   // out[i] = Σ over the active cells around node i of part(cell, k), node i being the cell's
-  // corner k.
+  // corner k, summed in corner order. Rows of nodes along axis 0: the other axes' coordinates,
+  // and so which corners have a cell, are known once per row.
   template <class V, class Part>
   void gather(const EulerianGrid<T, D>& g, const std::vector<char>& active, Part&& part,
               std::vector<V>& out, bool parallel) {
-    const std::ptrdiff_t nnode = std::ptrdiff_t(g.size());
+    const std::size_t n0 = std::size_t(g.n[0]);
+    const std::ptrdiff_t rows = std::ptrdiff_t(g.size() / n0);
 #pragma omp parallel for if (parallel)
-    for (std::ptrdiff_t ii = 0; ii < nnode; ++ii) {
-      const std::size_t i = std::size_t(ii);
-      const auto c = g.coords(i);
-      V sum;
-      if constexpr (std::is_arithmetic_v<V>)
-        sum = V(0);
-      else
-        sum.setZero();
+    for (std::ptrdiff_t row = 0; row < rows; ++row) {
+      const std::size_t first = std::size_t(row) * n0;
+      const auto c = g.coords(first);
+      unsigned row_corners = 0;  // corners k whose cell exists along axes 1..D-1
       for (int k = 0; k < P; ++k) {
         bool valid = true;
-        std::size_t base = i;
-        for (int a = 0; a < D; ++a)
-          if (k & (1 << a)) {
-            if (c[a] == 0)
-              valid = false;
-            else
-              base -= g.stride(a);
-          }
-        if (!valid || cell_of_[base] < 0 || !active[std::size_t(cell_of_[base])]) continue;
-        sum += part(std::size_t(cell_of_[base]), k);
+        for (int a = 1; a < D; ++a) valid = valid && (!(k & (1 << a)) || c[a] > 0);
+        if (valid) row_corners |= 1u << k;
       }
-      out[i] = sum;
+      for (std::size_t x = 0; x < n0; ++x) {
+        const std::size_t i = first + x;
+        V sum;
+        if constexpr (std::is_arithmetic_v<V>)
+          sum = V(0);
+        else
+          sum.setZero();
+        for (int k = 0; k < P; ++k) {
+          if (!(row_corners & (1u << k)) || ((k & 1) && x == 0)) continue;
+          const std::ptrdiff_t cell = cell_of_[i - offset_[std::size_t(k)]];
+          if (cell < 0 || !active[std::size_t(cell)]) continue;
+          sum += part(std::size_t(cell), k);
+        }
+        out[i] = sum;
+      }
     }
   }
 
