@@ -9,6 +9,7 @@
 // the exact gradient of E = Σ V₀ Ψ(F) with respect to the node positions (tested against
 // finite differences of elastic_energy_moved).
 #pragma once
+#include <algorithm>
 #include <array>
 #include <type_traits>
 #include <vector>
@@ -108,20 +109,22 @@ void stress_and_energy(const ElasticMaterial<T>& mat, const Mat<T, D>& F, Mat<T,
 }
 
 // Per cell, the force density τ = V₀ P Fᵀ at its Gauss points (zero where the cell is empty or
-// inverted) and the cell's share of each corner's force, f_k = −Σ_q τ_q ∇_y N_k(ξ_q); then each
-// node sums its cells' shares (a gather: deterministic for any thread count). Forces in frame
-// axes. The points of a cell are SIMD lanes (cell_points.hpp); for the neo-Hookean model the
-// Kirchhoff stress is written directly, P Fᵀ = μ F Fᵀ + (λ log J − μ) I (F⁻ᵀ Fᵀ = I), with
-// F = Δx adj(A)/det A and J = Δx^d/det A, so no inverse or cofactor of F is formed.
+// inverted) and the cell's share of each corner's force, f_k = −Σ_q τ_q ∇_y N_k(ξ_q), added to
+// its corner nodes right away. Cells go in 2^d colours by the parity of their lowest node (two
+// cells of a colour share no node), one colour after the other, so threads never write the same
+// node and every node sums its cells in colour order: the same result for any thread count.
+// Forces in frame axes. The points of a cell are SIMD lanes (cell_points.hpp); for the
+// neo-Hookean model the Kirchhoff stress is written directly, P Fᵀ = μ F Fᵀ + (λ log J − μ) I
+// (F⁻ᵀ Fᵀ = I), with F = Δx adj(A)/det A and J = Δx^d/det A, so no inverse or cofactor of F is
+// formed.
 template <class T, int D>
 class ElasticForces {
   static constexpr int P = 1 << D;  // Gauss points = corners per cell
 
  public:
   std::size_t bytes() const {
-    return held_bytes(cells_) + held_bytes(cell_of_) + held_bytes(corner_force_) +
-           held_bytes(corner_mass_) + held_bytes(cell_energy_) + held_bytes(mass_active_) +
-           held_bytes(force_active_);
+    return held_bytes(cells_) + held_bytes(color_start_) + held_bytes(corner_mass_) +
+           held_bytes(cell_energy_) + held_bytes(mass_active_) + held_bytes(kept_);
   }
   // The lumped node masses of the same quadrature (eq 6 with J̄ = det ∇X): each Gauss point's
   // ρ₀ V₀ shared by N_k. Mass and force come from the same points, so a node at the surface
@@ -136,87 +139,84 @@ class ElasticForces {
     const std::ptrdiff_t ncell = std::ptrdiff_t(cells_.size());
 #pragma omp parallel for if (parallel)
     for (std::ptrdiff_t c = 0; c < ncell; ++c) {
-      const std::size_t base = cells_[std::size_t(c)];
-      if (keep) {
-        bool kept = true;
-        for (int k = 0; k < P && kept; ++k) kept = (*keep)[base + offset_[std::size_t(k)]] > T(0);
-        if (kept) continue;
-      }
-      const int m = material_of(g, base);
-      mass_active_[std::size_t(c)] = m >= 0;
-      if (m < 0) continue;  // empty cell: skipped by the gather, no corner masses written
-      CellPoints<T, D> pts;
-      evaluate(g, base, pts);
-      const T rho_w = density[std::size_t(m)] * quad_.weight;
-      alignas(64) T point_mass[P];
-#pragma omp simd
-      for (int q = 0; q < P; ++q)
-        point_mass[q] =
-            pts.fill[q] > T(0) && pts.det[q] > T(0) ? rho_w * pts.det[q] * pts.fill[q] : T(0);
-      T* out = &corner_mass_[std::size_t(c) * P];  // Σ_q N_k(ξ_q) m_q, lanes k
-#pragma omp simd
-      for (int k = 0; k < P; ++k) out[k] = T(0);
-      for (int q = 0; q < P; ++q) {
-        const T mq = point_mass[q];
-#pragma omp simd
-        for (int k = 0; k < P; ++k) out[k] += quad_.N_lanes_k[q][k] * mq;
-      }
+      bool kept = keep != nullptr;
+      for (int k = 0; k < P && kept; ++k)
+        kept = (*keep)[cells_[std::size_t(c)] + offset_[std::size_t(k)]] > T(0);
+      kept_[std::size_t(c)] = kept;
     }
-    gather(
-        g, mass_active_, [&](std::size_t cell, int k) { return corner_mass_[cell * P + k]; }, mass,
-        parallel);
+    std::fill(mass.begin(), mass.end(), T(0));
+    for_each_cell_by_colour(parallel, [&](std::size_t c) {
+      const std::size_t base = cells_[c];
+      T* corner = &corner_mass_[c * P];  // Σ_q N_k(ξ_q) m_q, lanes k
+      if (!kept_[c]) {
+        const int m = material_of(g, base);
+        mass_active_[c] = m >= 0;
+        if (m < 0) return;  // empty cell: no corner masses
+        CellPoints<T, D> pts;
+        evaluate(g, base, pts);
+        const T rho_w = density[std::size_t(m)] * quad_.weight;
+        alignas(64) T point_mass[P];
+#pragma omp simd
+        for (int q = 0; q < P; ++q)
+          point_mass[q] =
+              pts.fill[q] > T(0) && pts.det[q] > T(0) ? rho_w * pts.det[q] * pts.fill[q] : T(0);
+#pragma omp simd
+        for (int k = 0; k < P; ++k) corner[k] = T(0);
+        for (int q = 0; q < P; ++q) {
+          const T mq = point_mass[q];
+#pragma omp simd
+          for (int k = 0; k < P; ++k) corner[k] += quad_.N_lanes_k[q][k] * mq;
+        }
+      } else if (!mass_active_[c]) {
+        return;
+      }
+      for (int k = 0; k < P; ++k) mass[base + offset_[std::size_t(k)]] += corner[k];
+    });
   }
 
   void compute(const EulerianGrid<T, D>& g, const std::vector<ElasticMaterial<T>>& materials,
                std::vector<Vec<T, D>>& force, bool parallel) {
     ensure_cells(g);
-    const std::ptrdiff_t ncell = std::ptrdiff_t(cells_.size());
-#pragma omp parallel for if (parallel)
-    for (std::ptrdiff_t c = 0; c < ncell; ++c) {
-      const std::size_t base = cells_[std::size_t(c)];
+    std::fill(force.begin(), force.end(), Vec<T, D>::Zero());
+    for_each_cell_by_colour(parallel, [&](std::size_t c) {
+      const std::size_t base = cells_[c];
       const int m = material_of(g, base);
-      force_active_[std::size_t(c)] = m >= 0;
-      cell_energy_[std::size_t(c)] = 0;
-      if (m < 0) continue;
+      cell_energy_[c] = 0;
+      if (m < 0) return;
       CellPoints<T, D> pts;
       evaluate(g, base, pts);
-      alignas(64) T tau[D][D][P], vpsi[P];
+      alignas(64) T tau[D][D][P], vpsi[P], f[D][P];
       const ElasticMaterial<T>& mat = materials[std::size_t(m)];
       if (mat.model == MaterialModel::neo_hookean)
         neo_hookean_tau(g.dx, mat.lame, pts, tau, vpsi);
       else
         general_tau(g.dx, mat, pts, tau, vpsi);
-      T* out = &corner_force_[std::size_t(c) * D * P];  // −Σ_q τ_q ∇_y N_k(ξ_q), lanes k
-      for (int a = 0; a < D; ++a) {
-        T* fa = out + a * P;
+      const T inv_dx = T(1) / g.dx;
+      for (int a = 0; a < D; ++a) {  // f_k = −Σ_q τ_q ∇_y N_k(ξ_q), lanes k
 #pragma omp simd
-        for (int k = 0; k < P; ++k) fa[k] = T(0);
+        for (int k = 0; k < P; ++k) f[a][k] = T(0);
         for (int q = 0; q < P; ++q)
           for (int b = 0; b < D; ++b) {
             const T t = tau[a][b][q];
 #pragma omp simd
-            for (int k = 0; k < P; ++k) fa[k] -= t * quad_.dN_lanes_k[q][b][k];
+            for (int k = 0; k < P; ++k) f[a][k] -= t * quad_.dN_lanes_k[q][b][k];
           }
-        const T inv_dx = T(1) / g.dx;
 #pragma omp simd
-        for (int k = 0; k < P; ++k) fa[k] *= inv_dx;
+        for (int k = 0; k < P; ++k) f[a][k] *= inv_dx;
+      }
+      for (int k = 0; k < P; ++k) {
+        Vec<T, D>& node = force[base + offset_[std::size_t(k)]];
+        for (int a = 0; a < D; ++a) node[a] += f[a][k];
       }
       // Ψ at the same points for the diagnostics: elastic_energy_moved's sum, F there being
       // (∂y/∂ξ) A⁻¹ with ∂y/∂ξ = Δx I up to round-off.
       double energy = 0;
       for (int q = 0; q < P; ++q) energy += double(vpsi[q]);
-      cell_energy_[std::size_t(c)] = energy;
-    }
-    gather(
-        g, force_active_,
-        [&](std::size_t cell, int k) {
-          Vec<T, D> f;
-          for (int a = 0; a < D; ++a) f[a] = corner_force_[(cell * D + std::size_t(a)) * P + k];
-          return f;
-        },
-        force, parallel);
+      cell_energy_[c] = energy;
+    });
   }
-  // E = Σ V₀ Ψ(F) of the last compute(), summed in cell order (the same for any thread count).
+  // E = Σ V₀ Ψ(F) of the last compute(), summed in the cells' order (colour by colour; the same
+  // for any thread count).
   double energy() const {
     double e = 0;
     for (double x : cell_energy_) e += x;
@@ -315,67 +315,50 @@ class ElasticForces {
     }
     return -1;
   }
-  // Whether the cell list was (re)built.
+  // Whether the cell list was (re)built: every cell's lowest node, colour by colour.
   bool ensure_cells(const EulerianGrid<T, D>& g) {
     if (!cells_.empty() && grid_nodes_ == g.size()) return false;
     cells_.clear();
-    for (std::size_t i = 0; i < g.size(); ++i)
-      if (is_cell_base(g, i)) cells_.push_back(i);
+    color_start_.assign(P + 1, 0);
+    for (int colour = 0; colour < P; ++colour) {
+      color_start_[std::size_t(colour)] = cells_.size();
+      for (std::size_t i = 0; i < g.size(); ++i) {
+        if (!is_cell_base(g, i)) continue;
+        const auto c = g.coords(i);
+        int parity = 0;
+        for (int a = 0; a < D; ++a) parity |= (c[a] & 1) << a;
+        if (parity == colour) cells_.push_back(i);
+      }
+    }
+    color_start_[P] = cells_.size();
     grid_nodes_ = g.size();
     for (int k = 0; k < P; ++k) offset_[std::size_t(k)] = corner_node(g, 0, k);
-    corner_force_.assign(cells_.size() * D * P, T(0));
     corner_mass_.assign(cells_.size() * P, T(0));
     cell_energy_.assign(cells_.size(), 0.0);
     mass_active_.assign(cells_.size(), 0);
-    force_active_.assign(cells_.size(), 0);
-    cell_of_.assign(g.size(), -1);
-    for (std::size_t c = 0; c < cells_.size(); ++c) cell_of_[cells_[c]] = std::ptrdiff_t(c);
+    kept_.assign(cells_.size(), 0);
     return true;
   }
-  // out[i] = Σ over the active cells around node i of part(cell, k), node i being the cell's
-  // corner k, summed in corner order. Rows of nodes along axis 0: the other axes' coordinates,
-  // and so which corners have a cell, are known once per row.
-  template <class V, class Part>
-  void gather(const EulerianGrid<T, D>& g, const std::vector<char>& active, Part&& part,
-              std::vector<V>& out, bool parallel) {
-    const std::size_t n0 = std::size_t(g.n[0]);
-    const std::ptrdiff_t rows = std::ptrdiff_t(g.size() / n0);
-#pragma omp parallel for if (parallel)
-    for (std::ptrdiff_t row = 0; row < rows; ++row) {
-      const std::size_t first = std::size_t(row) * n0;
-      const auto c = g.coords(first);
-      unsigned row_corners = 0;  // corners k whose cell exists along axes 1..D-1
-      for (int k = 0; k < P; ++k) {
-        bool valid = true;
-        for (int a = 1; a < D; ++a) valid = valid && (!(k & (1 << a)) || c[a] > 0);
-        if (valid) row_corners |= 1u << k;
-      }
-      for (std::size_t x = 0; x < n0; ++x) {
-        const std::size_t i = first + x;
-        V sum;
-        if constexpr (std::is_arithmetic_v<V>)
-          sum = V(0);
-        else
-          sum.setZero();
-        for (int k = 0; k < P; ++k) {
-          if (!(row_corners & (1u << k)) || ((k & 1) && x == 0)) continue;
-          const std::ptrdiff_t cell = cell_of_[i - offset_[std::size_t(k)]];
-          if (cell < 0 || !active[std::size_t(cell)]) continue;
-          sum += part(std::size_t(cell), k);
-        }
-        out[i] = sum;
-      }
+  // fn(c) for every cell, one colour after the other (the barrier after each `omp for`).
+  template <class Fn>
+  void for_each_cell_by_colour(bool parallel, Fn&& fn) const {
+#pragma omp parallel if (parallel)
+    for (int colour = 0; colour < P; ++colour) {
+      const std::ptrdiff_t lo = std::ptrdiff_t(color_start_[std::size_t(colour)]),
+                           hi = std::ptrdiff_t(color_start_[std::size_t(colour) + 1]);
+#pragma omp for
+      for (std::ptrdiff_t c = lo; c < hi; ++c) fn(std::size_t(c));
     }
   }
 
   CellQuadrature<T, D> quad_;
-  std::array<std::size_t, P> offset_{};  // node index of corner k minus the base's
-  std::vector<std::size_t> cells_;
-  std::vector<std::ptrdiff_t> cell_of_;
-  std::vector<T> corner_force_;  // per cell: [axis][corner]
-  std::vector<T> corner_mass_;   // per cell: [corner]
+  std::array<std::size_t, P> offset_{};   // node index of corner k minus the base's
+  std::vector<std::size_t> cells_;        // lowest node of each cell, colour by colour
+  std::vector<std::size_t> color_start_;  // colour c: cells_[color_start_[c], color_start_[c + 1])
+  std::vector<T> corner_mass_;            // per cell: [corner]
   std::vector<double> cell_energy_;
-  std::vector<char> mass_active_, force_active_;  // per cell: holds material
+  std::vector<char> mass_active_;  // per cell: holds material (as of its last mass evaluation)
+  std::vector<char> kept_;         // per cell: keeps its corner masses in this lumped_mass
   std::size_t grid_nodes_ = 0;
 };
 // f_qvv of eq 12 for a node of mass m at world offset r with Eulerian velocity w = R v (world
