@@ -110,9 +110,10 @@ void stress_and_energy(const ElasticMaterial<T>& mat, const Mat<T, D>& F, Mat<T,
 
 // Per cell, the force density τ = V₀ P Fᵀ at its Gauss points (zero where the cell is empty or
 // inverted) and the cell's share of each corner's force, f_k = −Σ_q τ_q ∇_y N_k(ξ_q), added to
-// its corner nodes right away. Cells go in 2^d colours by the parity of their lowest node (two
-// cells of a colour share no node), one colour after the other, so threads never write the same
-// node and every node sums its cells in colour order: the same result for any thread count.
+// its corner nodes right away. Cells go layer by layer along the last axis, the even layers
+// first, then the odd ones (two layers of one parity share no node), each layer on one thread,
+// so threads never write the same node and every node sums its cells in one order: the same
+// result for any thread count.
 // Forces in frame axes. The points of a cell are SIMD lanes (cell_points.hpp); for the
 // neo-Hookean model the Kirchhoff stress is written directly, P Fᵀ = μ F Fᵀ + (λ log J − μ) I
 // (F⁻ᵀ Fᵀ = I), with F = Δx adj(A)/det A and J = Δx^d/det A, so no inverse or cofactor of F is
@@ -123,7 +124,7 @@ class ElasticForces {
 
  public:
   std::size_t bytes() const {
-    return held_bytes(cells_) + held_bytes(color_start_) + held_bytes(corner_mass_) +
+    return held_bytes(cells_) + held_bytes(layer_start_) + held_bytes(corner_mass_) +
            held_bytes(cell_energy_) + held_bytes(mass_active_) + held_bytes(kept_);
   }
   // The lumped node masses of the same quadrature (eq 6 with J̄ = det ∇X): each Gauss point's
@@ -145,7 +146,7 @@ class ElasticForces {
       kept_[std::size_t(c)] = kept;
     }
     std::fill(mass.begin(), mass.end(), T(0));
-    for_each_cell_by_colour(parallel, [&](std::size_t c) {
+    for_each_cell_by_layer(parallel, [&](std::size_t c) {
       const std::size_t base = cells_[c];
       T* corner = &corner_mass_[c * P];  // Σ_q N_k(ξ_q) m_q, lanes k
       if (!kept_[c]) {
@@ -178,7 +179,7 @@ class ElasticForces {
                std::vector<Vec<T, D>>& force, bool parallel) {
     ensure_cells(g);
     std::fill(force.begin(), force.end(), Vec<T, D>::Zero());
-    for_each_cell_by_colour(parallel, [&](std::size_t c) {
+    for_each_cell_by_layer(parallel, [&](std::size_t c) {
       const std::size_t base = cells_[c];
       const int m = material_of(g, base);
       cell_energy_[c] = 0;
@@ -215,7 +216,7 @@ class ElasticForces {
       cell_energy_[c] = energy;
     });
   }
-  // E = Σ V₀ Ψ(F) of the last compute(), summed in the cells' order (colour by colour; the same
+  // E = Σ V₀ Ψ(F) of the last compute(), summed in the cells' order (index order; the same
   // for any thread count).
   double energy() const {
     double e = 0;
@@ -315,22 +316,18 @@ class ElasticForces {
     }
     return -1;
   }
-  // Whether the cell list was (re)built: every cell's lowest node, colour by colour.
+  // Whether the cell list was (re)built: every cell's lowest node in index order, so each layer
+  // of cells (one coordinate of the last axis) is a contiguous range.
   bool ensure_cells(const EulerianGrid<T, D>& g) {
     if (!cells_.empty() && grid_nodes_ == g.size()) return false;
     cells_.clear();
-    color_start_.assign(P + 1, 0);
-    for (int colour = 0; colour < P; ++colour) {
-      color_start_[std::size_t(colour)] = cells_.size();
-      for (std::size_t i = 0; i < g.size(); ++i) {
-        if (!is_cell_base(g, i)) continue;
-        const auto c = g.coords(i);
-        int parity = 0;
-        for (int a = 0; a < D; ++a) parity |= (c[a] & 1) << a;
-        if (parity == colour) cells_.push_back(i);
-      }
+    layer_start_.clear();
+    for (std::size_t i = 0; i < g.size(); ++i) {
+      if (!is_cell_base(g, i)) continue;
+      if (g.coords(i)[D - 1] == int(layer_start_.size())) layer_start_.push_back(cells_.size());
+      cells_.push_back(i);
     }
-    color_start_[P] = cells_.size();
+    layer_start_.push_back(cells_.size());
     grid_nodes_ = g.size();
     for (int k = 0; k < P; ++k) offset_[std::size_t(k)] = corner_node(g, 0, k);
     corner_mass_.assign(cells_.size() * P, T(0));
@@ -339,22 +336,27 @@ class ElasticForces {
     kept_.assign(cells_.size(), 0);
     return true;
   }
-  // fn(c) for every cell, one colour after the other (the barrier after each `omp for`).
+  // fn(c) for every cell: the even layers, then (after the `omp for` barrier) the odd ones. Two
+  // layers of one parity share no node, so threads never write the same node; each layer runs
+  // on one thread in index order, so every node sums its cells in the same order for any
+  // thread count. Two barriers a pass (2^d cell colours would need 2^d).
   template <class Fn>
-  void for_each_cell_by_colour(bool parallel, Fn&& fn) const {
+  void for_each_cell_by_layer(bool parallel, Fn&& fn) const {
+    const std::ptrdiff_t layers = std::ptrdiff_t(layer_start_.size()) - 1;
 #pragma omp parallel if (parallel)
-    for (int colour = 0; colour < P; ++colour) {
-      const std::ptrdiff_t lo = std::ptrdiff_t(color_start_[std::size_t(colour)]),
-                           hi = std::ptrdiff_t(color_start_[std::size_t(colour) + 1]);
-#pragma omp for
-      for (std::ptrdiff_t c = lo; c < hi; ++c) fn(std::size_t(c));
+    for (int colour = 0; colour < 2; ++colour) {
+#pragma omp for schedule(static)
+      for (std::ptrdiff_t layer = colour; layer < layers; layer += 2)
+        for (std::size_t c = layer_start_[std::size_t(layer)];
+             c < layer_start_[std::size_t(layer) + 1]; ++c)
+          fn(c);
     }
   }
 
   CellQuadrature<T, D> quad_;
   std::array<std::size_t, P> offset_{};   // node index of corner k minus the base's
-  std::vector<std::size_t> cells_;        // lowest node of each cell, colour by colour
-  std::vector<std::size_t> color_start_;  // colour c: cells_[color_start_[c], color_start_[c + 1])
+  std::vector<std::size_t> cells_;        // lowest node of each cell, in index order
+  std::vector<std::size_t> layer_start_;  // layer z: cells_[layer_start_[z], layer_start_[z + 1])
   std::vector<T> corner_mass_;            // per cell: [corner]
   std::vector<double> cell_energy_;
   std::vector<char> mass_active_;  // per cell: holds material (as of its last mass evaluation)
