@@ -247,9 +247,9 @@ TEST(EolSlow, SpinTenSecondsFig7) {
 }
 
 // The step does not depend on the thread count: the forces and masses add each cell to its
-// nodes colour by colour (no two cells of a colour share a node), so every node sums its cells
-// in the same order; a falling, spinning ball through 40 steps and a frame's surface placement,
-// 1 and 2 threads, compared bit for bit.
+// nodes layer by layer, even layers then odd (two layers of one parity share no node), so
+// every node sums its cells in the same order; a falling, spinning ball through 40 steps and a
+// frame's surface placement, 1 and 2 threads, compared bit for bit.
 template <int D>
 void check_thread_count_determinism() {
   test::EolSceneSpec spec;
