@@ -4,6 +4,7 @@
 // and bad input. Whole runs are in test_eol_runs.cpp.
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <random>
 #include <utility>
 
@@ -263,6 +264,93 @@ TEST(EolForces, ElasticForceIsMinusTheGradientOfTheGridEnergy) {
   check_forces_are_energy_gradient<2>("neo-hookean");
   check_forces_are_energy_gradient<2>("fixed-corotated");
   check_forces_are_energy_gradient<3>("neo-hookean");
+}
+
+// The forces' lanes (cell_points.hpp; the neo-Hookean Kirchhoff stress μ F Fᵀ + (λ log J − μ) I
+// from adj(A), glibc's vector log) against the plain per-point formula f_k = −Σ V₀ P Fᵀ ∇_y N_k
+// with F = Δx A⁻¹ and P, Ψ from materials.hpp, on a distorted grid. The two differ only in the
+// order of their arithmetic (and ≤ 1 ulp in log J), so they agree to round-off: P Fᵀ near F = I
+// is a difference of O(μ) parts (neo-Hookean μ F Fᵀ and (λ log J − μ) I; fixed corotated
+// 2μ (F − R) Fᵀ and λ (J − 1) J I) and a node's force a sum of terms that nearly cancel, so the
+// scale is the largest Σ V₀ |parts| |∇_y N| of a node, and 64 ε of it bounds the difference;
+// the energies to 1e-13 relative.
+template <int D>
+void check_forces_match_the_per_point_formula(MaterialModel model) {
+  test::EolSceneSpec spec;
+  spec.dim = D;
+  spec.dx = D == 2 ? 1.0 / 32 : 1.0 / 16;
+  auto sim = test::make_eol<D>(spec);
+  ASSERT_TRUE(sim);
+  auto& o = sim->objects()[0];
+  const auto& g = o.grid;
+  distort<D>(o.grid, Vec<double, D>::Constant(0.5));
+  sim->update_mass(o);
+  std::vector<ElasticMaterial<double>> mats = sim->materials();
+  mats[0].model = model;
+  std::vector<Vec<double, D>> f(g.size());
+  ElasticForces<double, D> forces;
+  forces.compute(g, mats, f, false);
+  const CellQuadrature<double, D> quad;
+  std::vector<Vec<double, D>> ref(g.size(), Vec<double, D>::Zero());
+  std::vector<double> terms(g.size(), 0.0);  // Σ V₀ |parts| |∇_y N| per node
+  double energy = 0;
+  for (std::size_t base = 0; base < g.size(); ++base) {
+    if (!is_cell_base(g, base)) continue;
+    const int m = cell_material(g, base);
+    if (m < 0) continue;
+    for (int q = 0; q < quad.points; ++q) {
+      Mat<double, D> A = Mat<double, D>::Zero();
+      double fill = 0;
+      for (int k = 0; k < quad.corners; ++k) {
+        const std::size_t i = corner_node(g, base, k);
+        A += g.X[i] * quad.dN[std::size_t(q)][std::size_t(k)].transpose();
+        fill += quad.N[std::size_t(q)][std::size_t(k)] * g.fill[i];
+      }
+      if (!(fill > 0) || !(A.determinant() > 0)) continue;
+      const double volume = A.determinant() * quad.weight * fill;
+      const Mat<double, D> F = g.dx * A.inverse();
+      double psi = 0;
+      const Mat<double, D> Pk =
+          first_piola_and_energy<double, D>(model, F, mats[std::size_t(m)].lame, psi);
+      energy += volume * psi;
+      const Lame<double>& l = mats[std::size_t(m)].lame;
+      const double J = F.determinant(), root_d = std::sqrt(double(D));
+      const double parts =
+          model == MaterialModel::neo_hookean
+              ? l.mu * F.squaredNorm() + std::abs(l.lambda * std::log(J) - l.mu) * root_d
+              : 2 * l.mu * (F.norm() + root_d) * F.norm() +
+                    std::abs(l.lambda * (J - 1) * J) * root_d;
+      for (int k = 0; k < quad.corners; ++k) {
+        const Vec<double, D> term =
+            volume * Pk * F.transpose() * quad.dN[std::size_t(q)][std::size_t(k)] / g.dx;
+        ref[corner_node(g, base, k)] -= term;
+        terms[corner_node(g, base, k)] +=
+            volume * parts * (quad.dN[std::size_t(q)][std::size_t(k)] / g.dx).norm();
+      }
+    }
+  }
+  double fmax = 0, scale = 0, worst = 0;
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    fmax = std::max(fmax, ref[i].norm());
+    scale = std::max(scale, terms[i]);
+    worst = std::max(worst, (f[i] - ref[i]).norm());
+  }
+  ASSERT_GT(fmax, 0.1);
+  constexpr double eps = std::numeric_limits<double>::epsilon();
+  std::printf(
+      "[eol forces] %dD %s: max |f - f_ref| = %.1f eps of the scale (%.1e of max |f|), "
+      "energy %.1e relative\n",
+      D, model == MaterialModel::neo_hookean ? "neo-hookean" : "fixed-corotated",
+      worst / (eps * scale), worst / fmax, std::abs(forces.energy() - energy) / energy);
+  EXPECT_LT(worst, 64 * eps * scale);
+  EXPECT_NEAR(forces.energy(), energy, 1e-13 * energy);
+}
+
+TEST(EolForces, LanesMatchThePerPointFormula) {
+  check_forces_match_the_per_point_formula<2>(MaterialModel::neo_hookean);
+  check_forces_match_the_per_point_formula<3>(MaterialModel::neo_hookean);
+  check_forces_match_the_per_point_formula<2>(MaterialModel::fixed_corotated);
+  check_forces_match_the_per_point_formula<3>(MaterialModel::fixed_corotated);
 }
 
 // Eq 15 with semi-Lagrangian multilinear interpolation: an affine X = A y + b is advected

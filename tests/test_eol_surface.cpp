@@ -6,6 +6,7 @@
 
 #include <map>
 #include <random>
+#include <utility>
 
 #include "sim/eol/surface_placement.hpp"
 #include "tests/eol_test_scenes.hpp"
@@ -252,6 +253,60 @@ TEST(EolSurface, VerticesStayOnTheObjectThroughADrop) {
   check_vertices_on_the_object<2>("eol");
   check_vertices_on_the_object<3>("eol");
   check_vertices_on_the_object<2>("eulerian");
+}
+
+// Algorithm 2 runs only at frame times (step() places the surface when a step lands on its
+// t_limit). Through the same drop (steps that never land on a frame, so nothing places the
+// surface between), one placement after the whole run, warm-started from the rest positions
+// 0.25 s back, finds every vertex where placing after every step does: both meet Algorithm 2's
+// tolerance X(p) = X_s to ε_s = 64 ε |X_s| (the drop test's bound), and the two positions agree
+// to 4 ε_s: both are within ε_s of the one root of the cell's multilinear map, so they differ by
+// at most 2 ε_s ‖(∂X/∂y)⁻¹‖, and ‖(∂X/∂y)⁻¹‖ ≤ 2 allows the impact's compression (measured
+// ≤ 1.0 ε_s, 4e-13 cells).
+template <int D>
+void check_frame_placement_matches_every_step(const std::string& method) {
+  test::EolSceneSpec spec;
+  spec.dim = D;
+  spec.method = method;
+  spec.dx = D == 2 ? 1.0 / 32 : 1.0 / 16;
+  spec.radius = 0.2;
+  spec.center = {0.5, 0.3, 0.5};
+  spec.gravity = {0, -9.8, 0};
+  spec.velocity = {0.4, -1.0, 0};
+  auto every = test::make_eol<D>(spec), framed = test::make_eol<D>(spec);
+  int steps = 0;
+  while (framed->time() < 0.25) {
+    ASSERT_FALSE(every->step(1e9, nullptr));
+    every->place_surfaces();
+    ASSERT_FALSE(framed->step(1e9, nullptr));
+    ++steps;
+  }
+  ASSERT_FALSE(framed->surfaces_placed()) << "a step that lands on no frame placed the surface";
+  framed->place_surfaces();
+  const auto& a = std::as_const(*every).objects()[0];
+  const auto& b = std::as_const(*framed).objects()[0];
+  EXPECT_EQ(a.surface_misses, 0);
+  EXPECT_EQ(b.surface_misses, 0);
+  double worst_y = 0, worst_ratio = 0, worst_X = 0;
+  for (std::size_t s = 0; s < b.surface.size(); ++s) {
+    const double dy = (a.surface_y[s] - b.surface_y[s]).norm();
+    worst_y = std::max(worst_y, dy / spec.dx);
+    worst_ratio = std::max(worst_ratio, dy / placement_tolerance<double, D>(b.surface.X[s]));
+    const Vec<double, D> X = b.grid.interpolate(b.grid.X, b.surface_y[s]);
+    worst_X = std::max(worst_X, (X - b.surface.X[s]).template lpNorm<Eigen::Infinity>());
+  }
+  std::printf(
+      "[eol surface] %dD %s: placed once after %d steps vs every step: max |dy| = %.1e cells "
+      "(%.2f of the tolerance), max|X(p) - X_s| = %.1e\n",
+      D, method.c_str(), steps, worst_y, worst_ratio, worst_X);
+  EXPECT_LT(worst_X, 64 * 2.3e-16);
+  EXPECT_LT(worst_ratio, 4.0);
+}
+
+TEST(EolSurface, PlacementAtFrameTimesMatchesEveryStep) {
+  check_frame_placement_matches_every_step<2>("eol");
+  check_frame_placement_matches_every_step<3>("eol");
+  check_frame_placement_matches_every_step<2>("eulerian");
 }
 
 }  // namespace

@@ -32,9 +32,10 @@ struct EolObject {
   std::vector<Vec<T, D>> r, x, u, force, scratch, vstar;
   ElasticForces<T, D> elastic;
   Extrapolation<T, D> extrapolation;
-  // The surface (Sec 3.8): built once in material space; Algorithm 2 places it every step at
-  // intermediate positions surface_y (world: R y + p). surface_misses: vertices not found in
-  // the last placement (kept where they were).
+  // The surface (Sec 3.8): built once in material space; Algorithm 2 places it at frame times
+  // (EolSimulation::place_surfaces) at intermediate positions surface_y (world: R y + p), each
+  // placement starting from the last one. surface_misses: vertices not found in the last
+  // placement (kept where they were).
   RestSurface<D> surface;
   std::vector<Vec<T, D>> surface_y;
   int surface_misses = 0;
@@ -44,8 +45,9 @@ struct EolObject {
     for (const auto* f : {&r, &x, &u, &force, &scratch, &vstar}) b += held_bytes(*f);
     return b;
   }
-  Vec<T, D> surface_world(std::size_t s) const { return frame.rotation() * surface_y[s] + frame.p; }
+  Vec<T, D> surface_world(std::size_t s) const { return world(surface_y[s]); }
   Vec<T, D> surface_velocity(std::size_t s) const { return grid.interpolate(u, surface_y[s]); }
+  Vec<T, D> world(const Vec<T, D>& y) const { return frame.rotation() * y + frame.p; }
 };
 
 template <class T, int D>
@@ -79,12 +81,17 @@ class EolSimulation final : public Simulation {
   void compute_forces(EolObject<T, D>& o);  // f_e + f_b + f_qvv, world axes
   double choose_dt(double t_limit, DtLimit* limit);
   void finish_step(double dt);  // impulse, planes, split, frame, advection, extrapolation
-  void place_surface(EolObject<T, D>& o);  // Algorithm 2
+  void place_surface(EolObject<T, D>& o);  // Algorithm 2, now
+  // Algorithm 2 for every object unless already placed since the last step. step() calls it
+  // when a step lands on its t_limit (a frame time); steps in between do not place the surface.
+  void place_surfaces();
+  bool surfaces_placed() const { return surfaces_placed_; }
 
   bool lagrangian() const { return lagrangian_; }
   // Mutable access: the state may change, so the forces computed ahead are recomputed.
   std::vector<EolObject<T, D>>& objects() {
     forces_ready_ = false;
+    surfaces_placed_ = false;
     return objects_;
   }
   const std::vector<EolObject<T, D>>& objects() const { return objects_; }
@@ -96,7 +103,7 @@ class EolSimulation final : public Simulation {
   // The blow-up check's energy scale, again from the current state (tests that set a state).
   void reset_energy_reference() { energy_ref_ = energy_reference(); }
   // Time spent in each phase (seconds, summed over steps): forces, split (with the Δt choice's
-  // projections), everything else (advection, extrapolation, mass).
+  // projections), everything else (advection, extrapolation, mass), and the surface placements.
   struct StageSeconds {
     double forces = 0, assembly = 0, split = 0, advection = 0, surface = 0;
   };
@@ -109,6 +116,7 @@ class EolSimulation final : public Simulation {
   void update_mass(EolObject<T, D>& o, bool after_extrapolation);
   void update_spatial(EolObject<T, D>& o) const;
   void forces(EolObject<T, D>& o);
+  std::vector<Vec<T, D>> placed_surface(const EolObject<T, D>& o) const;
   bool parallel() const { return parallel_; }
 
   SceneDesc scene_;
@@ -116,6 +124,9 @@ class EolSimulation final : public Simulation {
   // step() computed the forces (and their Ψ) for the current state at its end: the next step
   // and measure() use them. Cleared by every public way to change the state.
   bool forces_ready_ = false;
+  // Every surface_y is Algorithm 2's placement for the current state (set by place_surfaces,
+  // cleared by a step and by mutable access). snapshot() places a copy when it is not.
+  bool surfaces_placed_ = true;
   std::vector<EolObject<T, D>> objects_;
   std::vector<ElasticMaterial<T>> materials_;
   std::vector<T> density_;  // ρ₀ per material

@@ -299,16 +299,15 @@ void EolSimulation<T, D>::finish_step(double dt_in) {
     stages_.split += detail::seconds_since(start);
     start = std::chrono::steady_clock::now();
     // Eq 15 for X (Algorithm 1 step 4) and v (step 2), both by v*.
-    advect(o.grid, o.vstar, dt, o.grid.X, o.scratch, parallel_);
+    advect_pair(o.grid, o.vstar, dt, o.grid.X, o.scratch, o.vstar, o.grid.v, parallel_);
     std::swap(o.grid.X, o.scratch);
-    advect(o.grid, o.vstar, dt, o.vstar, o.grid.v, parallel_);
     update_mass(o, false);
     o.extrapolation.apply(o.grid);
     update_mass(o, true);
     update_spatial(o);
     stages_.advection += detail::seconds_since(start);
-    place_surface(o);
   }
+  surfaces_placed_ = false;
   time_ += dt_in;
   ++steps_;
 }
@@ -318,6 +317,20 @@ void EolSimulation<T, D>::place_surface(EolObject<T, D>& o) {
   const auto start = std::chrono::steady_clock::now();
   o.surface_misses = eol::place_surface(o.grid, o.surface.X, o.surface_y, parallel_);
   stages_.surface += detail::seconds_since(start);
+}
+
+template <class T, int D>
+void EolSimulation<T, D>::place_surfaces() {
+  if (surfaces_placed_) return;
+  for (auto& o : objects_) place_surface(o);
+  surfaces_placed_ = true;
+}
+
+template <class T, int D>
+std::vector<Vec<T, D>> EolSimulation<T, D>::placed_surface(const EolObject<T, D>& o) const {
+  std::vector<Vec<T, D>> y = o.surface_y;
+  if (!surfaces_placed_) eol::place_surface(o.grid, o.surface.X, y, parallel_);
+  return y;
 }
 
 template <class T, int D>
@@ -340,6 +353,7 @@ std::optional<Failure> EolSimulation<T, D>::step(double t_limit, DiagnosticsRow*
   for (auto& o : objects_) forces(o);
   forces_ready_ = true;
   if (t_limit - time_ < 1e-12 * std::max(1.0, std::abs(t_limit))) time_ = t_limit;
+  if (time_ == t_limit) place_surfaces();  // a frame time: the surface is drawn or recorded
   DiagnosticsRow r = measure();
   r.dt = dt;
   r.dt_limit = dt_limit_name(last_limit_);

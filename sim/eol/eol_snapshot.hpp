@@ -2,7 +2,8 @@
 // material as a dot at its world position with its spatial velocity (the renderer's particle
 // path, so colours, vectors and auto-scaling work unchanged), and each object's grid as a
 // GridLayer in its frame with the node fields mass, speed and det(∇X) (empty nodes NaN), and
-// its surface as placed by Algorithm 2 (Sec 3.8) with the interpolated spatial velocity.
+// its surface as placed by Algorithm 2 (Sec 3.8) with the interpolated spatial velocity (placed
+// here, on a copy, when the last step did not land on a frame time).
 #pragma once
 #include <limits>
 
@@ -55,8 +56,9 @@ std::shared_ptr<Snapshot> EolSimulation<T, D>::snapshot() const {
     layer.fields = {std::move(mass), std::move(speed), std::move(det)};
     SurfaceLayer surface;
     surface.name = layer.name;
+    const std::vector<Vec<T, D>> placed = placed_surface(o);
     for (std::size_t v = 0; v < o.surface.size(); ++v) {
-      const Vec<T, D> x = o.surface_world(v), u = o.surface_velocity(v);
+      const Vec<T, D> x = o.world(placed[v]), u = g.interpolate(o.u, placed[v]);
       for (int a = 0; a < D; ++a) {
         surface.positions.push_back(float(x[a]));
         surface.velocities.push_back(float(u[a]));

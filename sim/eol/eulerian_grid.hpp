@@ -92,24 +92,38 @@ struct EulerianGrid {
       t[a] = u - T(c[a]);
     }
   }
+  // The multilinear weights at y and the nodes they weigh (corner c: bit a of c = +1 along a).
+  struct CellWeights {
+    std::array<std::size_t, 1 << D> index;
+    std::array<T, 1 << D> weight;
+  };
+  CellWeights cell_weights(const Vec<T, D>& at) const {
+    std::array<int, D> c;
+    std::array<T, D> t;
+    cell_at(at, c, t);
+    CellWeights out;
+    const std::size_t base = index(c);
+    for (int corner = 0; corner < (1 << D); ++corner) {
+      T w = T(1);
+      std::size_t k = base;
+      for (int a = 0; a < D; ++a) {
+        const bool up = corner & (1 << a);
+        w *= up ? t[a] : T(1) - t[a];
+        if (up) k += stride(a);
+      }
+      out.index[std::size_t(corner)] = k;
+      out.weight[std::size_t(corner)] = w;
+    }
+    return out;
+  }
   // Multilinear interpolation of f at y. Outside the grid the nearest cell's multilinear form
   // is extended (its weights still reproduce affine fields), so an affine f is exact anywhere.
   template <class V>
   V interpolate(const std::vector<V>& f, const Vec<T, D>& at) const {
-    std::array<int, D> c;
-    std::array<T, D> t;
-    cell_at(at, c, t);
+    const CellWeights cw = cell_weights(at);
     V out = f[0] * T(0);
-    for (int corner = 0; corner < (1 << D); ++corner) {
-      T w = T(1);
-      std::array<int, D> k = c;
-      for (int a = 0; a < D; ++a) {
-        const bool up = corner & (1 << a);
-        w *= up ? t[a] : T(1) - t[a];
-        k[a] += up;
-      }
-      out += w * f[index(k)];
-    }
+    for (int corner = 0; corner < (1 << D); ++corner)
+      out += cw.weight[std::size_t(corner)] * f[cw.index[std::size_t(corner)]];
     return out;
   }
   // The same multilinear interpolant of a vector field and its Jacobian ∂f/∂y there (column

@@ -9,10 +9,12 @@
 // the exact gradient of E = Σ V₀ Ψ(F) with respect to the node positions (tested against
 // finite differences of elastic_energy_moved).
 #pragma once
+#include <algorithm>
 #include <array>
 #include <type_traits>
 #include <vector>
 
+#include "sim/eol/cell_points.hpp"
 #include "sim/eol/eulerian_grid.hpp"
 #include "sim/eol/frame.hpp"
 #include "sim/materials.hpp"
@@ -23,32 +25,6 @@ template <class T>
 struct ElasticMaterial {
   MaterialModel model;
   Lame<T> lame;
-};
-
-// The 2^d Gauss points of the unit cell: ξ_a = ½ ± ½/√3, weight 2^-d.
-template <class T, int D>
-struct CellQuadrature {
-  static constexpr int points = 1 << D, corners = 1 << D;
-  std::array<std::array<T, corners>, points> N;           // N_k(ξ_q)
-  std::array<std::array<Vec<T, D>, corners>, points> dN;  // ∇_ξ N_k(ξ_q)
-  T weight = T(1) / T(points);
-  CellQuadrature() {
-    const T g = T(0.5) / std::sqrt(T(3));
-    for (int q = 0; q < points; ++q)
-      for (int k = 0; k < corners; ++k) {
-        T value = T(1);
-        Vec<T, D> grad = Vec<T, D>::Ones();
-        for (int a = 0; a < D; ++a) {
-          const T xi = q & (1 << a) ? T(0.5) + g : T(0.5) - g;
-          const bool up = k & (1 << a);
-          const T factor = up ? xi : T(1) - xi, slope = up ? T(1) : T(-1);
-          value *= factor;
-          for (int b = 0; b < D; ++b) grad[b] *= b == a ? slope : factor;
-        }
-        N[std::size_t(q)][std::size_t(k)] = value;
-        dN[std::size_t(q)][std::size_t(k)] = grad;
-      }
-  }
 };
 
 // Node index of corner k of the cell whose lowest node is `base`.
@@ -132,21 +108,31 @@ void stress_and_energy(const ElasticMaterial<T>& mat, const Mat<T, D>& F, Mat<T,
   psi = energy_density<T, D>(mat.model, F, mat.lame);
 }
 
-// Per cell and Gauss point, the force density V₀ P Fᵀ (zero where the cell is empty or
-// inverted), then f_k = −Σ V₀ P Fᵀ ∇_y N_k gathered per node. Forces in frame axes.
+// Per cell, the force density τ = V₀ P Fᵀ at its Gauss points (zero where the cell is empty or
+// inverted) and the cell's share of each corner's force, f_k = −Σ_q τ_q ∇_y N_k(ξ_q), added to
+// its corner nodes right away. Cells go layer by layer along the last axis, the even layers
+// first, then the odd ones (two layers of one parity share no node), each layer on one thread,
+// so threads never write the same node and every node sums its cells in one order: the same
+// result for any thread count.
+// Forces in frame axes. The points of a cell are SIMD lanes (cell_points.hpp); for the
+// neo-Hookean model the Kirchhoff stress is written directly, P Fᵀ = μ F Fᵀ + (λ log J − μ) I
+// (F⁻ᵀ Fᵀ = I), with F = Δx adj(A)/det A and J = Δx^d/det A, so no inverse or cofactor of F is
+// formed.
 template <class T, int D>
 class ElasticForces {
+  static constexpr int P = 1 << D;  // Gauss points = corners per cell
+
  public:
   std::size_t bytes() const {
-    return held_bytes(cells_) + held_bytes(cell_of_) + held_bytes(tau_) + held_bytes(point_mass_) +
-           held_bytes(cell_energy_) + held_bytes(mass_active_) + held_bytes(force_active_);
+    return held_bytes(cells_) + held_bytes(layer_start_) + held_bytes(corner_mass_) +
+           held_bytes(cell_energy_) + held_bytes(mass_active_) + held_bytes(kept_);
   }
   // The lumped node masses of the same quadrature (eq 6 with J̄ = det ∇X): each Gauss point's
   // ρ₀ V₀ shared by N_k. Mass and force come from the same points, so a node at the surface
   // gets as little force as it has mass (a node mass from its own fill alone would leave
   // nearly empty nodes with large accelerations and break the explicit step).
   // keep (optional, may alias mass: read before mass is written): cells whose corners all have
-  // keep > 0 keep their point masses from the previous call, as their X and H are unchanged
+  // keep > 0 keep their corner masses from the previous call, as their X and H are unchanged
   // (the second pass of a step, after extrapolation wrote only the empty nodes).
   void lumped_mass(const EulerianGrid<T, D>& g, const std::vector<T>& density, std::vector<T>& mass,
                    bool parallel, const std::vector<T>* keep = nullptr) {
@@ -154,86 +140,84 @@ class ElasticForces {
     const std::ptrdiff_t ncell = std::ptrdiff_t(cells_.size());
 #pragma omp parallel for if (parallel)
     for (std::ptrdiff_t c = 0; c < ncell; ++c) {
-      const std::size_t base = cells_[std::size_t(c)];
-      if (keep) {
-        bool kept = true;
-        for (int k = 0; k < quad_.corners && kept; ++k)
-          kept = (*keep)[base + offset_[std::size_t(k)]] > T(0);
-        if (kept) continue;
-      }
-      const int m = material_of(g, base);
-      mass_active_[std::size_t(c)] = m >= 0;
-      if (m < 0) continue;  // empty cell: skipped by the gather, no point masses written
-      Corners corners;
-      load(g, base, corners);
-      for (int q = 0; q < quad_.points; ++q) {
-        Mat<T, D> A;
-        T fill;
-        at_point(corners, q, A, fill);
-        const T detA = A.determinant();
-        point_mass_[std::size_t(c) * quad_.points + std::size_t(q)] =
-            fill > T(0) && detA > T(0) ? density[std::size_t(m)] * detA * quad_.weight * fill
-                                       : T(0);
-      }
+      bool kept = keep != nullptr;
+      for (int k = 0; k < P && kept; ++k)
+        kept = (*keep)[cells_[std::size_t(c)] + offset_[std::size_t(k)]] > T(0);
+      kept_[std::size_t(c)] = kept;
     }
-    gather(
-        g, mass_active_,
-        [&](std::size_t cell, int k) {
-          T sum = T(0);
-          for (int q = 0; q < quad_.points; ++q)
-            sum += quad_.N[std::size_t(q)][std::size_t(k)] *
-                   point_mass_[cell * quad_.points + std::size_t(q)];
-          return sum;
-        },
-        mass, parallel);
+    std::fill(mass.begin(), mass.end(), T(0));
+    for_each_cell_by_layer(parallel, [&](std::size_t c) {
+      const std::size_t base = cells_[c];
+      T* corner = &corner_mass_[c * P];  // Σ_q N_k(ξ_q) m_q, lanes k
+      if (!kept_[c]) {
+        const int m = material_of(g, base);
+        mass_active_[c] = m >= 0;
+        if (m < 0) return;  // empty cell: no corner masses
+        CellPoints<T, D> pts;
+        evaluate(g, base, pts);
+        const T rho_w = density[std::size_t(m)] * quad_.weight;
+        alignas(64) T point_mass[P];
+#pragma omp simd
+        for (int q = 0; q < P; ++q)
+          point_mass[q] =
+              pts.fill[q] > T(0) && pts.det[q] > T(0) ? rho_w * pts.det[q] * pts.fill[q] : T(0);
+#pragma omp simd
+        for (int k = 0; k < P; ++k) corner[k] = T(0);
+        for (int q = 0; q < P; ++q) {
+          const T mq = point_mass[q];
+#pragma omp simd
+          for (int k = 0; k < P; ++k) corner[k] += quad_.N_lanes_k[q][k] * mq;
+        }
+      } else if (!mass_active_[c]) {
+        return;
+      }
+      for (int k = 0; k < P; ++k) mass[base + offset_[std::size_t(k)]] += corner[k];
+    });
   }
 
   void compute(const EulerianGrid<T, D>& g, const std::vector<ElasticMaterial<T>>& materials,
                std::vector<Vec<T, D>>& force, bool parallel) {
     ensure_cells(g);
-    const std::ptrdiff_t ncell = std::ptrdiff_t(cells_.size());
-    const T inv_dx = T(1) / g.dx;
-#pragma omp parallel for if (parallel)
-    for (std::ptrdiff_t c = 0; c < ncell; ++c) {
-      const std::size_t base = cells_[std::size_t(c)];
+    std::fill(force.begin(), force.end(), Vec<T, D>::Zero());
+    for_each_cell_by_layer(parallel, [&](std::size_t c) {
+      const std::size_t base = cells_[c];
       const int m = material_of(g, base);
-      force_active_[std::size_t(c)] = m >= 0;
-      cell_energy_[std::size_t(c)] = 0;
-      if (m < 0) continue;
-      Corners corners;
-      load(g, base, corners);
-      double energy = 0;
-      for (int q = 0; q < quad_.points; ++q) {
-        Mat<T, D>& tau = tau_[std::size_t(c) * quad_.points + std::size_t(q)];
-        tau.setZero();
-        Mat<T, D> A;
-        T fill;
-        at_point(corners, q, A, fill);
-        const T detA = A.determinant();
-        if (!(fill > T(0)) || !(detA > T(0))) continue;
-        const Mat<T, D> F = g.dx * A.inverse();
-        Mat<T, D> P;
-        T psi;
-        stress_and_energy<T, D>(materials[std::size_t(m)], F, P, psi);
-        tau = (detA * quad_.weight * fill) * P * F.transpose();
-        // Ψ at the same point for the diagnostics: elastic_energy_moved's sum, F there being
-        // (∂y/∂ξ) A⁻¹ with ∂y/∂ξ = Δx I up to round-off.
-        energy += double(detA * quad_.weight * fill) * double(psi);
+      cell_energy_[c] = 0;
+      if (m < 0) return;
+      CellPoints<T, D> pts;
+      evaluate(g, base, pts);
+      alignas(64) T tau[D][D][P], vpsi[P], f[D][P];
+      const ElasticMaterial<T>& mat = materials[std::size_t(m)];
+      if (mat.model == MaterialModel::neo_hookean)
+        neo_hookean_tau(g.dx, mat.lame, pts, tau, vpsi);
+      else
+        general_tau(g.dx, mat, pts, tau, vpsi);
+      const T inv_dx = T(1) / g.dx;
+      for (int a = 0; a < D; ++a) {  // f_k = −Σ_q τ_q ∇_y N_k(ξ_q), lanes k
+#pragma omp simd
+        for (int k = 0; k < P; ++k) f[a][k] = T(0);
+        for (int q = 0; q < P; ++q)
+          for (int b = 0; b < D; ++b) {
+            const T t = tau[a][b][q];
+#pragma omp simd
+            for (int k = 0; k < P; ++k) f[a][k] -= t * quad_.dN_lanes_k[q][b][k];
+          }
+#pragma omp simd
+        for (int k = 0; k < P; ++k) f[a][k] *= inv_dx;
       }
-      cell_energy_[std::size_t(c)] = energy;
-    }
-    gather(
-        g, force_active_,
-        [&](std::size_t cell, int k) {
-          Vec<T, D> f = Vec<T, D>::Zero();
-          for (int q = 0; q < quad_.points; ++q)
-            f -= tau_[cell * quad_.points + std::size_t(q)] *
-                 (quad_.dN[std::size_t(q)][std::size_t(k)] * inv_dx);
-          return f;
-        },
-        force, parallel);
+      for (int k = 0; k < P; ++k) {
+        Vec<T, D>& node = force[base + offset_[std::size_t(k)]];
+        for (int a = 0; a < D; ++a) node[a] += f[a][k];
+      }
+      // Ψ at the same points for the diagnostics: elastic_energy_moved's sum, F there being
+      // (∂y/∂ξ) A⁻¹ with ∂y/∂ξ = Δx I up to round-off.
+      double energy = 0;
+      for (int q = 0; q < P; ++q) energy += double(vpsi[q]);
+      cell_energy_[c] = energy;
+    });
   }
-  // E = Σ V₀ Ψ(F) of the last compute(), summed in cell order (the same for any thread count).
+  // E = Σ V₀ Ψ(F) of the last compute(), summed in the cells' order (index order; the same
+  // for any thread count).
   double energy() const {
     double e = 0;
     for (double x : cell_energy_) e += x;
@@ -241,93 +225,144 @@ class ElasticForces {
   }
 
  private:
-  struct Corners {
-    std::array<Vec<T, D>, 1 << D> X;
-    std::array<T, 1 << D> fill;
-  };
-  void load(const EulerianGrid<T, D>& g, std::size_t base, Corners& out) const {
-    for (int k = 0; k < quad_.corners; ++k) {
-      out.X[std::size_t(k)] = g.X[base + offset_[std::size_t(k)]];
-      out.fill[std::size_t(k)] = g.fill[base + offset_[std::size_t(k)]];
+  // The cell's corners into lanes, then A, det A and H at its points.
+  void evaluate(const EulerianGrid<T, D>& g, std::size_t base, CellPoints<T, D>& pts) const {
+    alignas(64) T X[D][P], H[P];
+    for (int k = 0; k < P; ++k) {
+      const std::size_t i = base + offset_[std::size_t(k)];
+      for (int a = 0; a < D; ++a) X[a][k] = g.X[i][a];
+      H[k] = g.fill[i];
+    }
+    pts.evaluate(quad_, X, H);
+  }
+  // τ = V₀ (μ (F Fᵀ − I) + λ log J I) and V₀ Ψ = V₀ (½ μ (tr F Fᵀ − d) − μ log J + ½ λ log² J)
+  // per lane; V₀ = 0 (and det A taken as 1, to keep the lane finite) where the point is empty
+  // or inverted.
+  void neo_hookean_tau(T dx, const Lame<T>& l, const CellPoints<T, D>& pts, T (&tau)[D][D][P],
+                       T (&vpsi)[P]) const {
+    alignas(64) T volume[P], J[P], logJ[P], b[D][D][P];
+    const T dx_d = D == 2 ? dx * dx : dx * dx * dx;
+#pragma omp simd
+    for (int q = 0; q < P; ++q) {
+      const bool valid = pts.fill[q] > T(0) && pts.det[q] > T(0);
+      const T det = valid ? pts.det[q] : T(1);
+      volume[q] = valid ? det * quad_.weight * pts.fill[q] : T(0);
+      J[q] = dx_d / det;
+      const T s = dx / det;  // F = s adj(A)
+      T F[D][D];
+      if constexpr (D == 2) {
+        F[0][0] = s * pts.A[1][1][q];
+        F[0][1] = -s * pts.A[0][1][q];
+        F[1][0] = -s * pts.A[1][0][q];
+        F[1][1] = s * pts.A[0][0][q];
+      } else {
+        const auto& A = pts.A;
+        F[0][0] = s * (A[1][1][q] * A[2][2][q] - A[1][2][q] * A[2][1][q]);
+        F[0][1] = s * (A[0][2][q] * A[2][1][q] - A[0][1][q] * A[2][2][q]);
+        F[0][2] = s * (A[0][1][q] * A[1][2][q] - A[0][2][q] * A[1][1][q]);
+        F[1][0] = s * (A[1][2][q] * A[2][0][q] - A[1][0][q] * A[2][2][q]);
+        F[1][1] = s * (A[0][0][q] * A[2][2][q] - A[0][2][q] * A[2][0][q]);
+        F[1][2] = s * (A[0][2][q] * A[1][0][q] - A[0][0][q] * A[1][2][q]);
+        F[2][0] = s * (A[1][0][q] * A[2][1][q] - A[1][1][q] * A[2][0][q]);
+        F[2][1] = s * (A[0][1][q] * A[2][0][q] - A[0][0][q] * A[2][1][q]);
+        F[2][2] = s * (A[0][0][q] * A[1][1][q] - A[0][1][q] * A[1][0][q]);
+      }
+      for (int r = 0; r < D; ++r)
+        for (int c = r; c < D; ++c) {
+          T sum = T(0);
+          for (int k = 0; k < D; ++k) sum += F[r][k] * F[c][k];
+          b[r][c][q] = b[c][r][q] = sum;
+        }
+    }
+#pragma omp simd
+    for (int q = 0; q < P; ++q) logJ[q] = std::log(J[q]);
+#pragma omp simd
+    for (int q = 0; q < P; ++q) {
+      const T pressure = l.lambda * logJ[q] - l.mu;
+      T trace = T(0);
+      for (int r = 0; r < D; ++r) {
+        trace += b[r][r][q];
+        for (int c = 0; c < D; ++c)
+          tau[r][c][q] = volume[q] * (l.mu * b[r][c][q] + (r == c ? pressure : T(0)));
+      }
+      vpsi[q] = volume[q] * (T(0.5) * l.mu * (trace - T(D)) - l.mu * logJ[q] +
+                             T(0.5) * l.lambda * logJ[q] * logJ[q]);
     }
   }
-  // A = ∂X/∂ξ and the interpolated fill at Gauss point q (summed in corner order).
-  void at_point(const Corners& cr, int q, Mat<T, D>& A, T& fill) const {
-    A.setZero();
-    fill = T(0);
-    for (int k = 0; k < quad_.corners; ++k) {
-      A += cr.X[std::size_t(k)] * quad_.dN[std::size_t(q)][std::size_t(k)].transpose();
-      fill += quad_.N[std::size_t(q)][std::size_t(k)] * cr.fill[std::size_t(k)];
+  // Any model, one point at a time: F = Δx A⁻¹, P and Ψ from materials.hpp, τ = V₀ P Fᵀ.
+  void general_tau(T dx, const ElasticMaterial<T>& mat, const CellPoints<T, D>& pts,
+                   T (&tau)[D][D][P], T (&vpsi)[P]) const {
+    for (int q = 0; q < P; ++q) {
+      Mat<T, D> t = Mat<T, D>::Zero();
+      vpsi[q] = T(0);
+      if (pts.fill[q] > T(0) && pts.det[q] > T(0)) {
+        const Mat<T, D> F = dx * pts.matrix(q).inverse();
+        Mat<T, D> Pk;
+        T psi;
+        stress_and_energy<T, D>(mat, F, Pk, psi);
+        const T volume = pts.det[q] * quad_.weight * pts.fill[q];
+        t = volume * Pk * F.transpose();
+        vpsi[q] = volume * psi;
+      }
+      for (int r = 0; r < D; ++r)
+        for (int c = 0; c < D; ++c) tau[r][c][q] = t(r, c);
     }
   }
   // cell_material with the corner offsets.
   int material_of(const EulerianGrid<T, D>& g, std::size_t base) const {
-    for (int k = 0; k < quad_.corners; ++k) {
+    for (int k = 0; k < P; ++k) {
       const int m = g.material[base + offset_[std::size_t(k)]];
       if (m >= 0) return m;
     }
     return -1;
   }
-  // Whether the cell list was (re)built.
+  // Whether the cell list was (re)built: every cell's lowest node in index order, so each layer
+  // of cells (one coordinate of the last axis) is a contiguous range.
   bool ensure_cells(const EulerianGrid<T, D>& g) {
     if (!cells_.empty() && grid_nodes_ == g.size()) return false;
     cells_.clear();
-    for (std::size_t i = 0; i < g.size(); ++i)
-      if (is_cell_base(g, i)) cells_.push_back(i);
+    layer_start_.clear();
+    for (std::size_t i = 0; i < g.size(); ++i) {
+      if (!is_cell_base(g, i)) continue;
+      if (g.coords(i)[D - 1] == int(layer_start_.size())) layer_start_.push_back(cells_.size());
+      cells_.push_back(i);
+    }
+    layer_start_.push_back(cells_.size());
     grid_nodes_ = g.size();
-    for (int k = 0; k < quad_.corners; ++k) offset_[std::size_t(k)] = corner_node(g, 0, k);
-    tau_.assign(cells_.size() * quad_.points, Mat<T, D>::Zero());
-    point_mass_.assign(cells_.size() * quad_.points, T(0));
+    for (int k = 0; k < P; ++k) offset_[std::size_t(k)] = corner_node(g, 0, k);
+    corner_mass_.assign(cells_.size() * P, T(0));
     cell_energy_.assign(cells_.size(), 0.0);
     mass_active_.assign(cells_.size(), 0);
-    force_active_.assign(cells_.size(), 0);
-    cell_of_.assign(g.size(), -1);
-    for (std::size_t c = 0; c < cells_.size(); ++c) cell_of_[cells_[c]] = std::ptrdiff_t(c);
+    kept_.assign(cells_.size(), 0);
     return true;
   }
-  // out[i] = Σ over the active cells around node i of part(cell, k), node i being the cell's
-  // corner k.
-  template <class V, class Part>
-  void gather(const EulerianGrid<T, D>& g, const std::vector<char>& active, Part&& part,
-              std::vector<V>& out, bool parallel) {
-    const std::ptrdiff_t nnode = std::ptrdiff_t(g.size());
-#pragma omp parallel for if (parallel)
-    for (std::ptrdiff_t ii = 0; ii < nnode; ++ii) {
-      const std::size_t i = std::size_t(ii);
-      const auto c = g.coords(i);
-      V sum;
-      if constexpr (std::is_arithmetic_v<V>)
-        sum = V(0);
-      else
-        sum.setZero();
-      for (int k = 0; k < quad_.corners; ++k) {
-        bool valid = true;
-        std::size_t base = i;
-        for (int a = 0; a < D; ++a)
-          if (k & (1 << a)) {
-            if (c[a] == 0)
-              valid = false;
-            else
-              base -= g.stride(a);
-          }
-        if (!valid || cell_of_[base] < 0 || !active[std::size_t(cell_of_[base])]) continue;
-        sum += part(std::size_t(cell_of_[base]), k);
-      }
-      out[i] = sum;
+  // fn(c) for every cell: the even layers, then (after the `omp for` barrier) the odd ones. Two
+  // layers of one parity share no node, so threads never write the same node; each layer runs
+  // on one thread in index order, so every node sums its cells in the same order for any
+  // thread count. Two barriers a pass (2^d cell colours would need 2^d).
+  template <class Fn>
+  void for_each_cell_by_layer(bool parallel, Fn&& fn) const {
+    const std::ptrdiff_t layers = std::ptrdiff_t(layer_start_.size()) - 1;
+#pragma omp parallel if (parallel)
+    for (int colour = 0; colour < 2; ++colour) {
+#pragma omp for schedule(static)
+      for (std::ptrdiff_t layer = colour; layer < layers; layer += 2)
+        for (std::size_t c = layer_start_[std::size_t(layer)];
+             c < layer_start_[std::size_t(layer) + 1]; ++c)
+          fn(c);
     }
   }
 
   CellQuadrature<T, D> quad_;
-  std::array<std::size_t, 1 << D> offset_{};  // node index of corner k minus the base's
-  std::vector<std::size_t> cells_;
-  std::vector<std::ptrdiff_t> cell_of_;
-  std::vector<Mat<T, D>> tau_;
-  std::vector<T> point_mass_;
+  std::array<std::size_t, P> offset_{};   // node index of corner k minus the base's
+  std::vector<std::size_t> cells_;        // lowest node of each cell, in index order
+  std::vector<std::size_t> layer_start_;  // layer z: cells_[layer_start_[z], layer_start_[z + 1])
+  std::vector<T> corner_mass_;            // per cell: [corner]
   std::vector<double> cell_energy_;
-  std::vector<char> mass_active_, force_active_;  // per cell: holds material
+  std::vector<char> mass_active_;  // per cell: holds material (as of its last mass evaluation)
+  std::vector<char> kept_;         // per cell: keeps its corner masses in this lumped_mass
   std::size_t grid_nodes_ = 0;
 };
-
 // f_qvv of eq 12 for a node of mass m at world offset r with Eulerian velocity w = R v (world
 // axes): the centrifugal −m ω × (ω × r) and Coriolis −2m ω × w forces. Advancing the frame
 // carries the rigid velocity ν + ω × r of every node with it; these forces take that back out of
