@@ -8,10 +8,12 @@
 // and m_i Δv_i = Δt (f_i(y) + m_i g) is the stationarity condition of
 //   E(Δv) = Σ ½ m_i |Δv_i|² − Δt Σ m_i g·Δv_i + Φ(y(Δv)) / b        (Sec 4.1 scaled by 1/b)
 // whose Hessian is M + b Δt² K, K = ∂²Φ/∂y². Newton with a backtracking line search on E
-// (Gast et al. 2015); each Newton system is solved by conjugate gradients on M⁻¹H in the
-// mass inner product (Algorithm 1), so every CG vector is velocity-like and linear momentum
-// is conserved however early CG stops (Sec 4.2). The Newton-CG loop itself is generic
-// (sim/newton_cg.hpp); its state lives in ImplicitSolveState (sim/implicit_state.hpp).
+// (Gast et al. 2015); each Newton system is solved by preconditioned conjugate gradients:
+// solver.preconditioner mass is CG on M⁻¹H in the mass inner product (Algorithm 1, Sec 4.2:
+// every CG vector velocity-like, Σ m v kept however early CG stops when no external force
+// acts), block-jacobi inverts H's node blocks and deflates the uniform velocities (Σ m v kept
+// with gravity too). The Newton-CG loop itself is generic (sim/newton_cg.hpp); its state lives
+// in ImplicitSolveState (sim/implicit_state.hpp).
 #pragma once
 #include <Eigen/Eigenvalues>
 
