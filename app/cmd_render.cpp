@@ -87,8 +87,8 @@ int render(const RenderOptions& o) {
   run_frame_loop(times, panes, on_row, [&](int f) {
     if (!o.run.dump.empty()) {
       if (!sim->transfers() && formats_need_particles(dump_formats_of(o.run)))
-        throw UsageError("--dump: solver method '" + scene.solver.method +
-                         "' has no particles (--dump-format vtk writes its grids)");
+        throw UsageError("--dump: solver method '" + scene.solver.method + "' " +
+                         dump_without_particles);
       dump.write(*sim, f);
       dump_times.add(f, sim->time(), {sim->steps()});
     }
@@ -130,8 +130,8 @@ int compare(const RenderOptions& o) {
   const std::vector<DumpFormat> formats = dump_formats_of(o.run);
   for (const PaneSpec& spec : specs)  // before any output: only MPM panes have particles
     if (!o.run.dump.empty() && spec.method != "mpm" && formats_need_particles(formats))
-      throw UsageError("--dump: solver method '" + spec.method + "' has no particles (pane '" +
-                       spec.key + "'; --dump-format vtk writes its grids)");
+      throw UsageError("--dump: solver method '" + spec.method + "' (pane '" + spec.key + "') " +
+                       dump_without_particles);
   if (!o.run.csv.empty())
     throw UsageError("compare writes one CSV per scheme into --out; drop --csv");
   RenderSession session(o);  // refuses a pane that cannot run with the scene, before any output
@@ -159,8 +159,8 @@ int compare(const RenderOptions& o) {
     write_diagnostics_row(p.csv, first);
     if (!o.run.dump.empty()) {
       if (!p.sim->transfers() && formats_need_particles(formats))
-        throw UsageError("--dump: solver method '" + spec.method + "' has no particles (pane '" +
-                         spec.key + "'; --dump-format vtk writes its grids)");
+        throw UsageError("--dump: solver method '" + spec.method + "' (pane '" + spec.key + "') " +
+                         dump_without_particles);
       const std::string dir = o.run.dump + "/" + spec.key;
       ensure_writable_dir(dir);
       p.dump = std::make_unique<ParticleDump>(dir, formats);

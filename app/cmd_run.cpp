@@ -41,8 +41,8 @@ int run(const RunCommandOptions& command) {
   if (!command.summary.empty()) ensure_writable_file(command.summary);
   auto sim = make_simulation(scene, precision_of(o));
   if (!o.dump.empty() && !sim->transfers() && formats_need_particles(formats))
-    throw UsageError("--dump: solver method '" + scene.solver.method +
-                     "' has no particles (--dump-format vtk writes its grids)");
+    throw UsageError("--dump: solver method '" + scene.solver.method + "' " +
+                     dump_without_particles);
   if (!o.dump.empty()) ensure_writable_dir(o.dump);
   ParticleDump dump(o.dump, formats);
   std::ofstream out(csv);
@@ -131,8 +131,10 @@ int run(const RunCommandOptions& command) {
   if (!o.dump.empty()) {
     std::string ext;
     for (DumpFormat f : formats) ext += (ext.empty() ? "" : ",") + std::string(extension_of(f));
-    s << "\ndumps: " << o.dump << "/frame_0000." << (formats.size() > 1 ? "{" + ext + "}" : ext)
-      << " ... (real frame times in " << o.dump << "/frames.csv";
+    // Without particles (EoL) the files are the surfaces (and, with VTK, the grids).
+    s << "\ndumps: " << o.dump << (sim->transfers() ? "/frame_0000." : "/frame_0000_surface0.")
+      << (formats.size() > 1 ? "{" + ext + "}" : ext) << " ... (real frame times in " << o.dump
+      << "/frames.csv";
     if (o.dump_format.find("vtk") != std::string::npos)
       s << "; ParaView opens " << o.dump << "/series.pvd";
     s << ")";

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -271,11 +272,109 @@ void write_vti(const std::string& path, const GridLayer& g, bool zlib) {
   write_vtk_file(path, xml.str(), data);
 }
 
+// A surface's vertex a-th coordinate of a dim-float array as 3 components (2D: z = 0).
+float component3(const std::vector<float>& values, std::size_t v, int a, int dim) {
+  return a < dim ? values[v * std::size_t(dim) + std::size_t(a)] : 0.0f;
+}
+
+void write_surface_vtp(const std::string& path, const SurfaceLayer& s, int dim, bool zlib) {
+  std::ostringstream xml;
+  std::string data, raw;
+  const std::size_t n = s.positions.size() / std::size_t(dim);
+  const std::size_t cells = s.elements.size() / std::size_t(dim);
+  const char* cell_kind = dim == 2 ? "Lines" : "Polys";
+  auto array = [&](const char* type, const char* name, int components) {
+    xml << "      <DataArray type=\"" << type << "\"" << (*name ? " Name=\"" : "") << name
+        << (*name ? "\"" : "") << " NumberOfComponents=\"" << components
+        << "\" format=\"appended\" offset=\"" << data.size() << "\"/>\n";
+    append_vtk_array(data, raw, zlib);
+    raw.clear();
+  };
+  xml << "<?xml version=\"1.0\"?>\n"
+      << vtk_file_tag("PolyData", zlib) << "  <PolyData>\n"
+      << "    <Piece NumberOfPoints=\"" << n << "\" NumberOfVerts=\"0\" NumberOfLines=\""
+      << (dim == 2 ? cells : 0) << "\" NumberOfStrips=\"0\" NumberOfPolys=\""
+      << (dim == 2 ? 0 : cells) << "\">\n"
+      << "    <PointData Scalars=\"speed\" Vectors=\"velocity\">\n";
+  const bool moving = s.velocities.size() == s.positions.size();
+  if (moving) {
+    for (std::size_t v = 0; v < n; ++v)
+      for (int a = 0; a < 3; ++a) put<float>(raw, component3(s.velocities, v, a, dim));
+    array("Float32", "velocity", 3);
+    for (std::size_t v = 0; v < n; ++v) {
+      double s2 = 0;
+      for (int a = 0; a < dim; ++a) s2 += std::pow(component3(s.velocities, v, a, dim), 2);
+      put<float>(raw, float(std::sqrt(s2)));
+    }
+    array("Float32", "speed", 1);
+  }
+  xml << "    </PointData>\n    <Points>\n";
+  for (std::size_t v = 0; v < n; ++v)
+    for (int a = 0; a < 3; ++a) put<float>(raw, component3(s.positions, v, a, dim));
+  array("Float32", "", 3);
+  xml << "    </Points>\n    <" << cell_kind << ">\n";
+  for (std::uint32_t i : s.elements) put<std::int32_t>(raw, std::int32_t(i));
+  array("Int32", "connectivity", 1);
+  for (std::size_t c = 0; c < cells; ++c) put<std::int32_t>(raw, std::int32_t((c + 1) * dim));
+  array("Int32", "offsets", 1);
+  xml << "    </" << cell_kind << ">\n    </Piece>\n  </PolyData>\n";
+  write_vtk_file(path, xml.str(), data);
+}
+
+void write_surface_ply(const std::string& path, const SurfaceLayer& s, int dim) {
+  const std::size_t n = s.positions.size() / std::size_t(dim);
+  const std::size_t cells = s.elements.size() / std::size_t(dim);
+  const bool moving = s.velocities.size() == s.positions.size();
+  std::ostringstream head;
+  head << "ply\nformat binary_little_endian 1.0\ncomment apiclab surface " << s.name
+       << "\nelement vertex " << n << "\nproperty float x\nproperty float y\nproperty float z\n"
+       << (moving ? "property float vx\nproperty float vy\nproperty float vz\n" : "")
+       << (dim == 2 ? "element edge " : "element face ") << cells << '\n'
+       << (dim == 2 ? "property int vertex1\nproperty int vertex2\n"
+                    : "property list uchar int vertex_indices\n")
+       << "end_header\n";
+  std::string data;
+  for (std::size_t v = 0; v < n; ++v) {
+    for (int a = 0; a < 3; ++a) put<float>(data, component3(s.positions, v, a, dim));
+    if (moving)
+      for (int a = 0; a < 3; ++a) put<float>(data, component3(s.velocities, v, a, dim));
+  }
+  for (std::size_t c = 0; c < cells; ++c) {
+    if (dim == 3) put<std::uint8_t>(data, 3);
+    for (int k = 0; k < dim; ++k)
+      put<std::int32_t>(data, std::int32_t(s.elements[c * std::size_t(dim) + std::size_t(k)]));
+  }
+  std::ofstream out = open_binary(path);
+  const std::string h = head.str();
+  out.write(h.data(), std::streamsize(h.size()));
+  out.write(data.data(), std::streamsize(data.size()));
+  if (!out) throw std::runtime_error("cannot write '" + path + "'");
+}
+
+void write_surface_obj(const std::string& path, const SurfaceLayer& s, int dim) {
+  std::ofstream out(path);
+  if (!out) throw std::runtime_error("cannot write '" + path + "'");
+  const std::size_t n = s.positions.size() / std::size_t(dim);
+  // max_digits10 of float: the snapshot's positions read back exactly.
+  out << "# apiclab surface " << s.name << (dim == 2 ? ": closed polyline\n" : ": triangle mesh\n")
+      << "o " << (s.name.empty() ? "surface" : s.name) << '\n'
+      << std::setprecision(std::numeric_limits<float>::max_digits10);
+  for (std::size_t v = 0; v < n; ++v)
+    out << "v " << component3(s.positions, v, 0, dim) << ' ' << component3(s.positions, v, 1, dim)
+        << ' ' << component3(s.positions, v, 2, dim) << '\n';
+  for (std::size_t c = 0; c + std::size_t(dim) <= s.elements.size(); c += std::size_t(dim)) {
+    out << (dim == 2 ? 'l' : 'f');
+    for (int k = 0; k < dim; ++k) out << ' ' << s.elements[c + std::size_t(k)] + 1;
+    out << '\n';
+  }
+  if (!out) throw std::runtime_error("cannot write '" + path + "'");
+}
+
 bool is_vtk(DumpFormat f) { return f == DumpFormat::vtk || f == DumpFormat::vtk_raw; }
 
 bool formats_need_particles(const std::vector<DumpFormat>& formats) {
   for (DumpFormat f : formats)
-    if (!is_vtk(f)) return true;
+    if (f == DumpFormat::csv) return true;
   return false;
 }
 
@@ -297,16 +396,17 @@ void PvdSeries::add(double t, const std::string& file, int part) {
 namespace apiclab {
 
 void ParticleDump::write(const Simulation& sim, int frame) {
-  const TransferControls* particles = sim.transfers();  // callers refuse other formats without
+  const TransferControls* particles = sim.transfers();  // callers refuse CSV without
   char base[32];
   std::snprintf(base, sizeof base, "frame_%04d", frame);
+  std::shared_ptr<Snapshot> snap;  // taken once, for grids and surfaces (not for CSV)
   for (DumpFormat f : formats_) {
     const std::string name = std::string(base) + "." + extension_of(f);
     const std::string path = dir_ + "/" + name;
+    if (!snap && f != DumpFormat::csv) snap = sim.snapshot();
+    int part = 0;
     if (is_vtk(f)) {
       const bool zlib = f == DumpFormat::vtk;
-      auto snap = sim.snapshot();
-      int part = 0;
       if (particles) {
         // Speed and velocity noise as scalars (the noise is a fresh P2G: only when VTK asks).
         particles->fill_velocity_noise(*snap);
@@ -330,17 +430,32 @@ void ParticleDump::write(const Simulation& sim, int frame) {
         write_vti(dir_ + "/" + grid, snap->grids[k], zlib);
         series_.add(sim.time(), grid, part++);
       }
-      continue;
+    } else if (particles) {
+      const ParticleTable table = particles->particle_table();
+      if (f == DumpFormat::csv) {
+        std::ofstream out(path);
+        if (!out) throw std::runtime_error("cannot write '" + path + "'");
+        write_particles_csv(out, table);
+      } else if (f == DumpFormat::ply) {
+        write_ply(path, table);
+      } else {
+        write_obj(path, table);
+      }
     }
-    const ParticleTable table = particles->particle_table();
-    if (f == DumpFormat::csv) {
-      std::ofstream out(path);
-      if (!out) throw std::runtime_error("cannot write '" + path + "'");
-      write_particles_csv(out, table);
-    } else if (f == DumpFormat::ply) {
-      write_ply(path, table);
-    } else {
-      write_obj(path, table);
+    if (f == DumpFormat::csv) continue;
+    // The object surfaces (EoL, Sec 3.8), beside the particles and grids.
+    for (std::size_t k = 0; k < snap->surfaces.size(); ++k) {
+      const std::string file =
+          std::string(base) + "_surface" + std::to_string(k) + "." + extension_of(f);
+      const SurfaceLayer& s = snap->surfaces[k];
+      if (is_vtk(f)) {
+        write_surface_vtp(dir_ + "/" + file, s, snap->dim, f == DumpFormat::vtk);
+        series_.add(sim.time(), file, part++);
+      } else if (f == DumpFormat::ply) {
+        write_surface_ply(dir_ + "/" + file, s, snap->dim);
+      } else {
+        write_surface_obj(dir_ + "/" + file, s, snap->dim);
+      }
     }
   }
 }

@@ -38,8 +38,20 @@ void write_vti(const std::string& path, const GridLayer& layer, bool zlib = fals
 // One array into a VTK appended block: UInt64 size + bytes, or VTK's zlib block layout.
 inline constexpr std::size_t vtk_zlib_block_size = 1 << 16;
 void append_vtk_array(std::string& data, const std::string& raw, bool zlib);
-// Whether the formats can be written for a solver without particles: VTK only (its grids).
+// An object's surface (EoL, Fan et al. 2013 Sec 3.8) as placed in the snapshot: VTK PolyData
+// (2D segments as Lines, 3D triangles as Polys; positions, velocity and speed as the snapshot's
+// Float32), binary PLY (vertices with velocity; edges in 2D, faces in 3D) or OBJ (`v`, then `l`
+// segments in 2D or `f` triangles in 3D, 1-based), so Blender and Houdini open the deforming
+// object.
+void write_surface_vtp(const std::string& path, const SurfaceLayer& s, int dim, bool zlib = false);
+void write_surface_ply(const std::string& path, const SurfaceLayer& s, int dim);
+void write_surface_obj(const std::string& path, const SurfaceLayer& s, int dim);
+// Whether the formats need particles: CSV does (a solver without particles writes its grids and
+// surfaces in VTK, its surfaces in PLY and OBJ); `dump_without_particles` says so to the user.
 bool formats_need_particles(const std::vector<DumpFormat>& formats);
+inline constexpr const char* dump_without_particles =
+    "has no particles for --dump-format csv (vtk writes its grids and surfaces, ply and obj its "
+    "surfaces)";
 
 // DIR/series.pvd: every frame's .vtp with its simulation time, rewritten after each frame so a
 // run stopped early still opens.
@@ -64,8 +76,9 @@ namespace apiclab {
 class Simulation;
 
 // Writes frame `frame` into DIR in every format (frame_0000.csv, frame_0000.vtp, …; with VTK
-// also each grid layer of the snapshot, frame_0000_grid0.vti, …) and keeps DIR/series.pvd
-// current when VTK is among them. A solver without particles writes its grids only.
+// also each grid layer of the snapshot, frame_0000_grid0.vti, …; with VTK, PLY and OBJ each
+// surface of the snapshot, frame_0000_surface0.vtp, …) and keeps DIR/series.pvd current when VTK
+// is among them. A solver without particles writes its grids and surfaces only.
 class ParticleDump {
  public:
   ParticleDump(std::string dir, std::vector<DumpFormat> formats)

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <map>
 #include <regex>
 #include <sstream>
@@ -345,6 +346,201 @@ TEST(ParticleExport, GridLayerAsImageData) {
   std::filesystem::remove(path);
 }
 
+// The EoL object surfaces (Fan et al. 2013 Sec 3.8) through ParticleDump, read back: the .vtp's
+// points, velocity and cells bit for bit against the snapshot's SurfaceLayer (in both encodings),
+// the OBJ and PLY to the same vertices and elements, a closed curve (2D: every vertex in two
+// segments) or a closed mesh (3D: every edge in exactly two triangles, once each way), and
+// series.pvd listing each frame's surface. Broken on purpose while writing it: offsets of
+// (c + 1) * 3 in 2D, 0-based OBJ indices and a missing pvd entry each failed it.
+struct SurfaceFiles {
+  std::vector<float> points, velocity;  // 3 per vertex
+  std::vector<std::uint32_t> cells;     // dim per element
+};
+
+SurfaceFiles read_surface_vtp(const std::string& path, bool zlib, int dim) {
+  const std::string file = read_all(path);
+  std::size_t appended = 0, points = 0;
+  const std::vector<VtkArray> arrays = read_vtk_arrays(file, appended, points);
+  SurfaceFiles out;
+  std::vector<std::int32_t> offsets;
+  for (const VtkArray& a : arrays) {
+    std::size_t end = 0;
+    const std::string bytes = array_bytes(file, appended + a.offset, zlib, end);
+    if (a.type == "Float32") {
+      EXPECT_EQ(bytes.size(), points * std::size_t(a.components) * 4) << a.name;
+      std::vector<float>& to = a.name.empty() ? out.points : out.velocity;
+      if (a.name == "speed") continue;
+      for (std::size_t k = 0; k < bytes.size(); k += 4) to.push_back(get<float>(bytes, k));
+    } else {
+      EXPECT_EQ(a.type, "Int32");
+      std::vector<std::int32_t> v;
+      for (std::size_t k = 0; k < bytes.size(); k += 4) v.push_back(get<std::int32_t>(bytes, k));
+      if (a.name == "connectivity")
+        out.cells.assign(v.begin(), v.end());
+      else
+        offsets = v;
+    }
+  }
+  EXPECT_EQ(out.points.size(), 3 * points);
+  std::smatch m;
+  const std::string kind = dim == 2 ? "NumberOfLines" : "NumberOfPolys";
+  EXPECT_TRUE(std::regex_search(file, m, std::regex(kind + "=\"(\\d+)\"")));
+  EXPECT_EQ(std::stoul(m[1]), offsets.size());
+  for (std::size_t c = 0; c < offsets.size(); ++c)
+    EXPECT_EQ(offsets[c], std::int32_t((c + 1) * std::size_t(dim))) << "cell " << c;
+  EXPECT_EQ(out.cells.size(), offsets.size() * std::size_t(dim));
+  return out;
+}
+
+SurfaceFiles read_surface_obj(const std::string& path, int dim) {
+  std::ifstream in(path);
+  SurfaceFiles out;
+  for (std::string line; std::getline(in, line);) {
+    std::istringstream row(line);
+    std::string tag;
+    row >> tag;
+    if (tag == "v") {
+      for (std::string x; row >> x;) out.points.push_back(std::stof(x));
+    } else if (tag == (dim == 2 ? "l" : "f")) {
+      for (long i; row >> i;) {
+        EXPECT_GE(i, 1);  // OBJ indices are 1-based
+        out.cells.push_back(std::uint32_t(i - 1));
+      }
+    }
+  }
+  return out;
+}
+
+// PLY: the header's counts, then x y z vx vy vz per vertex and each element's indices.
+SurfaceFiles read_surface_ply(const std::string& path, int dim) {
+  const std::string file = read_all(path);
+  std::smatch m;
+  SurfaceFiles out;
+  EXPECT_TRUE(std::regex_search(file, m, std::regex("element vertex (\\d+)\n")));
+  const std::size_t n = std::stoul(m[1]);
+  const std::string element = dim == 2 ? "element edge (\\d+)\n" : "element face (\\d+)\n";
+  EXPECT_TRUE(std::regex_search(file, m, std::regex(element)));
+  const std::size_t cells = std::stoul(m[1]);
+  std::size_t at = file.find("end_header\n") + 11;
+  for (std::size_t v = 0; v < n; ++v, at += 24)
+    for (int a = 0; a < 6; ++a)
+      (a < 3 ? out.points : out.velocity).push_back(get<float>(file, at + 4 * std::size_t(a)));
+  for (std::size_t c = 0; c < cells; ++c) {
+    if (dim == 3) {
+      EXPECT_EQ(std::uint8_t(file[at++]), 3u);
+    }
+    for (int k = 0; k < dim; ++k, at += 4) out.cells.push_back(get<std::uint32_t>(file, at));
+  }
+  EXPECT_EQ(at, file.size());
+  return out;
+}
+
+void expect_same_floats(const std::vector<float>& got, const std::vector<float>& want, int dim,
+                        const std::string& what) {
+  const std::size_t n = want.size() / std::size_t(dim);
+  ASSERT_EQ(got.size(), 3 * n) << what;
+  for (std::size_t v = 0; v < n; ++v)
+    for (int a = 0; a < 3; ++a) {
+      const float w = a < dim ? want[v * std::size_t(dim) + std::size_t(a)] : 0.0f;
+      ASSERT_TRUE(std::memcmp(&got[3 * v + std::size_t(a)], &w, 4) == 0)
+          << what << " vertex " << v << " axis " << a << ": " << got[3 * v + std::size_t(a)]
+          << " != " << w;
+    }
+}
+
+// 2D: every vertex ends exactly two segments (a closed curve); 3D: every edge lies in exactly
+// two triangles, traversed once each way (closed and consistently oriented).
+void expect_closed(const std::vector<std::uint32_t>& cells, std::size_t vertices, int dim) {
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
+  std::vector<int> degree(vertices, 0);
+  for (std::size_t c = 0; c < cells.size(); c += std::size_t(dim))
+    for (int k = 0; k < dim; ++k) {
+      const std::uint32_t a = cells[c + std::size_t(k)];
+      const std::uint32_t b = cells[c + std::size_t((k + 1) % dim)];
+      ASSERT_LT(a, vertices);
+      ++degree[a];
+      if (dim == 3) ++directed[{a, b}];
+    }
+  if (dim == 2) {
+    for (std::size_t v = 0; v < vertices; ++v) EXPECT_EQ(degree[v], 2) << "vertex " << v;
+    return;
+  }
+  for (const auto& [edge, count] : directed) {
+    EXPECT_EQ(count, 1) << "edge " << edge.first << "-" << edge.second;
+    const auto back = directed.find({edge.second, edge.first});
+    EXPECT_TRUE(back != directed.end() && back->second == 1)
+        << "edge " << edge.first << "-" << edge.second << " lies in one triangle only";
+  }
+}
+
+class SurfaceDumps : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(SurfaceDumps, ReadBackAsTheSnapshotPlacesThem) {
+  const std::string scene = GetParam();
+  auto sim = make_simulation(load_scene(kDir + scene + ".json"));
+  const std::string dir = temp_path("surface-" + scene);
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const DumpFormat vtk = vtk_zlib_available() ? DumpFormat::vtk : DumpFormat::vtk_raw;
+  ParticleDump dump(dir, {vtk, DumpFormat::ply, DumpFormat::obj});
+  dump.write(*sim, 0);
+  const double t0 = sim->time();
+  for (int k = 0; k < 4; ++k) sim->step(1e9);  // falling: the surface has moved and has speed
+  dump.write(*sim, 1);
+  const auto snap = sim->snapshot();
+  ASSERT_FALSE(snap->surfaces.empty());
+  const int dim = snap->dim;
+  for (std::size_t k = 0; k < snap->surfaces.size(); ++k) {
+    const SurfaceLayer& s = snap->surfaces[k];
+    SCOPED_TRACE(scene + " surface " + std::to_string(k));
+    const std::size_t vertices = s.positions.size() / std::size_t(dim);
+    ASSERT_GT(vertices, 8u);
+    ASSERT_GT(s.elements.size(), 0u);
+    EXPECT_FALSE(std::filesystem::exists(dir + "/frame_0001.obj"));  // no particles
+    const std::string base = dir + "/frame_0001_surface" + std::to_string(k);
+    // Both encodings: ParticleDump's, and the other one written directly.
+    for (const bool zlib : {vtk == DumpFormat::vtk, false}) {
+      std::string path = base + ".vtp";
+      if (!zlib && vtk == DumpFormat::vtk) {
+        path = base + "-raw.vtp";
+        write_surface_vtp(path, s, dim, false);
+      }
+      const SurfaceFiles f = read_surface_vtp(path, zlib, dim);
+      expect_same_floats(f.points, s.positions, dim, "vtp points");
+      expect_same_floats(f.velocity, s.velocities, dim, "vtp velocity");
+      EXPECT_EQ(f.cells, s.elements);
+      expect_closed(f.cells, vertices, dim);
+    }
+    const SurfaceFiles obj = read_surface_obj(base + ".obj", dim);
+    expect_same_floats(obj.points, s.positions, dim, "obj vertices");
+    EXPECT_EQ(obj.cells, s.elements);
+    const SurfaceFiles ply = read_surface_ply(base + ".ply", dim);
+    expect_same_floats(ply.points, s.positions, dim, "ply vertices");
+    expect_same_floats(ply.velocity, s.velocities, dim, "ply velocity");
+    EXPECT_EQ(ply.cells, s.elements);
+    float fastest = 0;
+    for (float u : s.velocities) fastest = std::max(fastest, std::abs(u));
+    EXPECT_GT(fastest, 0.0f);  // the velocity compared above is not all zeros
+  }
+  // series.pvd: each frame's grids and surfaces at that frame's time.
+  const std::string pvd = read_all(dir + "/series.pvd");
+  for (int frame = 0; frame < 2; ++frame)
+    for (std::size_t k = 0; k < snap->surfaces.size(); ++k) {
+      std::ostringstream time;
+      time << std::setprecision(17) << (frame == 0 ? t0 : sim->time());
+      const std::string entry = "<DataSet timestep=\"" + time.str() + "\" part=\"" +
+                                std::to_string(snap->grids.size() + k) + "\" file=\"frame_000" +
+                                std::to_string(frame) + "_surface" + std::to_string(k) + ".vtp\"/>";
+      EXPECT_NE(pvd.find(entry), std::string::npos) << entry << "\n" << pvd;
+    }
+  std::filesystem::remove_all(dir);
+}
+
+INSTANTIATE_TEST_SUITE_P(ParticleExport, SurfaceDumps, ::testing::Values("eol-drop", "eol-drop-3d"),
+                         [](const auto& info) {
+                           return std::string(info.param) == "eol-drop" ? "Drop2D" : "Drop3D";
+                         });
+
 TEST(ParticleExport, FormatsParseOrSayWhy) {
   EXPECT_EQ(parse_dump_formats("csv,vtk,ply,obj").size(), 4u);
   EXPECT_EQ(parse_dump_formats("vtk-raw"), std::vector<DumpFormat>{DumpFormat::vtk_raw});
@@ -352,6 +548,9 @@ TEST(ParticleExport, FormatsParseOrSayWhy) {
   EXPECT_THROW(parse_dump_formats("vtk,xyz"), std::invalid_argument);
   EXPECT_THROW(parse_dump_formats("vtk,vtk"), std::invalid_argument);
   EXPECT_THROW(parse_dump_formats(""), std::invalid_argument);
+  // Only CSV needs particles: EoL writes its grids and surfaces in the others.
+  EXPECT_FALSE(formats_need_particles({DumpFormat::vtk, DumpFormat::ply, DumpFormat::obj}));
+  EXPECT_TRUE(formats_need_particles({DumpFormat::obj, DumpFormat::csv}));
 }
 
 }  // namespace

@@ -102,8 +102,8 @@ int record_run(const cli::RunOptions& o, const std::string& dir) {
                             o.dump + "'");
     const std::vector<DumpFormat> formats = cli::dump_formats_of(o);
     if (!sim->transfers() && formats_need_particles(formats))
-      throw cli::UsageError("--dump: solver method '" + scene.solver.method +
-                            "' has no particles (--dump-format vtk writes its grids)");
+      throw cli::UsageError("--dump: solver method '" + scene.solver.method + "' " +
+                            dump_without_particles);
     fs::create_directories(tmp / o.dump, ec);
     if (ec) throw cli::UsageError("--record: cannot create '" + (tmp / o.dump).string() + "'");
     dump = std::make_unique<ParticleDump>((tmp / o.dump).string(), formats);
