@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "kernels.hpp"
+#include "message_text.hpp"
 
 namespace apiclab {
 
@@ -168,8 +169,10 @@ template <class E>
 E parse_choice(const std::vector<Choice<E>>& choices, std::string_view key, std::string_view what) {
   for (auto& c : choices)
     if (c.key == key) return c.value;
-  throw std::invalid_argument("unknown " + std::string(what) + " '" + std::string(key) +
-                              "' (expected " + choice_keys(choices) + ")");
+  // The value quoted short and on one line (fuzz_scene echoed a 3,900-character integrator).
+  throw std::invalid_argument("unknown " + std::string(what) + " '" +
+                              message_text(std::string(key)) + "' (expected " +
+                              choice_keys(choices) + ")");
 }
 
 template <class E>

@@ -166,6 +166,14 @@ TEST(Scene, InputTextInMessagesStaysOnOneLine) {
                      "a choice value with a line break");
   expect_scene_error([&] { load_scene(disk, {"name\r\x01=1"}); }, {"\\r\\x01"},
                      "a --set key with a carriage return and a control byte");
+  // fuzz_scene: an unknown choice value of thousands of characters was echoed whole.
+  try {
+    load_scene(disk, {"solver.integrator=" + std::string(5000, 'x')});
+    ADD_FAILURE() << "no error for a 5000-character integrator";
+  } catch (const SceneError& e) {
+    EXPECT_LT(std::string(e.what()).size(), 400u) << e.what();
+    EXPECT_NE(std::string(e.what()).find("(5000 characters)"), std::string::npos) << e.what();
+  }
 }
 
 TEST(Scene, UnknownKeys) {
