@@ -302,24 +302,26 @@ void MpmSimulation<T, D>::implicit_velocity_update(T dt) {
   // E of this step as newton_cg_minimise's problem (sim/newton_cg.hpp).
   struct Problem {
     MpmSimulation& sim;
-    bool block_jacobi;
     double energy(const std::vector<Vec<T, D>>& dv, bool gradient) {
       return sim.template implicit_energy<K>(dv, gradient);
     }
     void update_hessian() {
       sim.implicit_update_hessian(true);
-      if (block_jacobi) sim.template implicit_block_jacobi<K>();
+      if (block_jacobi()) sim.template implicit_block_jacobi<K>();
     }
     void precondition(const std::vector<Vec<T, D>>& r, std::vector<Vec<T, D>>& z) const {
       sim.implicit_precondition(r, z);
     }
     // Uniform velocities are null directions of the elastic forces unless a wall holds a node.
-    bool deflate_translation() const { return block_jacobi && sim.imp_.constraints.empty(); }
+    bool deflate_translation() const { return block_jacobi() && sim.imp_.constraints.empty(); }
+    bool block_jacobi() const {
+      return sim.scene_.solver.preconditioner == CgPreconditioner::block_jacobi;
+    }
     void hessian_apply(const std::vector<Vec<T, D>>& in, std::vector<Vec<T, D>>& out) {
       sim.template implicit_hessian_apply<K>(in, out);
     }
     void project(std::vector<Vec<T, D>>& z) const { sim.implicit_project(z); }
-  } problem{*this, scene_.solver.preconditioner == CgPreconditioner::block_jacobi};
+  } problem{*this};
   const double vref = std::max({imp_.velocity_ref, double(imp_.gravity.norm() * dt), 1e-12});
   const SolverDesc& sv = scene_.solver;
   // Tolerances below the scalar type's round-off are raised to it (sim/round_off_floor.hpp).

@@ -199,6 +199,19 @@ TEST(EolSurface, AffineMaterialCoordinatesPlaceTheAnalyticImage) {
   check_affine_placement<3>();
 }
 
+// A ball thrown down onto the floor (the two drop tests below).
+test::EolSceneSpec ball_drop(int dim, const std::string& method) {
+  test::EolSceneSpec spec;
+  spec.dim = dim;
+  spec.method = method;
+  spec.dx = dim == 2 ? 1.0 / 32 : 1.0 / 16;
+  spec.radius = 0.2;
+  spec.center = {0.5, 0.3, 0.5};
+  spec.gravity = {0, -9.8, 0};
+  spec.velocity = {0.4, -1.0, 0};
+  return spec;
+}
+
 // A ball dropped on the floor, past the impact (the grid's X no longer affine): every vertex is
 // found (X(p) = X_s to ε) and lies on the object: the nodes' φ₀(X_i), interpolated at the
 // vertex, vanish up to multilinear interpolation's error, Σ_a (Δx²/8) |∂²φ/∂y_a²| ≤
@@ -206,14 +219,7 @@ TEST(EolSurface, AffineMaterialCoordinatesPlaceTheAnalyticImage) {
 // deformation adds its own curvature, so the test allows twice that.
 template <int D>
 void check_vertices_on_the_object(const std::string& method) {
-  test::EolSceneSpec spec;
-  spec.dim = D;
-  spec.method = method;
-  spec.dx = D == 2 ? 1.0 / 32 : 1.0 / 16;
-  spec.radius = 0.2;
-  spec.center = {0.5, 0.3, 0.5};
-  spec.gravity = {0, -9.8, 0};
-  spec.velocity = {0.4, -1.0, 0};
+  test::EolSceneSpec spec = ball_drop(D, method);
   spec.end = 0.25;
   auto sim = test::make_eol<D>(spec);
   const auto& o = sim->objects()[0];
@@ -265,14 +271,7 @@ TEST(EolSurface, VerticesStayOnTheObjectThroughADrop) {
 // ≤ 1.0 ε_s, 4e-13 cells).
 template <int D>
 void check_frame_placement_matches_every_step(const std::string& method) {
-  test::EolSceneSpec spec;
-  spec.dim = D;
-  spec.method = method;
-  spec.dx = D == 2 ? 1.0 / 32 : 1.0 / 16;
-  spec.radius = 0.2;
-  spec.center = {0.5, 0.3, 0.5};
-  spec.gravity = {0, -9.8, 0};
-  spec.velocity = {0.4, -1.0, 0};
+  const test::EolSceneSpec spec = ball_drop(D, method);
   auto every = test::make_eol<D>(spec), framed = test::make_eol<D>(spec);
   int steps = 0;
   while (framed->time() < 0.25) {
