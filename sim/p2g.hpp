@@ -2,6 +2,7 @@
 #pragma once
 #include "kernel_dispatch.hpp"
 #include "mpm.hpp"
+#include "stress_lanes.hpp"
 #include "transfer_polypic.hpp"
 
 namespace apiclab {
@@ -36,17 +37,47 @@ template <class T, int D>
 void MpmSimulation<T, D>::compute_stress() {
   stress_.resize(p_.size());
   const std::ptrdiff_t n = std::ptrdiff_t(p_.size());
-  double energy = 0;
-#pragma omp parallel for schedule(static) reduction(+ : energy) if (parallel_worthwhile())
-  for (std::ptrdiff_t q = 0; q < n; ++q) {
+  auto one = [&](std::ptrdiff_t q) {
     const MaterialParams<T>& mat = materials_[std::size_t(p_.material[q])];
     const Mat<T, D>& F = p_.F[q];
     T psi;
     stress_[q] =
         -p_.volume0[q] * first_piola_and_energy<T, D>(mat.model, F, mat.lame, psi) * F.transpose();
     // Mesh vertices (volume 0) carry no elasticity: theirs is on the triangles.
-    if (p_.volume0[q] != T(0)) energy += double(p_.volume0[q]) * double(psi);
+    return p_.volume0[q] != T(0) ? double(p_.volume0[q]) * double(psi) : 0.0;
+  };
+  double energy = 0;
+  std::ptrdiff_t lanes_end = 0;  // particles before this went through StressLanes
+  {
+    const bool all_corotated = std::all_of(
+        materials_.begin(), materials_.end(),
+        [](const MaterialParams<T>& m) { return m.model == MaterialModel::fixed_corotated; });
+    using Lanes = StressLanes<T>;
+    constexpr int L = Lanes::count;
+    if (all_corotated) lanes_end = n / L * L;
+#pragma omp parallel for schedule(static) reduction(+ : energy) if (parallel_worthwhile())
+    for (std::ptrdiff_t b = 0; b < lanes_end; b += L) {
+      T mu[L], lambda[L], psi[L];
+      for (int l = 0; l < L; ++l) {
+        const Lame<T>& lame = materials_[std::size_t(p_.material[b + l])].lame;
+        mu[l] = lame.mu;
+        lambda[l] = lame.lambda;
+      }
+      unsigned scalar = 0;  // lanes that StressLanes hands back (3D only)
+      if constexpr (D == 3)
+        scalar = Lanes::fixed_corotated(&p_.F[b], mu, lambda, &p_.volume0[b], &stress_[b], psi);
+      else
+        Lanes::fixed_corotated_2d(&p_.F[b], mu, lambda, &p_.volume0[b], &stress_[b], psi);
+      for (int l = 0; l < L; ++l) {
+        if (scalar >> l & 1u)
+          energy += one(b + l);
+        else if (p_.volume0[b + l] != T(0))
+          energy += double(p_.volume0[b + l]) * double(psi[l]);
+      }
+    }
   }
+#pragma omp parallel for schedule(static) reduction(+ : energy) if (parallel_worthwhile())
+  for (std::ptrdiff_t q = lanes_end; q < n; ++q) energy += one(q);
   stress_of_current_F_ = true;
   particle_elastic_energy_ = energy;
 }
