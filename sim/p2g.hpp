@@ -52,7 +52,7 @@ void MpmSimulation<T, D>::compute_stress() {
     const bool all_corotated = std::all_of(
         materials_.begin(), materials_.end(),
         [](const MaterialParams<T>& m) { return m.model == MaterialModel::fixed_corotated; });
-    using Lanes = StressLanes<T>;
+    using Lanes = StressLanes<T, D>;
     constexpr int L = Lanes::count;
     if (all_corotated) lanes_end = n / L * L;
 #pragma omp parallel for schedule(static) reduction(+ : energy) if (parallel_worthwhile())

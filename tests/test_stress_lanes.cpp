@@ -16,7 +16,7 @@ namespace {
 
 template <class T>
 void lanes_match_scalar(double tolerance) {
-  using Lanes = StressLanes<T>;
+  using Lanes = StressLanes<T, 3>;
   constexpr int L = Lanes::count;
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(-1, 1), logs(-3.5, 3.5), unit(0.5, 2);
@@ -87,7 +87,7 @@ void lanes_match_scalar(double tolerance) {
 // order of the arithmetic; F includes inverted ones and F = 0 (R = I by convention).
 template <class T>
 void lanes_match_scalar_2d(double tolerance) {
-  using Lanes = StressLanes<T>;
+  using Lanes = StressLanes<T, 2>;
   constexpr int L = Lanes::count;
   std::mt19937_64 rng(12);
   std::uniform_real_distribution<double> u(-1, 1), unit(0.5, 2);
