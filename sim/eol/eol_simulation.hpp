@@ -6,6 +6,7 @@
 // the same code with the frame locked to the world and one grid over the whole domain. Objects
 // do not touch each other yet (object–object contact is part 2).
 #pragma once
+#include <algorithm>
 #include <memory>
 #include <optional>
 #include <string>
@@ -16,6 +17,7 @@
 #include "sim/eol/forces.hpp"
 #include "sim/eol/frame.hpp"
 #include "sim/eol/impulse_solve.hpp"
+#include "sim/eol/least_squares_split.hpp"
 #include "sim/eol/rest_surface.hpp"
 #include "sim/eol/time_step.hpp"
 #include "sim/simulation.hpp"
@@ -136,6 +138,20 @@ class EolSimulation final : public Simulation {
   std::optional<Failure> failure_;
   DtLimit last_limit_ = DtLimit::fixed;
   StageSeconds stages_;
+  // choose_dt's one pass over the nodes (sum_node_blocks): max|u|, and eq 32's two fields'
+  // split sums (eol) or advection rates (eulerian).
+  struct DtSums {
+    SplitSums<D, 2> split;
+    double umax = 0, gamma0 = 0, gamma1 = 0;
+    void merge(const DtSums& o) {
+      split.merge(o.split);
+      umax = std::max(umax, o.umax);
+      gamma0 = std::max(gamma0, o.gamma0);
+      gamma1 = std::max(gamma1, o.gamma1);
+    }
+  };
+  std::vector<DtSums> dt_partial_;              // per node block, kept between steps
+  std::vector<SplitSums<D, 1>> split_partial_;  // the same for finish_step's split
 };
 
 }  // namespace apiclab::eol

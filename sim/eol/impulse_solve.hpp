@@ -47,36 +47,42 @@ std::vector<PlaneConstraint<T, D>> scene_planes(const SceneDesc& s) {
   return planes;
 }
 
-// u ← u + Δt f / m on the nodes with mass (eq 16: M q̇^{t+1} = Δt f + M q̇^t).
+// The node–plane rows for one node with mass: on or behind a plane, the plane's projection.
 template <class T, int D>
-void impulse_update(std::vector<Vec<T, D>>& u, const std::vector<Vec<T, D>>& force,
-                    const std::vector<T>& mass, T dt) {
-  for (std::size_t i = 0; i < u.size(); ++i)
-    if (mass[i] > T(0)) u[i] += (dt / mass[i]) * force[i];
+void apply_planes(Vec<T, D>& u, const Vec<T, D>& x,
+                  const std::vector<PlaneConstraint<T, D>>& planes) {
+  for (const auto& c : planes) {
+    if ((x - c.point).dot(c.normal) > T(0)) continue;
+    const T un = u.dot(c.normal);
+    switch (c.condition) {
+      case BoundaryCondition::sticky:
+        u.setZero();
+        break;
+      case BoundaryCondition::separate:
+        if (un < T(0)) u -= un * c.normal;
+        break;
+      case BoundaryCondition::slip:
+      case BoundaryCondition::periodic:
+        u -= un * c.normal;
+        break;
+    }
+  }
 }
 
-// The node–plane rows: a node with mass on or behind a plane gets the plane's projection.
+// Eq 16 then eq 29's node–plane rows, one pass over the nodes with mass (each node on its own,
+// so any thread count gives the same result): u ← u + Δt f / m (M q̇^{t+1} = Δt f + M q̇^t),
+// then the planes' projections.
 template <class T, int D>
-void apply_planes(std::vector<Vec<T, D>>& u, const std::vector<Vec<T, D>>& x,
-                  const std::vector<T>& mass, const std::vector<PlaneConstraint<T, D>>& planes) {
-  for (std::size_t i = 0; i < u.size(); ++i) {
+void impulse_update(std::vector<Vec<T, D>>& u, const std::vector<Vec<T, D>>& force,
+                    const std::vector<Vec<T, D>>& x, const std::vector<T>& mass,
+                    const std::vector<PlaneConstraint<T, D>>& planes, T dt, bool parallel) {
+  const std::ptrdiff_t n = std::ptrdiff_t(u.size());
+#pragma omp parallel for if (parallel)
+  for (std::ptrdiff_t ii = 0; ii < n; ++ii) {
+    const std::size_t i = std::size_t(ii);
     if (!(mass[i] > T(0))) continue;
-    for (const auto& c : planes) {
-      if ((x[i] - c.point).dot(c.normal) > T(0)) continue;
-      const T un = u[i].dot(c.normal);
-      switch (c.condition) {
-        case BoundaryCondition::sticky:
-          u[i].setZero();
-          break;
-        case BoundaryCondition::separate:
-          if (un < T(0)) u[i] -= un * c.normal;
-          break;
-        case BoundaryCondition::slip:
-        case BoundaryCondition::periodic:
-          u[i] -= un * c.normal;
-          break;
-      }
-    }
+    u[i] += (dt / mass[i]) * force[i];
+    apply_planes(u[i], x[i], planes);
   }
 }
 
