@@ -199,16 +199,18 @@ class ElasticForces {
       else
         general_tau(g.dx, mat, pts, tau, vpsi);
       const T inv_dx = T(1) / g.dx;
-      // f_k = −Σ_q τ_q ∇_y N_k(ξ_q), lanes k, each sum in a register (summed through f[a][k]
-      // in memory, every FMA waited for the last one's store).
-      for (int a = 0; a < D; ++a) {
+      // f_k = −Σ_q τ_q ∇_y N_k(ξ_q), lanes k, the D components' sums in registers side by
+      // side: D independent chains of FMAs (summed through f[a][k] in memory, every FMA waited
+      // for the last one's store).
 #pragma omp simd
-        for (int k = 0; k < P; ++k) {
-          T sum = T(0);
-          for (int q = 0; q < P; ++q)
-            for (int b = 0; b < D; ++b) sum -= tau[a][b][q] * quad_.dN_lanes_k[q][b][k];
-          f[a][k] = sum * inv_dx;
-        }
+      for (int k = 0; k < P; ++k) {
+        T sum[D] = {};
+        for (int q = 0; q < P; ++q)
+          for (int b = 0; b < D; ++b) {
+            const T dn = quad_.dN_lanes_k[q][b][k];
+            for (int a = 0; a < D; ++a) sum[a] -= tau[a][b][q] * dn;
+          }
+        for (int a = 0; a < D; ++a) f[a][k] = sum[a] * inv_dx;
       }
       for (int k = 0; k < P; ++k) {
         Vec<T, D>& node = force[base + offset_[std::size_t(k)]];
