@@ -104,7 +104,8 @@ class EolSimulation final : public Simulation {
   DtLimit last_limit() const { return last_limit_; }
   // The blow-up check's energy scale, again from the current state (tests that set a state).
   void reset_energy_reference() { energy_ref_ = energy_reference(); }
-  // Time spent in each phase (seconds, summed over steps): forces, split (with the Δt choice's
+  // Time spent in each phase (seconds, summed over steps): forces, assembly (impulse and planes,
+  // in one pass with the split's sums), split (its solve and remainder, with the Δt choice's
   // projections), everything else (advection, extrapolation, mass), and the surface placements.
   struct StageSeconds {
     double forces = 0, assembly = 0, split = 0, advection = 0, surface = 0;

@@ -303,13 +303,20 @@ void EolSimulation<T, D>::finish_step(double dt_in) {
   const T dt = T(dt_in);
   for (auto& o : objects_) {
     auto start = std::chrono::steady_clock::now();
-    impulse_update(o.u, o.force, o.x, o.grid.mass, planes_, dt, parallel_);  // eqs 16, 29
+    // Eqs 16 and 29 node by node and, in the same pass, the sums of the split's normal
+    // equations (eq 23), which read the u just written: one pass over the nodes, not two.
+    const SplitSums<D, 1> sums = sum_node_blocks(
+        o.grid.size(), parallel_, split_partial_, [&](SplitSums<D, 1>& acc, std::size_t i) {
+          const T m = o.grid.mass[i];
+          if (!(m > T(0))) return;
+          impulse_update(o.u[i], o.force[i], m, o.x[i], planes_, dt);
+          if (lagrangian_) acc.template add<T>(o.r[i], {o.u[i]});
+        });
     stages_.assembly += detail::seconds_since(start);
     start = std::chrono::steady_clock::now();
     if (lagrangian_) {
       const Mat<T, D> R = o.frame.rotation();
-      const FrameVec<T, D> q1 =
-          split_frame_velocity(o.u, o.r, o.grid.mass, parallel_, split_partial_);  // eq 23
+      const FrameVec<T, D> q1 = sums.template solve<T>()[0];  // eq 23
       o.frame.set_velocity(q1);
       eulerian_remainder(o.u, o.r, q1, R, o.vstar, parallel_);  // eq 24
       o.frame.advance(dt);

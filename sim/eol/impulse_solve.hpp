@@ -69,21 +69,14 @@ void apply_planes(Vec<T, D>& u, const Vec<T, D>& x,
   }
 }
 
-// Eq 16 then eq 29's node–plane rows, one pass over the nodes with mass (each node on its own,
-// so any thread count gives the same result): u ← u + Δt f / m (M q̇^{t+1} = Δt f + M q̇^t),
-// then the planes' projections.
+// Eq 16 then eq 29's node–plane rows for one node of mass m > 0: u ← u + Δt f / m
+// (M q̇^{t+1} = Δt f + M q̇^t), then the planes' projections. Node by node, so the step runs it
+// inside its pass over the nodes for the split's sums (EolSimulation::finish_step).
 template <class T, int D>
-void impulse_update(std::vector<Vec<T, D>>& u, const std::vector<Vec<T, D>>& force,
-                    const std::vector<Vec<T, D>>& x, const std::vector<T>& mass,
-                    const std::vector<PlaneConstraint<T, D>>& planes, T dt, bool parallel) {
-  const std::ptrdiff_t n = std::ptrdiff_t(u.size());
-#pragma omp parallel for if (parallel)
-  for (std::ptrdiff_t ii = 0; ii < n; ++ii) {
-    const std::size_t i = std::size_t(ii);
-    if (!(mass[i] > T(0))) continue;
-    u[i] += (dt / mass[i]) * force[i];
-    apply_planes(u[i], x[i], planes);
-  }
+void impulse_update(Vec<T, D>& u, const Vec<T, D>& force, T m, const Vec<T, D>& x,
+                    const std::vector<PlaneConstraint<T, D>>& planes, T dt) {
+  u += (dt / m) * force;
+  apply_planes(u, x, planes);
 }
 
 }  // namespace apiclab::eol
