@@ -6,6 +6,7 @@
 // the same code with the frame locked to the world and one grid over the whole domain. Objects
 // do not touch each other yet (object–object contact is part 2).
 #pragma once
+#include <algorithm>
 #include <memory>
 #include <optional>
 #include <string>
@@ -16,6 +17,7 @@
 #include "sim/eol/forces.hpp"
 #include "sim/eol/frame.hpp"
 #include "sim/eol/impulse_solve.hpp"
+#include "sim/eol/least_squares_split.hpp"
 #include "sim/eol/rest_surface.hpp"
 #include "sim/eol/time_step.hpp"
 #include "sim/simulation.hpp"
@@ -102,7 +104,8 @@ class EolSimulation final : public Simulation {
   DtLimit last_limit() const { return last_limit_; }
   // The blow-up check's energy scale, again from the current state (tests that set a state).
   void reset_energy_reference() { energy_ref_ = energy_reference(); }
-  // Time spent in each phase (seconds, summed over steps): forces, split (with the Δt choice's
+  // Time spent in each phase (seconds, summed over steps): forces, assembly (impulse and planes,
+  // in one pass with the split's sums), split (its solve and remainder, with the Δt choice's
   // projections), everything else (advection, extrapolation, mass), and the surface placements.
   struct StageSeconds {
     double forces = 0, assembly = 0, split = 0, advection = 0, surface = 0;
@@ -136,6 +139,20 @@ class EolSimulation final : public Simulation {
   std::optional<Failure> failure_;
   DtLimit last_limit_ = DtLimit::fixed;
   StageSeconds stages_;
+  // choose_dt's one pass over the nodes (sum_node_blocks): max|u|, and eq 32's two fields'
+  // split sums (eol) or advection rates (eulerian).
+  struct DtSums {
+    SplitSums<D, 2> split;
+    double umax = 0, gamma0 = 0, gamma1 = 0;
+    void merge(const DtSums& o) {
+      split.merge(o.split);
+      umax = std::max(umax, o.umax);
+      gamma0 = std::max(gamma0, o.gamma0);
+      gamma1 = std::max(gamma1, o.gamma1);
+    }
+  };
+  std::vector<DtSums> dt_partial_;              // per node block, kept between steps
+  std::vector<SplitSums<D, 1>> split_partial_;  // the same for finish_step's split
 };
 
 }  // namespace apiclab::eol

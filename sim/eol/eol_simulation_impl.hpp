@@ -207,17 +207,18 @@ void EolSimulation<T, D>::compute_forces(EolObject<T, D>& o) {
 template <class T, int D>
 void EolSimulation<T, D>::forces(EolObject<T, D>& o) {
   const auto start = std::chrono::steady_clock::now();
-  o.elastic.compute(o.grid, materials_, o.force, parallel_);  // frame axes
   const Mat<T, D> R = o.frame.rotation();
   Vec<T, D> g;
   for (int a = 0; a < D; ++a) g[a] = T(scene_.gravity[std::size_t(a)]);
-  for (std::size_t i = 0; i < o.grid.size(); ++i) {
+  // Elasticity in frame axes, then per node (in the same parallel region) rotated to world axes
+  // with gravity and f_qvv added.
+  o.elastic.compute(o.grid, materials_, o.force, parallel_, [&](std::size_t i) {
     const T m = o.grid.mass[i];
     o.force[i] = R * o.force[i] + m * g;
     if (lagrangian_ && m > T(0))
       o.force[i] +=
           quadratic_velocity_force<T, D>(m, o.frame.omega, o.r[i], Vec<T, D>(R * o.grid.v[i]));
-  }
+  });
   stages_.forces += detail::seconds_since(start);
 }
 
@@ -230,23 +231,42 @@ double EolSimulation<T, D>::choose_dt(double t_limit, DtLimit* limit) {
     const auto start = std::chrono::steady_clock::now();
     for (auto& o : objects_) {
       const auto& mass = o.grid.mass;
-      double umax = 0;
-      for (std::size_t i = 0; i < o.grid.size(); ++i) {
-        o.scratch[i] = mass[i] > T(0) ? Vec<T, D>(o.force[i] / mass[i]) : Vec<T, D>::Zero();
-        if (mass[i] > T(0)) umax = std::max(umax, double(o.u[i].norm()));
-      }
       const double dx = double(o.grid.dx);
-      double gamma0, gamma1;
+      // One pass for max|u|, and for eq 32's two fields u (v₀) and M⁻¹f (v₁) either their
+      // rates (eulerian: v* is the field) or the sums of their splits (eq 23).
+      const DtSums sums =
+          sum_node_blocks(o.grid.size(), parallel_, dt_partial_, [&](DtSums& acc, std::size_t i) {
+            if (!(mass[i] > T(0))) return;
+            const Vec<T, D> a = o.force[i] / mass[i];
+            acc.umax = std::max(acc.umax, double(o.u[i].norm()));
+            if (lagrangian_) {
+              acc.split.template add<T>(o.r[i], {o.u[i], a});
+            } else {
+              acc.gamma0 = std::max(acc.gamma0, double(o.u[i].template lpNorm<1>()) / dx);
+              acc.gamma1 = std::max(acc.gamma1, double(a.template lpNorm<1>()) / dx);
+            }
+          });
+      const double umax = sums.umax;
+      double gamma0 = sums.gamma0, gamma1 = sums.gamma1;
       if (lagrangian_) {
-        // Eq 32: v* = v₀* + Δt v₁*, each the split (eq 24) of its own field.
-        const Mat<T, D> R = o.frame.rotation();
-        eulerian_remainder(o.u, o.r, split_frame_velocity(o.u, o.r, mass), R, o.vstar);
-        gamma0 = advection_rate(o.vstar, mass, dx);
-        eulerian_remainder(o.scratch, o.r, split_frame_velocity(o.scratch, o.r, mass), R, o.vstar);
-        gamma1 = advection_rate(o.vstar, mass, dx);
-      } else {
-        gamma0 = advection_rate(o.u, mass, dx);
-        gamma1 = advection_rate(o.scratch, mass, dx);
+        // Eq 32: v* = v₀* + Δt v₁*, each the split (eq 24) of its own field; eq 33's γ are
+        // maxima (the same in any order), so a plain parallel max.
+        const std::array<FrameVec<T, D>, 2> q = sums.split.template solve<T>();
+        const Mat<T, D> Rt = o.frame.rotation().transpose();
+        const std::ptrdiff_t n = std::ptrdiff_t(o.grid.size());
+        double g0 = 0, g1 = 0;
+#pragma omp parallel for reduction(max : g0, g1) if (parallel_)
+        for (std::ptrdiff_t ii = 0; ii < n; ++ii) {
+          const std::size_t i = std::size_t(ii);
+          if (!(mass[i] > T(0))) continue;
+          const Vec<T, D> a = o.force[i] / mass[i];
+          const Vec<T, D> v0 = eulerian_velocity<T, D>(o.u[i], o.r[i], q[0], Rt);
+          const Vec<T, D> v1 = eulerian_velocity<T, D>(a, o.r[i], q[1], Rt);
+          g0 = std::max(g0, double(v0.template lpNorm<1>()) / dx);
+          g1 = std::max(g1, double(v1.template lpNorm<1>()) / dx);
+        }
+        gamma0 = g0;
+        gamma1 = g1;
       }
       const double advection = advection_limit(gamma0, gamma1, scene_.solver.eol.alpha);
       const double elastic = tm.nu * dx / (max_wave_speed_ + umax);
@@ -283,15 +303,22 @@ void EolSimulation<T, D>::finish_step(double dt_in) {
   const T dt = T(dt_in);
   for (auto& o : objects_) {
     auto start = std::chrono::steady_clock::now();
-    impulse_update(o.u, o.force, o.grid.mass, dt);  // eq 16
-    apply_planes(o.u, o.x, o.grid.mass, planes_);   // eq 29, node–plane rows
+    // Eqs 16 and 29 node by node and, in the same pass, the sums of the split's normal
+    // equations (eq 23), which read the u just written: one pass over the nodes, not two.
+    const SplitSums<D, 1> sums = sum_node_blocks(
+        o.grid.size(), parallel_, split_partial_, [&](SplitSums<D, 1>& acc, std::size_t i) {
+          const T m = o.grid.mass[i];
+          if (!(m > T(0))) return;
+          impulse_update(o.u[i], o.force[i], m, o.x[i], planes_, dt);
+          if (lagrangian_) acc.template add<T>(o.r[i], {o.u[i]});
+        });
     stages_.assembly += detail::seconds_since(start);
     start = std::chrono::steady_clock::now();
     if (lagrangian_) {
       const Mat<T, D> R = o.frame.rotation();
-      const FrameVec<T, D> q1 = split_frame_velocity(o.u, o.r, o.grid.mass);  // eq 23
+      const FrameVec<T, D> q1 = sums.template solve<T>()[0];  // eq 23
       o.frame.set_velocity(q1);
-      eulerian_remainder(o.u, o.r, q1, R, o.vstar);  // eq 24
+      eulerian_remainder(o.u, o.r, q1, R, o.vstar, parallel_);  // eq 24
       o.frame.advance(dt);
     } else {
       o.vstar = o.u;

@@ -124,7 +124,8 @@ class ElasticForces {
 
  public:
   std::size_t bytes() const {
-    return held_bytes(cells_) + held_bytes(layer_start_) + held_bytes(corner_mass_) +
+    return held_bytes(cells_) + held_bytes(layer_start_) + held_bytes(layer_active_) +
+           held_bytes(layer_order_[0]) + held_bytes(layer_order_[1]) + held_bytes(corner_mass_) +
            held_bytes(cell_energy_) + held_bytes(mass_active_) + held_bytes(kept_);
   }
   // The lumped node masses of the same quadrature (eq 6 with J̄ = det ∇X): each Gauss point's
@@ -145,14 +146,15 @@ class ElasticForces {
         kept = (*keep)[cells_[std::size_t(c)] + offset_[std::size_t(k)]] > T(0);
       kept_[std::size_t(c)] = kept;
     }
-    std::fill(mass.begin(), mass.end(), T(0));
-    for_each_cell_by_layer(parallel, [&](std::size_t c) {
+    auto zero = [&](std::size_t i) { mass[i] = T(0); };
+    auto no_finish = [](std::size_t) {};
+    for_each_cell_by_layer(g.size(), parallel, zero, no_finish, [&](std::size_t c) {
       const std::size_t base = cells_[c];
       T* corner = &corner_mass_[c * P];  // Σ_q N_k(ξ_q) m_q, lanes k
       if (!kept_[c]) {
         const int m = material_of(g, base);
         mass_active_[c] = m >= 0;
-        if (m < 0) return;  // empty cell: no corner masses
+        if (m < 0) return false;  // empty cell: no corner masses
         CellPoints<T, D> pts;
         evaluate(g, base, pts);
         const T rho_w = density[std::size_t(m)] * quad_.weight;
@@ -169,21 +171,25 @@ class ElasticForces {
           for (int k = 0; k < P; ++k) corner[k] += quad_.N_lanes_k[q][k] * mq;
         }
       } else if (!mass_active_[c]) {
-        return;
+        return false;
       }
       for (int k = 0; k < P; ++k) mass[base + offset_[std::size_t(k)]] += corner[k];
+      return true;
     });
   }
 
+  // finish(i) runs for every node once its elastic force is complete, in the same parallel
+  // region (the caller's per-node forces: gravity, f_qvv, the frame rotation).
+  template <class Finish>
   void compute(const EulerianGrid<T, D>& g, const std::vector<ElasticMaterial<T>>& materials,
-               std::vector<Vec<T, D>>& force, bool parallel) {
+               std::vector<Vec<T, D>>& force, bool parallel, Finish&& finish) {
     ensure_cells(g);
-    std::fill(force.begin(), force.end(), Vec<T, D>::Zero());
-    for_each_cell_by_layer(parallel, [&](std::size_t c) {
+    auto zero = [&](std::size_t i) { force[i].setZero(); };
+    for_each_cell_by_layer(g.size(), parallel, zero, finish, [&](std::size_t c) {
       const std::size_t base = cells_[c];
       const int m = material_of(g, base);
       cell_energy_[c] = 0;
-      if (m < 0) return;
+      if (m < 0) return false;
       CellPoints<T, D> pts;
       evaluate(g, base, pts);
       alignas(64) T tau[D][D][P], vpsi[P], f[D][P];
@@ -193,17 +199,18 @@ class ElasticForces {
       else
         general_tau(g.dx, mat, pts, tau, vpsi);
       const T inv_dx = T(1) / g.dx;
-      for (int a = 0; a < D; ++a) {  // f_k = −Σ_q τ_q ∇_y N_k(ξ_q), lanes k
+      // f_k = −Σ_q τ_q ∇_y N_k(ξ_q), lanes k, the D components' sums in registers side by
+      // side: D independent chains of FMAs (summed through f[a][k] in memory, every FMA waited
+      // for the last one's store).
 #pragma omp simd
-        for (int k = 0; k < P; ++k) f[a][k] = T(0);
+      for (int k = 0; k < P; ++k) {
+        T sum[D] = {};
         for (int q = 0; q < P; ++q)
           for (int b = 0; b < D; ++b) {
-            const T t = tau[a][b][q];
-#pragma omp simd
-            for (int k = 0; k < P; ++k) f[a][k] -= t * quad_.dN_lanes_k[q][b][k];
+            const T dn = quad_.dN_lanes_k[q][b][k];
+            for (int a = 0; a < D; ++a) sum[a] -= tau[a][b][q] * dn;
           }
-#pragma omp simd
-        for (int k = 0; k < P; ++k) f[a][k] *= inv_dx;
+        for (int a = 0; a < D; ++a) f[a][k] = sum[a] * inv_dx;
       }
       for (int k = 0; k < P; ++k) {
         Vec<T, D>& node = force[base + offset_[std::size_t(k)]];
@@ -214,7 +221,12 @@ class ElasticForces {
       double energy = 0;
       for (int q = 0; q < P; ++q) energy += double(vpsi[q]);
       cell_energy_[c] = energy;
+      return true;
     });
+  }
+  void compute(const EulerianGrid<T, D>& g, const std::vector<ElasticMaterial<T>>& materials,
+               std::vector<Vec<T, D>>& force, bool parallel) {
+    compute(g, materials, force, parallel, [](std::size_t) {});
   }
   // E = Σ V₀ Ψ(F) of the last compute(), summed in the cells' order (index order; the same
   // for any thread count).
@@ -242,37 +254,43 @@ class ElasticForces {
                        T (&vpsi)[P]) const {
     alignas(64) T volume[P], J[P], logJ[P], b[D][D][P];
     const T dx_d = D == 2 ? dx * dx : dx * dx * dx;
+    // F and b = F Fᵀ as named lane values in one vector loop (it ran scalar, point by point;
+    // the vector code rounds differently: EolForces.LanesMatchThePerPointFormula bounds it).
+#pragma omp simd
+    for (int q = 0; q < P; ++q)
+      volume[q] =
+          pts.fill[q] > T(0) && pts.det[q] > T(0) ? pts.det[q] * quad_.weight * pts.fill[q] : T(0);
+      // (GCC 12 leaves the loop above scalar, and with it any loop that tests fill and det: so
+      // the one below tests the volume.)
 #pragma omp simd
     for (int q = 0; q < P; ++q) {
-      const bool valid = pts.fill[q] > T(0) && pts.det[q] > T(0);
-      const T det = valid ? pts.det[q] : T(1);
-      volume[q] = valid ? det * quad_.weight * pts.fill[q] : T(0);
+      const T det = volume[q] > T(0) ? pts.det[q] : T(1);
       J[q] = dx_d / det;
       const T s = dx / det;  // F = s adj(A)
-      T F[D][D];
       if constexpr (D == 2) {
-        F[0][0] = s * pts.A[1][1][q];
-        F[0][1] = -s * pts.A[0][1][q];
-        F[1][0] = -s * pts.A[1][0][q];
-        F[1][1] = s * pts.A[0][0][q];
+        const T f00 = s * pts.A[1][1][q], f01 = -s * pts.A[0][1][q];
+        const T f10 = -s * pts.A[1][0][q], f11 = s * pts.A[0][0][q];
+        b[0][0][q] = f00 * f00 + f01 * f01;
+        b[0][1][q] = b[1][0][q] = f00 * f10 + f01 * f11;
+        b[1][1][q] = f10 * f10 + f11 * f11;
       } else {
         const auto& A = pts.A;
-        F[0][0] = s * (A[1][1][q] * A[2][2][q] - A[1][2][q] * A[2][1][q]);
-        F[0][1] = s * (A[0][2][q] * A[2][1][q] - A[0][1][q] * A[2][2][q]);
-        F[0][2] = s * (A[0][1][q] * A[1][2][q] - A[0][2][q] * A[1][1][q]);
-        F[1][0] = s * (A[1][2][q] * A[2][0][q] - A[1][0][q] * A[2][2][q]);
-        F[1][1] = s * (A[0][0][q] * A[2][2][q] - A[0][2][q] * A[2][0][q]);
-        F[1][2] = s * (A[0][2][q] * A[1][0][q] - A[0][0][q] * A[1][2][q]);
-        F[2][0] = s * (A[1][0][q] * A[2][1][q] - A[1][1][q] * A[2][0][q]);
-        F[2][1] = s * (A[0][1][q] * A[2][0][q] - A[0][0][q] * A[2][1][q]);
-        F[2][2] = s * (A[0][0][q] * A[1][1][q] - A[0][1][q] * A[1][0][q]);
+        const T f00 = s * (A[1][1][q] * A[2][2][q] - A[1][2][q] * A[2][1][q]);
+        const T f01 = s * (A[0][2][q] * A[2][1][q] - A[0][1][q] * A[2][2][q]);
+        const T f02 = s * (A[0][1][q] * A[1][2][q] - A[0][2][q] * A[1][1][q]);
+        const T f10 = s * (A[1][2][q] * A[2][0][q] - A[1][0][q] * A[2][2][q]);
+        const T f11 = s * (A[0][0][q] * A[2][2][q] - A[0][2][q] * A[2][0][q]);
+        const T f12 = s * (A[0][2][q] * A[1][0][q] - A[0][0][q] * A[1][2][q]);
+        const T f20 = s * (A[1][0][q] * A[2][1][q] - A[1][1][q] * A[2][0][q]);
+        const T f21 = s * (A[0][1][q] * A[2][0][q] - A[0][0][q] * A[2][1][q]);
+        const T f22 = s * (A[0][0][q] * A[1][1][q] - A[0][1][q] * A[1][0][q]);
+        b[0][0][q] = f00 * f00 + f01 * f01 + f02 * f02;
+        b[0][1][q] = b[1][0][q] = f00 * f10 + f01 * f11 + f02 * f12;
+        b[0][2][q] = b[2][0][q] = f00 * f20 + f01 * f21 + f02 * f22;
+        b[1][1][q] = f10 * f10 + f11 * f11 + f12 * f12;
+        b[1][2][q] = b[2][1][q] = f10 * f20 + f11 * f21 + f12 * f22;
+        b[2][2][q] = f20 * f20 + f21 * f21 + f22 * f22;
       }
-      for (int r = 0; r < D; ++r)
-        for (int c = r; c < D; ++c) {
-          T sum = T(0);
-          for (int k = 0; k < D; ++k) sum += F[r][k] * F[c][k];
-          b[r][c][q] = b[c][r][q] = sum;
-        }
     }
 #pragma omp simd
     for (int q = 0; q < P; ++q) logJ[q] = std::log(J[q]);
@@ -328,6 +346,10 @@ class ElasticForces {
       cells_.push_back(i);
     }
     layer_start_.push_back(cells_.size());
+    const std::size_t layers = layer_start_.size() - 1;
+    layer_active_.assign(layers, 0);
+    for (auto& order : layer_order_) order.clear();
+    for (std::size_t z = 0; z < layers; ++z) layer_order_[z % 2].push_back(int(z));
     grid_nodes_ = g.size();
     for (int k = 0; k < P; ++k) offset_[std::size_t(k)] = corner_node(g, 0, k);
     corner_mass_.assign(cells_.size() * P, T(0));
@@ -336,28 +358,51 @@ class ElasticForces {
     kept_.assign(cells_.size(), 0);
     return true;
   }
-  // fn(c) for every cell: the even layers, then (after the `omp for` barrier) the odd ones. Two
-  // layers of one parity share no node, so threads never write the same node; each layer runs
-  // on one thread in index order, so every node sums its cells in the same order for any
-  // thread count. Two barriers a pass (2^d cell colours would need 2^d).
-  template <class Fn>
-  void for_each_cell_by_layer(bool parallel, Fn&& fn) const {
-    const std::ptrdiff_t layers = std::ptrdiff_t(layer_start_.size()) - 1;
+  // zero(i) for every node, then cell(c) for every cell (true when it holds material): the even
+  // layers, then (after the `omp for` barrier) the odd ones, then finish(i) for every node, all
+  // in one parallel region. Two layers of one parity share no node, so threads never write the
+  // same node; each layer runs on one thread in index order, so every node sums its cells in
+  // the same order for any thread count, whichever thread takes a layer. So layers are handed
+  // out dynamically, heaviest first (by the cells with material each held last pass): a thread
+  // slowed by other work on the machine leaves the rest to the others, and the big middle
+  // layers do not end a colour on one thread (static halves: 1.5x on 2 threads, README).
+  template <class Zero, class Finish, class Cell>
+  void for_each_cell_by_layer(std::size_t nodes, bool parallel, Zero&& zero, Finish&& finish,
+                              Cell&& cell) {
+    const std::ptrdiff_t n = std::ptrdiff_t(nodes);
 #pragma omp parallel if (parallel)
-    for (int colour = 0; colour < 2; ++colour) {
+    {
 #pragma omp for schedule(static)
-      for (std::ptrdiff_t layer = colour; layer < layers; layer += 2)
-        for (std::size_t c = layer_start_[std::size_t(layer)];
-             c < layer_start_[std::size_t(layer) + 1]; ++c)
-          fn(c);
+      for (std::ptrdiff_t i = 0; i < n; ++i) zero(std::size_t(i));
+      for (int colour = 0; colour < 2; ++colour) {
+        const std::vector<int>& order = layer_order_[std::size_t(colour)];
+        const std::ptrdiff_t count = std::ptrdiff_t(order.size());
+#pragma omp for schedule(dynamic, 1)
+        for (std::ptrdiff_t j = 0; j < count; ++j) {
+          const std::size_t layer = std::size_t(order[std::size_t(j)]);
+          std::size_t active = 0;
+          for (std::size_t c = layer_start_[layer]; c < layer_start_[layer + 1]; ++c)
+            active += cell(c) ? 1 : 0;
+          layer_active_[layer] = active;
+        }
+      }
+#pragma omp for schedule(static)
+      for (std::ptrdiff_t i = 0; i < n; ++i) finish(std::size_t(i));
     }
+    for (auto& order : layer_order_)  // heaviest first, ties in index order (sort: no buffer)
+      std::sort(order.begin(), order.end(), [&](int a, int b) {
+        const std::size_t wa = layer_active_[std::size_t(a)], wb = layer_active_[std::size_t(b)];
+        return wa != wb ? wa > wb : a < b;
+      });
   }
 
   CellQuadrature<T, D> quad_;
-  std::array<std::size_t, P> offset_{};   // node index of corner k minus the base's
-  std::vector<std::size_t> cells_;        // lowest node of each cell, in index order
-  std::vector<std::size_t> layer_start_;  // layer z: cells_[layer_start_[z], layer_start_[z + 1])
-  std::vector<T> corner_mass_;            // per cell: [corner]
+  std::array<std::size_t, P> offset_{};    // node index of corner k minus the base's
+  std::vector<std::size_t> cells_;         // lowest node of each cell, in index order
+  std::vector<std::size_t> layer_start_;   // layer z: cells_[layer_start_[z], layer_start_[z + 1])
+  std::vector<std::size_t> layer_active_;  // per layer: cells with material in the last pass
+  std::array<std::vector<int>, 2> layer_order_;  // even, odd layers: the order they are handed out
+  std::vector<T> corner_mass_;                   // per cell: [corner]
   std::vector<double> cell_energy_;
   std::vector<char> mass_active_;  // per cell: holds material (as of its last mass evaluation)
   std::vector<char> kept_;         // per cell: keeps its corner masses in this lumped_mass
