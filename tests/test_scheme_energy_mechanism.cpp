@@ -8,7 +8,8 @@
 // - through the impact XPIC(2) keeps more total energy than PIC, but more of it is vibration when
 //   the rings separate, and that vibration is damped afterwards, so its rebound is slower;
 // - ASFLIP without its position correction (β = 0) rebounds faster than FLIP; with β = 1 the
-//   rings do not separate at all, and what the table shows is their locked elastic energy.
+//   rings do not rebound at all (their particles leave the rings' lattice and the two end as one
+//   scattered cloud), and what the table shows is that cloud's locked elastic energy.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -114,8 +115,8 @@ TEST(SchemeEnergy, XpicBelowPicOnTheRingsIsTheRebound) {
 
 // ASFLIP (α = 1) without the position correction rebounds faster than FLIP (the affine term keeps
 // what FLIP's lumped transfer loses); with β = 1 the rings never separate: at 0.01 s they have
-// no translation left, and the table's ASFLIP value is the elastic energy of the joined pair.
-TEST(SchemeEnergy, AsflipPositionCorrectionJoinsTheRings) {
+// no translation left, and the table's ASFLIP value is the vibration of the joined particles.
+TEST(SchemeEnergy, AsflipPositionCorrectionStopsTheRebound) {
   const std::vector<double> times{0.005, 0.01};
   const auto flip = run(rings("flip"), times);
   const auto beta0 = run(rings("asflip", {"solver.asflip_beta=0"}), times);
