@@ -32,6 +32,7 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
   const std::ptrdiff_t n = std::ptrdiff_t(p_.size());
   const int polypic_kept = polypic::kept_modes(scene_.solver.polypic_modes, D);
   const int polypic_extra = int(p_.modes.size());
+  const bool polypic_g = polypic::keeps_g_modes(1 + D + polypic_extra, D);
   bool bad = false;
   double max_move = 0;
   Vec<T, D> lo, hi;
@@ -156,9 +157,17 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
         gathered, alpha, multilinear, [&] { return Mat<T, D>(st.inertia()); }, p_.v[q], p_.C[q]);
     if constexpr (S == Scheme::polypic) {  // Fu et al. 2017: the kept modes, by projection
       polypic::keep_linear_modes<T, D>(p_.C[q], polypic_kept);
-      if constexpr (K::type == KernelType::quadratic)
-        polypic::gather_modes<T, D>(st, grid_.inv_dx, grid_.velocity_new, polypic_extra, p_.modes,
-                                    std::size_t(q));
+      if constexpr (K::type == KernelType::quadratic) {
+        if (polypic_extra > 0) {  // the row form of polypic::gather_modes, on the packed ṽ
+          auto node = [&](std::size_t i) { return Lanes::prefix_of(packed[i]); };
+          if (polypic_g)
+            polypic::gather_modes_rows<T, D, 3, Lanes>(st, grid_.inv_dx, node, polypic_extra,
+                                                       p_.modes, std::size_t(q));
+          else
+            polypic::gather_modes_rows<T, D, 2, Lanes>(st, grid_.inv_dx, node, polypic_extra,
+                                                       p_.modes, std::size_t(q));
+        }
+      }
     }
     // MLS-MPM (Hu et al. 2018): the new C is the velocity gradient, F^{n+1} = (I + Δt C) F.
     if constexpr (S == Scheme::mls) gradu = p_.C[q];

@@ -1,5 +1,7 @@
 // Particles to grid (Jiang et al. 2017, eqs 24-25 and the explicit forces of eq 34).
 #pragma once
+#include <type_traits>
+
 #include "kernel_dispatch.hpp"
 #include "mpm.hpp"
 #include "stress_lanes.hpp"
@@ -196,23 +198,24 @@ void MpmSimulation<T, D>::p2g_polypic_modes() {
   using Lanes = typename Grid<T, D>::NodeLanes;
   auto* acc = grid_.accumulator.data();
   const T inv_dx = grid_.inv_dx;
-  blocks_.for_each_block_coloured(
-      [&](std::uint32_t begin, std::uint32_t end) {
-        for (std::uint32_t q = begin; q < end; ++q) {
-          Stencil<T, D, K> st;
-          st.compute(p_.x[q], grid_);
-          const T m = p_.mass[q];
-          polypic::scatter_modes<T, D>(st, inv_dx, p_.modes, q,
-                                       [&](std::size_t i, T w, const Vec<T, D>& v) {
-                                         const Vec<T, D> mv = (w * m) * v;
-                                         if constexpr (D == 2)
-                                           acc[i] += Lanes::of(T(0), mv[0], mv[1]);
-                                         else
-                                           acc[i] += Lanes::of(T(0), mv[0], mv[1], mv[2]);
-                                       });
-        }
-      },
-      parallel_worthwhile());
+  auto pass = [&](auto functions) {  // per-axis functions reached: 2, or 3 with the G modes
+    constexpr int F = decltype(functions)::value;
+    blocks_.for_each_block_coloured(
+        [&](std::uint32_t begin, std::uint32_t end) {
+          for (std::uint32_t q = begin; q < end; ++q) {
+            Stencil<T, D, K> st;
+            st.compute(p_.x[q], grid_);
+            polypic::scatter_modes_rows<T, D, F, Lanes>(
+                st, inv_dx, p_.modes, q, p_.mass[q],
+                [&](std::size_t i, const Lanes& v) { acc[i] += v; });
+          }
+        },
+        parallel_worthwhile());
+  };
+  if (polypic::keeps_g_modes(1 + D + int(p_.modes.size()), D))
+    pass(std::integral_constant<int, 3>{});
+  else
+    pass(std::integral_constant<int, 2>{});
 }
 
 }  // namespace apiclab

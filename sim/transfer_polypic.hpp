@@ -167,6 +167,124 @@ void scatter_modes(const St& st, T inv_dx, const std::vector<std::vector<Vec<T, 
   });
 }
 
+// The same transfers in the row form of P2G and G2P (sim/stencil.hpp, sim/lanes.hpp), used by
+// the step. A mode is a product of per-axis functions, s_r(k) = Π_a b_a[f_a][k_a], so the sums
+// over the 3^D stencil nodes factorise axis by axis (sum factorisation): the projections of
+// every mode at once cost D contractions of F × 3 terms per node row, not (modes × nodes)
+// products, and each term is one multiply-add on a node's lane group. F is the number of
+// per-axis functions the kept modes reach: 2 (1, u) up to the multilinear modes, 3 with the G's.
+// Coefficient tables are indexed f_0 + F f_1 + F² f_2.
+template <class T, int D, int F, int W>
+struct RowBasis {
+  static constexpr int count = D == 2 ? F * F : F * F * F;
+  T a[D][F][W];  // w_k b_f(k) per axis: the weight folded into the axis functions
+  T norm[D][F];
+  template <class St>
+  RowBasis(const St& st, T inv_dx) {
+    for (int ax = 0; ax < D; ++ax) {
+      AxisBasis<T, W> b;
+      b.compute(st.w[ax], st.r[ax], inv_dx);
+      for (int f = 0; f < F; ++f) {
+        norm[ax][f] = b.norm[f];
+        for (int k = 0; k < W; ++k) a[ax][f][k] = st.w[ax][k] * b.value[f][k];
+      }
+    }
+  }
+  // Table index and Σ_i w s² of stored mode j (basis mode 1 + D + j).
+  static int index(int j) {
+    const auto& deg = mode_degrees<D>()[std::size_t(1 + D + j)];
+    int idx = 0;
+    for (int ax = D - 1; ax >= 0; --ax) idx = idx * F + deg[std::size_t(ax)];
+    return idx;
+  }
+  T mode_norm(int j) const {
+    const auto& deg = mode_degrees<D>()[std::size_t(1 + D + j)];
+    T n = T(1);
+    for (int ax = 0; ax < D; ++ax) n *= norm[ax][deg[std::size_t(ax)]];
+    return n;
+  }
+};
+
+// gather_modes in row form: `node(offset)` gives a node's lane group with ṽ in lanes 0..D−1.
+template <class T, int D, int F, class L, class St, class NodeAt>
+void gather_modes_rows(const St& st, T inv_dx, NodeAt&& node, int extra,
+                       std::vector<std::vector<Vec<T, D>>>& modes, std::size_t q) {
+  constexpr int W = St::W;
+  const RowBasis<T, D, F, W> rb(st, inv_dx);
+  L coef[RowBasis<T, D, F, W>::count] = {};
+  // Σ_i a0[f0][i] ṽ(i, row): the row's F sums along axis 0.
+  auto row_sums = [&](std::size_t row_off, L* t) {
+    for (int i = 0; i < W; ++i) {
+      const L n = node(st.off[0][i] + row_off);
+      for (int f = 0; f < F; ++f) t[f] += rb.a[0][f][i] * n;
+    }
+  };
+  if constexpr (D == 2) {
+    for (int j = 0; j < W; ++j) {
+      L t[F] = {};
+      row_sums(st.off[1][j], t);
+      for (int f1 = 0; f1 < F; ++f1)
+        for (int f0 = 0; f0 < F; ++f0) coef[f0 + F * f1] += rb.a[1][f1][j] * t[f0];
+    }
+  } else {
+    for (int k = 0; k < W; ++k) {
+      L u[F * F] = {};
+      for (int j = 0; j < W; ++j) {
+        L t[F] = {};
+        row_sums(st.off[1][j] + st.off[2][k], t);
+        for (int f1 = 0; f1 < F; ++f1)
+          for (int f0 = 0; f0 < F; ++f0) u[f0 + F * f1] += rb.a[1][f1][j] * t[f0];
+      }
+      for (int f2 = 0; f2 < F; ++f2)
+        for (int e = 0; e < F * F; ++e) coef[e + F * F * f2] += rb.a[2][f2][k] * u[e];
+    }
+  }
+  for (int j = 0; j < extra; ++j) {
+    const L& c = coef[RowBasis<T, D, F, W>::index(j)];
+    const T norm = rb.mode_norm(j);
+    Vec<T, D>& out = modes[std::size_t(j)][q];
+    for (int a = 0; a < D; ++a) out[a] = norm > T(0) ? c[a] / norm : T(0);
+  }
+}
+
+// scatter_modes in row form, weighted by the particle mass for P2G: add(offset, lanes) with
+// lanes (0, m w_ip Σ_j c_j s_j) in the P2G accumulator's layout [m, m v (D), …].
+template <class T, int D, int F, class L, class St, class Add>
+void scatter_modes_rows(const St& st, T inv_dx, const std::vector<std::vector<Vec<T, D>>>& modes,
+                        std::size_t q, T mass, Add&& add) {
+  constexpr int W = St::W;
+  const RowBasis<T, D, F, W> rb(st, inv_dx);
+  L c[RowBasis<T, D, F, W>::count] = {};
+  for (int j = 0; j < int(modes.size()); ++j) {
+    const Vec<T, D> mc = mass * modes[std::size_t(j)][q];
+    if constexpr (D == 2)
+      c[RowBasis<T, D, F, W>::index(j)] = L::of(T(0), mc[0], mc[1]);
+    else
+      c[RowBasis<T, D, F, W>::index(j)] = L::of(T(0), mc[0], mc[1], mc[2]);
+  }
+  // One row: r[f0] = Σ_{f1} a1[f1][j] u[f0 + F f1], then each node Σ_{f0} a0[f0][i] r[f0].
+  auto row = [&](std::size_t row_off, int j, const L* u) {
+    L r[F] = {};
+    for (int f1 = 0; f1 < F; ++f1)
+      for (int f0 = 0; f0 < F; ++f0) r[f0] += rb.a[1][f1][j] * u[f0 + F * f1];
+    for (int i = 0; i < W; ++i) {
+      L v = rb.a[0][0][i] * r[0];
+      for (int f0 = 1; f0 < F; ++f0) v += rb.a[0][f0][i] * r[f0];
+      add(st.off[0][i] + row_off, v);
+    }
+  };
+  if constexpr (D == 2) {
+    for (int j = 0; j < W; ++j) row(st.off[1][j], j, c);
+  } else {
+    for (int k = 0; k < W; ++k) {
+      L u[F * F] = {};
+      for (int f2 = 0; f2 < F; ++f2)
+        for (int e = 0; e < F * F; ++e) u[e] += rb.a[2][f2][k] * c[e + F * F * f2];
+      for (int j = 0; j < W; ++j) row(st.off[1][j] + st.off[2][k], j, u);
+    }
+  }
+}
+
 // Σ_j |c_j|² Σ_i w s_j²: the higher modes' share of Σ_i w_ip |v_p(x_i)|² (the modes are
 // orthogonal, so kinetic energy splits mode by mode).
 template <class T, int D, class St>

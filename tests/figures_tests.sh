@@ -99,7 +99,8 @@ says6 "EoL's grid has $n_eol nodes ($(awk "BEGIN {printf \"%.1f\", $b_eol / 1024
 # XPIC(2) and ASFLIP (α = β = 1) are left out of the order: measured, XPIC(2) ends below PIC
 # (241.8 against 359.1 J at t = 0.01 s) and ASFLIP above FLIP at t = 0.005 s (2108 against
 # 1848 J, most of it elastic), which issue 15's expectation does not foresee; README
-# "The two-ring energy table" reports both as open questions, not as facts checked here.
+# "The two-ring energy table" explains both (the table measures the rebound, and ASFLIP's
+# position correction stops it), tests/test_scheme_energy_mechanism.cpp measures why.
 energy_order() {  # CSV: exit 0 when pic < every affine scheme < flip
   awk -F, 'NR > 1 {if ($7 == "") e[$1] = $3; else failed[$1] = 1}
     END {split("pic flip apic rpic mls tpic", need, " ")
