@@ -91,14 +91,16 @@ bool inside_shape(const ShapeDesc& s, const Vec3d& x, int dim) {
   return false;
 }
 
-MeshSolid::MeshSolid(const std::string& path, const ShapeDesc& shape) {
-  const ObjMesh obj = load_obj_mesh(path);  // checked: indices, closed surface, volume
-  Eigen::Matrix3d R = rotation_of(shape);
-  auto vertex = [&](std::uint32_t i) {
-    const auto& p = obj.vertices[i];
-    Eigen::Vector3d v(p[0], p[1], p[2]);
-    return from_eigen(R * (shape.scale * v) + to_eigen(shape.translate));
-  };
+Vec3d place_mesh_vertex(const ShapeDesc& shape, const std::array<double, 3>& p) {
+  const Eigen::Vector3d v(p[0], p[1], p[2]);
+  return from_eigen(rotation_of(shape) * (shape.scale * v) + to_eigen(shape.translate));
+}
+
+MeshSolid::MeshSolid(const std::string& path, const ShapeDesc& shape)
+    : MeshSolid(load_obj_mesh(path), shape) {}  // checked: indices, closed surface, volume
+
+MeshSolid::MeshSolid(const ObjMesh& obj, const ShapeDesc& shape) {
+  auto vertex = [&](std::uint32_t i) { return place_mesh_vertex(shape, obj.vertices[i]); };
   lo_ = {1e300, 1e300, 1e300};
   hi_ = {-1e300, -1e300, -1e300};
   for (const auto& tri : obj.triangles) {
