@@ -2,6 +2,7 @@
 // of an icosphere against the ball's, of a placed box OBJ against the box shape's (transform and
 // sign), and the lumped mass of a mesh against ρ₀ × the OBJ's volume.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <Eigen/Geometry>
 #include <array>
@@ -10,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <string>
 #include <vector>
 
 #include "eol_test_scenes.hpp"
@@ -19,11 +21,23 @@
 namespace apiclab {
 namespace {
 
-std::string temp_obj(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() / "apiclab_eol_mesh";
-  std::filesystem::create_directories(dir);
-  return (dir / name).string();
-}
+// An OBJ file in a folder of this process's own (ctest runs each test in a process, other
+// checkouts too), removed with it.
+struct ScratchObj {
+  std::filesystem::path dir, file;
+  explicit ScratchObj(const std::string& name)
+      : dir(std::filesystem::temp_directory_path() /
+            ("apiclab_eol_mesh_" + std::to_string(::getpid()))),
+        file(dir / name) {
+    std::filesystem::create_directories(dir);
+  }
+  ~ScratchObj() {
+    std::error_code ignored;
+    std::filesystem::remove(file, ignored);
+    std::filesystem::remove(dir, ignored);  // only when empty
+  }
+  std::string path() const { return file.string(); }
+};
 
 // A unit icosphere: the icosahedron, each face split in four `levels` times, every vertex on
 // the sphere. Written as an OBJ (outward faces).
@@ -101,7 +115,8 @@ TEST(EolMeshDistance, IcosphereMatchesTheBallDistance) {
   const double r = 0.3, cell = 0.05;
   const Vec3d c{0.5, 0.6, 0.4};
   const ObjMesh unit = icosphere(3);  // 1280 faces
-  const std::string file = temp_obj("icosphere3.obj");
+  const ScratchObj scratch("icosphere3.obj");
+  const std::string file = scratch.path();
   write_obj(unit, file);
   const eol::MeshDistance phi(load_obj_mesh(file), mesh_shape(file, r, c), cell);
   const double s = phi.spacing();
@@ -146,7 +161,8 @@ TEST(EolMeshDistance, IcosphereMatchesTheBallDistance) {
 TEST(EolMeshDistance, PlacedBoxMatchesTheBoxShape) {
   // Half-sides exact in float (tinyobjloader reads floats), so the box is exactly the shape.
   const double half[3] = {0.25, 0.125, 0.09375}, scale = 1.5, cell = 0.04;
-  const std::string file = temp_obj("box.obj");
+  const ScratchObj scratch("box.obj");
+  const std::string file = scratch.path();
   {
     std::ofstream out(file);
     for (int k = 0; k < 8; ++k)
@@ -204,7 +220,8 @@ TEST(EolMeshDistance, PlacedBoxMatchesTheBoxShape) {
 TEST(EolMeshDistance, MassOfAMeshRestShapeIsRhoTimesTheObjVolume) {
   const double r = 0.25, h = 1.0 / 24, rho = 3;
   const ObjMesh unit = icosphere(3);
-  const std::string file = temp_obj("icosphere3-mass.obj");
+  const ScratchObj scratch("icosphere3-mass.obj");
+  const std::string file = scratch.path();
   write_obj(unit, file);
   test::EolSceneSpec spec;
   spec.dim = 3;
