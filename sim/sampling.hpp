@@ -33,9 +33,9 @@ bool inside_shape(const ShapeDesc& shape, const Vec3d& x, int dim);
 
 struct ObjMesh;
 
-// Where a mesh shape puts an OBJ vertex v in the world: R (scale v) + translate, R the shape's
-// rotation about the OBJ's origin. MPM's particles and the EoL rest shape both place it so.
-Vec3d place_mesh_vertex(const ShapeDesc& shape, const std::array<double, 3>& v);
+// Where a mesh shape puts each OBJ vertex v in the world: R (scale v) + translate, R the
+// shape's rotation about the OBJ's origin. MPM's particles and the EoL rest shape both place it so.
+std::vector<Vec3d> place_mesh_vertices(const ShapeDesc& shape, const ObjMesh& obj);
 
 // A closed triangle mesh with a fast inside test (ray parity along +z, triangles bucketed on xy).
 class MeshSolid {

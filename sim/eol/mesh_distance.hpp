@@ -1,5 +1,5 @@
 // The signed distance φ₀ of a mesh rest shape (an OBJ placed as the scene places it, the same
-// placement as MPM's particles: place_mesh_vertex) in material space, negative inside. Sampled
+// placement as MPM's particles: place_mesh_vertices) in material space, negative inside. Sampled
 // once on a lattice of spacing s = cell/2 and read by trilinear interpolation, since the solver
 // reads φ₀ at every node after every advection (update_mass), not only at set-up.
 //
