@@ -187,9 +187,16 @@ void eol_estimate(const SceneDesc& scene, MemoryEstimate& e) {
     e.grid_nodes = nodes(scene.domain.min, scene.domain.max, scene.domain.dx, 0);
   } else {
     const double dx = s.cell > 0 ? s.cell : scene.domain.dx;
-    for (const ObjectDesc& o : scene.objects) {
+    for (std::size_t i = 0; i < scene.objects.size(); ++i) {
+      const ObjectDesc& o = scene.objects[i];
       Vec3d lo{}, hi{};
-      if (o.shape.type != ShapeType::mesh) eol::rest_bounds(o.shape, scene.dim, lo, hi);
+      if (o.shape.type == ShapeType::mesh) {  // read as the sampler reads it (bounds only)
+        const MeshSolid mesh(resolve_mesh_file(scene, int(i)), o.shape);
+        lo = mesh.lower();
+        hi = mesh.upper();
+      } else {
+        eol::rest_bounds(o.shape, scene.dim, lo, hi);
+      }
       if (s.grid_extent > 0)
         for (int a = 0; a < scene.dim; ++a) {
           lo[a] = 0;

@@ -91,14 +91,22 @@ bool inside_shape(const ShapeDesc& s, const Vec3d& x, int dim) {
   return false;
 }
 
-MeshSolid::MeshSolid(const std::string& path, const ShapeDesc& shape) {
-  const ObjMesh obj = load_obj_mesh(path);  // checked: indices, closed surface, volume
-  Eigen::Matrix3d R = rotation_of(shape);
-  auto vertex = [&](std::uint32_t i) {
-    const auto& p = obj.vertices[i];
-    Eigen::Vector3d v(p[0], p[1], p[2]);
-    return from_eigen(R * (shape.scale * v) + to_eigen(shape.translate));
-  };
+std::vector<Vec3d> place_mesh_vertices(const ShapeDesc& shape, const ObjMesh& obj) {
+  const Eigen::Matrix3d R = rotation_of(shape);
+  std::vector<Vec3d> out;
+  out.reserve(obj.vertices.size());
+  for (const auto& p : obj.vertices)
+    out.push_back(from_eigen(R * (shape.scale * Eigen::Vector3d(p[0], p[1], p[2])) +
+                             to_eigen(shape.translate)));
+  return out;
+}
+
+MeshSolid::MeshSolid(const std::string& path, const ShapeDesc& shape)
+    : MeshSolid(load_obj_mesh(path), shape) {}  // checked: indices, closed surface, volume
+
+MeshSolid::MeshSolid(const ObjMesh& obj, const ShapeDesc& shape) {
+  const std::vector<Vec3d> placed = place_mesh_vertices(shape, obj);
+  auto vertex = [&](std::uint32_t i) { return placed[i]; };
   lo_ = {1e300, 1e300, 1e300};
   hi_ = {-1e300, -1e300, -1e300};
   for (const auto& tri : obj.triangles) {

@@ -1,6 +1,7 @@
 // Filling scene objects with particles: shapes (inside tests), grid-aligned lattices and
 // Poisson disk sampling (Bridson 2007), closed triangle meshes (OBJ).
 #pragma once
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -30,11 +31,19 @@ void shape_bounds(const ShapeDesc& shape, int dim, Vec3d& lo, Vec3d& hi);
 // Inside test for a shape in world coordinates (meshes need a MeshSolid, below).
 bool inside_shape(const ShapeDesc& shape, const Vec3d& x, int dim);
 
+struct ObjMesh;
+
+// Where a mesh shape puts each OBJ vertex v in the world: R (scale v) + translate, R the
+// shape's rotation about the OBJ's origin. MPM's particles and the EoL rest shape both place it so.
+std::vector<Vec3d> place_mesh_vertices(const ShapeDesc& shape, const ObjMesh& obj);
+
 // A closed triangle mesh with a fast inside test (ray parity along +z, triangles bucketed on xy).
 class MeshSolid {
  public:
   // Loads an OBJ through tinyobjloader, scaled, rotated and translated as the shape says.
   MeshSolid(const std::string& obj_path, const ShapeDesc& shape);
+  // The same from an OBJ already loaded (load_obj_mesh).
+  MeshSolid(const ObjMesh& obj, const ShapeDesc& shape);
   bool inside(const Vec3d& p) const;
   Vec3d lower() const { return lo_; }
   Vec3d upper() const { return hi_; }

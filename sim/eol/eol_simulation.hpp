@@ -131,6 +131,7 @@ class EolSimulation final : public Simulation {
   // cleared by a step and by mutable access). snapshot() places a copy when it is not.
   bool surfaces_placed_ = true;
   std::vector<EolObject<T, D>> objects_;
+  std::vector<RestShape> rest_;  // per scene object: φ₀ (rest_shape.hpp)
   std::vector<ElasticMaterial<T>> materials_;
   std::vector<T> density_;  // ρ₀ per material
   std::vector<PlaneConstraint<T, D>> planes_;

@@ -21,26 +21,22 @@ inline double seconds_since(std::chrono::steady_clock::time_point start) {
 template <class T, int D>
 EolSimulation<T, D>::EolSimulation(const SceneDesc& scene, bool lagrangian)
     : scene_(scene), lagrangian_(lagrangian) {
-  const std::string method = lagrangian ? "eol" : "eulerian";
   if (scene.dim != D) throw SceneError(scene.source + ": key 'dim': internal dimension mismatch");
   for (const MaterialDesc& m : scene.materials) {
     materials_.push_back({m.model, {T(m.mu()), T(m.lambda())}});
     density_.push_back(T(m.rho));
     max_wave_speed_ = std::max(max_wave_speed_, m.wave_speed());
   }
-  for (std::size_t o = 0; o < scene.objects.size(); ++o)
-    if (scene.objects[o].shape.type == ShapeType::mesh)
-      throw SceneError(scene.source + ": key 'objects." + std::to_string(o) + ".shape.type': the " +
-                       method +
-                       " solver takes box, ball, annulus and torus rest shapes (a mesh needs a "
-                       "signed distance, not yet)");
   planes_ = scene_planes<T, D>(scene);
   const EolSolverDesc& e = scene.solver.eol;
+  const double cell = lagrangian && e.cell > 0 ? e.cell : scene.domain.dx;
+  for (int o = 0; o < int(scene.objects.size()); ++o)
+    rest_.push_back(make_rest_shape(scene, o, cell));
   if (lagrangian) {
-    const double dx = e.cell > 0 ? e.cell : scene.domain.dx;
+    const double dx = cell;
     for (int o = 0; o < int(scene.objects.size()); ++o) {
       Vec3d lo, hi;
-      rest_bounds(scene.objects[std::size_t(o)].shape, D, lo, hi);
+      rest_[std::size_t(o)].bounds(D, lo, hi);
       int padding = e.padding;
       if (e.grid_extent > 0) {
         for (int a = 0; a < D; ++a) {
@@ -110,7 +106,7 @@ void EolSimulation<T, D>::add_object_grid(const std::vector<int>& shapes, const 
     Spin<T, D> w;
     for (int a = 0; a < D; ++a) {
       V[a] = T(obj.velocity[std::size_t(a)]);
-      c[a] = T(obj.shape.center[std::size_t(a)]);
+      c[a] = T(rest_[std::size_t(s)].center()[std::size_t(a)]);
     }
     if constexpr (D == 2)
       w[0] = T(obj.angular_velocity[2]);
@@ -119,8 +115,7 @@ void EolSimulation<T, D>::add_object_grid(const std::vector<int>& shapes, const 
     return std::pair<Vec<T, D>, Spin<T, D>>(V + spin_cross<T, D>(w, Vec<T, D>(x - c)), w);
   };
   // The surface at half the cell (Sec 3.8); at rest X = p + y, so y_s = X_s − p exactly.
-  for (int s : shapes)
-    append_rest_surface<D>(scene_.objects[std::size_t(s)].shape, s, 0.5 * dx, o.surface);
+  for (int s : shapes) append_rest_surface<D>(rest_[std::size_t(s)], s, 0.5 * dx, o.surface);
   for (const Vec<double, D>& Xs : o.surface.X)
     o.surface_y.push_back(Vec<T, D>(Xs.template cast<T>() - o.frame.p));
   if (lagrangian_) {
@@ -135,7 +130,7 @@ void EolSimulation<T, D>::add_object_grid(const std::vector<int>& shapes, const 
       int best = shapes[0];
       double best_phi = 1e300;
       for (int s : shapes) {
-        const double phi = rest_distance(scene_.objects[std::size_t(s)].shape, X, D);
+        const double phi = rest_[std::size_t(s)].distance(X, D);
         if (phi < best_phi) {
           best_phi = phi;
           best = s;
@@ -168,7 +163,7 @@ void EolSimulation<T, D>::update_mass(EolObject<T, D>& o, bool after_extrapolati
     double best = 1e300;
     int owner = -1;
     for (int s : o.shapes) {
-      const double phi = rest_distance(scene_.objects[std::size_t(s)].shape, X, D);
+      const double phi = rest_[std::size_t(s)].distance(X, D);
       if (phi < best) {
         best = phi;
         owner = s;

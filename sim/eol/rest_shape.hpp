@@ -1,11 +1,14 @@
 // The rest shape of an object as a signed distance φ₀(X) in material space (negative inside),
-// for every scene shape the EoL solver takes: box, ball, annulus, torus (Sec 3.3 needs only
-// φ₀ < 0; the distance lets the mass fade smoothly across the surface, eulerian_grid.hpp).
+// for every scene shape: box, ball, annulus, torus exactly, a mesh sampled (mesh_distance.hpp)
+// (Sec 3.3 needs only φ₀ < 0; the distance lets the mass fade smoothly across the surface,
+// eulerian_grid.hpp).
 #pragma once
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
+#include "sim/eol/mesh_distance.hpp"
 #include "sim/sampling.hpp"
 #include "sim/scene.hpp"
 
@@ -56,7 +59,7 @@ inline double rest_distance(const ShapeDesc& s, const Vec3d& x, int dim) {
     case ShapeType::mesh:
       break;
   }
-  return 1e300;  // meshes are refused by validate_eol
+  return 1e300;  // meshes: RestShape below
 }
 
 // World bounding box of the shape (a sphere's box around the center when rotated): the
@@ -64,5 +67,31 @@ inline double rest_distance(const ShapeDesc& s, const Vec3d& x, int dim) {
 inline void rest_bounds(const ShapeDesc& s, int dim, Vec3d& lo, Vec3d& hi) {
   shape_bounds(s, dim, lo, hi);
 }
+
+// One object's rest shape: the scene's shape, and for a mesh its sampled distance.
+struct RestShape {
+  ShapeDesc shape;
+  std::shared_ptr<const MeshDistance> mesh;  // mesh shapes only (read-only, shared by clones)
+
+  double distance(const Vec3d& x, int dim) const {
+    return mesh ? (*mesh)(x) : rest_distance(shape, x, dim);
+  }
+  void bounds(int dim, Vec3d& lo, Vec3d& hi) const {
+    if (!mesh) return rest_bounds(shape, dim, lo, hi);
+    lo = mesh->lower();
+    hi = mesh->upper();
+  }
+  // The centre c of the initial velocity V + ω × (x − c): the shape's centre, a mesh's box
+  // centre, as the MPM sampler takes them.
+  Vec3d center() const {
+    if (!mesh) return shape.center;
+    const Vec3d lo = mesh->lower(), hi = mesh->upper();
+    return {0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]), 0.5 * (lo[2] + hi[2])};
+  }
+};
+
+// The rest shape of scene object `object`; a mesh is read (resolve_mesh_file, load_obj_mesh:
+// SceneError when missing, open or non-manifold) and sampled for an EoL grid of cell `cell`.
+RestShape make_rest_shape(const SceneDesc& scene, int object, double cell);
 
 }  // namespace apiclab::eol

@@ -164,4 +164,24 @@ void append_rest_surface(const ShapeDesc& shape, std::int32_t owner, double h,
   }
 }
 
+// The surface of a rest shape: a mesh's own triangles (closed and manifold, checked when read,
+// and exactly the rest shape: marching on its sampled distance would only approximate it at the
+// cell), any other shape's marching simplices above.
+template <int D>
+void append_rest_surface(const RestShape& rest, std::int32_t owner, double h, RestSurface<D>& out) {
+  if constexpr (D == 3) {
+    if (rest.mesh) {
+      const auto first = std::uint32_t(out.X.size());
+      for (const Vec3d& v : rest.mesh->vertices()) {
+        out.X.push_back(Vec<double, 3>(v[0], v[1], v[2]));
+        out.owner.push_back(owner);
+      }
+      for (const auto& t : rest.mesh->triangles())
+        for (std::uint32_t v : t) out.simplex.push_back(first + v);
+      return;
+    }
+  }
+  append_rest_surface<D>(rest.shape, owner, h, out);
+}
+
 }  // namespace apiclab::eol
