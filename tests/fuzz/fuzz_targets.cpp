@@ -64,10 +64,19 @@ Outcome guarded(const std::uint8_t* data, std::size_t size, F&& f) {
   }
 }
 
+// Shipped scenes whose one-step build takes longer than the fuzzer's budget for an input under
+// the sanitizers: eol-bunny-3d samples a 75,408-triangle mesh's distance (12 s of CPU under ASan,
+// 0.3 s in Release), so its mutations time out on a loaded machine. Its mesh is fuzzed by
+// fuzz_obj, and tests/fuzz/fuzz_test.sh leaves it out of fuzz_scene's seeds too.
+bool too_slow_to_fuzz(const std::filesystem::path& scene) {
+  return scene.filename() == "eol-bunny-3d.json";
+}
+
 std::vector<std::string> shipped_scenes() {
   std::vector<std::string> names;
   for (const auto& e : std::filesystem::directory_iterator(source_dir() + "/assets/scenes"))
-    if (e.path().extension() == ".json") names.push_back(e.path().string());
+    if (e.path().extension() == ".json" && !too_slow_to_fuzz(e.path()))
+      names.push_back(e.path().string());
   std::sort(names.begin(), names.end());
   return names;
 }
