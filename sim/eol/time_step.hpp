@@ -16,15 +16,6 @@
 
 namespace apiclab::eol {
 
-// γ of eq 33 for one velocity field over the nodes with mass.
-template <class T, int D>
-double advection_rate(const std::vector<Vec<T, D>>& v, const std::vector<T>& mass, double dx) {
-  double g = 0;
-  for (std::size_t i = 0; i < v.size(); ++i)
-    if (mass[i] > T(0)) g = std::max(g, double(v[i].template lpNorm<1>()) / dx);
-  return g;
-}
-
 // Positive root of γ₁ Δt² + γ₀ Δt − α = 0 (written without cancellation); +inf when both γ
 // vanish (nothing moves through the grid).
 inline double advection_limit(double gamma0, double gamma1, double alpha) {
