@@ -63,8 +63,10 @@ struct Stencil {
     T w;
     Vec<T, D> dw, r;
   };
+  // Forced inline (with the row bodies in g2p.hpp): GCC 12 otherwise keeps it out of line on
+  // x86-64-v3 in 3D double, and the caller's sums then go through memory at every row.
   template <class Fn>
-  void for_each_row(Fn&& f) const {
+  __attribute__((always_inline)) void for_each_row(Fn&& f) const {
     Row row;
     if constexpr (D == 2) {
       for (int j = 0; j < W; ++j) {
