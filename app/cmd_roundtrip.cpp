@@ -46,23 +46,24 @@ void register_roundtrip(CLI::App& root, CommandTable& table) {
                      try {
                        k = parse_choice(kernel_choices(), o->kernel, "kernel");
                        s = parse_choice(scheme_choices(), o->scheme, "scheme");
-                       if (const std::string why = roundtrip_refusal(s); !why.empty())
-                         throw UsageError(why);
                      } catch (const std::invalid_argument& e) {
                        throw UsageError(e.what());
                      }
+                     if (const std::string why = roundtrip_refusal(s); !why.empty())
+                       throw UsageError(why);
+                     const int m = o->xpic_order;
                      // Every resolution is checked before the first runs.
                      const auto gb = max_memory_gb(o->max_memory);
                      const auto cap =
                          gb ? std::optional<double>(*gb * 1e9) : available_memory_bytes();
-                     for (int n : o->res)
-                       check_memory(estimate_roundtrip_memory(n, s, o->xpic_order), cap,
-                                    "roundtrip --res " + std::to_string(n));
+                     for (int n : o->res) {
+                       const MemoryEstimate need = estimate_roundtrip_memory(n, s, m);
+                       check_memory(need, cap, "roundtrip --res " + std::to_string(n));
+                     }
                      std::printf("resolution,dx,l2_error\n");
                      try {
                        for (int n : o->res) {
-                         RoundTripResult r =
-                             roundtrip_error(k, s, n, std::uint64_t(o->seed), o->xpic_order);
+                         RoundTripResult r = roundtrip_error(k, s, n, std::uint64_t(o->seed), m);
                          std::printf("%d,%.17g,%.17g\n", r.resolution, r.dx, r.l2_error);
                        }
                      } catch (const std::invalid_argument& e) {
