@@ -36,6 +36,14 @@ std::string choice_help(const char* what, const std::vector<Choice<E>>& choices)
   return std::string(what) + ": " + choice_keys(choices) + " [default: the scene's]";
 }
 
+// Each scheme's help (registry.hpp: source and equations), so --help names what a key runs.
+std::string scheme_table() {
+  std::string out = "Transfer schemes (the values of solver.scheme):\n";
+  for (const auto& c : scheme_choices())
+    out += "  " + std::string(c.key) + "  " + std::string(c.help) + "\n";
+  return out + "\n";
+}
+
 std::string parameter_table() {
   std::string out = "Numeric scene keys (--set KEY=VALUE; * is a material index or an axis):\n";
   for (const auto& p : numeric_parameters())
@@ -88,7 +96,7 @@ void add_run_options(CLI::App* cmd, RunOptions& o, RunOptionSet which) {
                   "auto or none [default: the scene's solver.max_memory_gb, else auto = the "
                   "available memory]");
   if (which.quiet) cmd->add_flag("--quiet", o.quiet, "no progress line [default: off]");
-  cmd->footer(parameter_table());
+  cmd->footer(scheme_table() + parameter_table());
 }
 
 std::vector<DumpFormat> dump_formats_of(const RunOptions& o) {

@@ -184,7 +184,7 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
       }
     // Particle update: positions on the moved grid (eq 39), F by eq 40 (above).
     Vec<T, D> move = dt * ubar;
-    // ASFLIP (Fei et al. 2021, Sec 4): separating particles also move by β α (v_p^n − v_old);
+    // ASFLIP (Fei et al. 2021): separating particles also move by β α (v_p^n − v_old);
     // a particle whose volume shrinks this step (ln J^{n+1} < −10⁻³, the threshold of the
     // authors' pyasflip demo) keeps the grid's motion (β_min = 0).
     if constexpr (S == Scheme::asflip)

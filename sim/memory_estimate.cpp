@@ -253,9 +253,11 @@ MemoryEstimate estimate_memory(const SceneDesc& scene, Precision precision) {
   return e;
 }
 
-MemoryEstimate estimate_roundtrip_memory(int resolution) {
+MemoryEstimate estimate_roundtrip_memory(int resolution, Scheme scheme, int xpic_order) {
   SceneDesc s;
   s.dim = 2;
+  s.solver.scheme = scheme;
+  s.solver.xpic_order = xpic_order;
   s.domain.max = {2 * M_PI, 2 * M_PI, 0};
   s.domain.dx = 2 * M_PI / resolution;
   s.domain.walls.fill(BoundaryCondition::periodic);

@@ -24,8 +24,10 @@ struct MemoryEstimate {
 
 MemoryEstimate estimate_memory(const SceneDesc& scene, Precision precision);
 
-// The round-trip probe (sim/roundtrip.hpp) at `resolution` cells per axis.
-MemoryEstimate estimate_roundtrip_memory(int resolution);
+// The round-trip probe (sim/roundtrip.hpp) at `resolution` cells per axis, with the scheme's
+// own state (PolyPIC's modes, XPIC's node arrays).
+MemoryEstimate estimate_roundtrip_memory(int resolution, Scheme scheme = Scheme::apic,
+                                         int xpic_order = 2);
 
 // MemAvailable of /proc/meminfo in bytes; empty where it cannot be read.
 std::optional<double> available_memory_bytes();

@@ -122,7 +122,7 @@ std::vector<NumericParameter> declare() {
        .unit = "1",
        .range = kUnit,
        .default_value = 1.0,
-       .help = "ASFLIP (Fei et al. 2021, Sec 4): x_p += dt beta alpha (v_p - v_old^PIC) for "
+       .help = "ASFLIP (Fei et al. 2021): x_p += dt beta alpha (v_p - v_old^PIC) for "
                "separating particles (ln J > -1e-3); 0 = the plain APIC/FLIP blend (used by the "
                "asflip scheme)",
        .get = [](const S& s, int) { return s.solver.asflip_beta; },
@@ -133,7 +133,7 @@ std::vector<NumericParameter> declare() {
        .range = {1, 1000, false, false},
        .default_value = 2,
        .integer = true,
-       .help = "XPIC(m) (Hammerquist and Nairn 2017, Sec 3): terms of the series in the "
+       .help = "XPIC(m) (Hammerquist and Nairn 2017): terms of the series in the "
                "particle-grid-particle operator; 1 = PIC, m - 1 extra grid passes (used by the "
                "xpic scheme)",
        .get = [](const S& s, int) { return double(s.solver.xpic_order); },

@@ -232,7 +232,7 @@ void step(const Setup<T, D>& s, ParticleState<T, D>& ps, T dt) {
         constrain<T, D>(g.v_new[k], c.normal, c.condition);
   }
 
-  // XPIC(m) (Hammerquist and Nairn 2017, Sec 3): v* = Σ_{r=1}^{m} (−1)^{r+1} C(m,r) A^{r−1} vⁿ
+  // XPIC(m) (Hammerquist and Nairn 2017): v* = Σ_{r=1}^{m} (−1)^{r+1} C(m,r) A^{r−1} vⁿ
   // with A = S⁺S: interpolate to the particles, then the mass-weighted P2G. Summed as the equal
   // polynomial Σ_{k=0}^{m−1} (I − A)^k vⁿ (no binomial cancellation); e = v* − vⁿ.
   std::vector<Vec<T, D>> xpic_e(g.mass.size(), Vec<T, D>::Zero());
@@ -296,7 +296,7 @@ void step(const Setup<T, D>& s, ParticleState<T, D>& ps, T dt) {
       ps.C[p] = grad_v;  // TPIC: C = ∇v_p = Σ ṽ_i ∇w_ipᵀ, every kernel
     } else if (s.scheme == Scheme::apic || mls || polypic || s.scheme == Scheme::asflip) {
       ps.v[p] = v_pic;  // eq 37 (MLS-MPM and PolyPIC's linear modes: APIC's transfers)
-      // ASFLIP (Fei et al. 2021, Sec 4): v_p^{n+1} = v^PIC + α (v_p^n − Σ w v_i^n), C as APIC
+      // ASFLIP (Fei et al. 2021): v_p^{n+1} = v^PIC + α (v_p^n − Σ w v_i^n), C as APIC
       if (s.scheme == Scheme::asflip) ps.v[p] += s.flip_alpha * (v_n - v_old);
       if (s.kernel == KernelType::linear) {
         ps.C[p] = grad_v;  // Sec 5.9: C^{n+1} = Σ ṽ_i ∇w_ipᵀ = B^{n+1} (D_p^n)⁻¹, lagged

@@ -41,23 +41,28 @@ inline const std::vector<Choice<Scheme>>& scheme_choices() {
       {"apic", Scheme::apic, "APIC, eqs 24-26 and 37-40: affine velocity per particle"},
       {"rpic", Scheme::rpic, "RPIC, Secs 2.1 and 5.1: rigid (skew) velocity per particle"},
       {"mls", Scheme::mls,
-       "MLS-MPM (Hu et al. 2018, Sec 4): APIC's transfers, C as the velocity gradient: the force "
-       "-V P F^T D^-1 fused into P2G's affine term, F <- (I + dt C) F; quadratic or cubic, "
-       "symplectic Euler"},
+       "MLS-MPM (Hu et al. 2018, Sec 4): APIC's transfers, C as the velocity gradient, F <- (I + "
+       "dt C) F (eq 17); the force of eq 18, -V0 dPsi/dF F^T M_p^-1 w (x_i - x_p), fused into "
+       "P2G's affine term (Q_p, Sec 6); quadratic or cubic, symplectic Euler"},
       {"asflip", Scheme::asflip,
-       "ASFLIP (Fei et al. 2021, Sec 4): APIC's affine transfers, v <- v^PIC + alpha (v_p - "
+       "ASFLIP (Fei et al. 2021; the update of the authors' demo pyasflip, G2P of Substep): "
+       "APIC's affine transfers, v <- v^PIC + alpha (v_p - "
        "v_old^PIC) with alpha = solver.flip_alpha, x <- x + dt (v^PIC + beta alpha (v_p - "
        "v_old^PIC)) for separating particles, beta = solver.asflip_beta (beta = 0: the plain "
        "APIC/FLIP blend)"},
       {"xpic", Scheme::xpic,
-       "XPIC(m) (Hammerquist and Nairn 2017, Sec 3): PIC plus the m-term series of the "
+       "XPIC(m) (Hammerquist and Nairn 2017; their v* = sum_r (-1)^r v*_r, v*_r = (m-r+1)/r "
+       "S+S v*_{r-1}, as Tesserae.jl documents it): PIC plus the m-term series of the "
        "particle-grid-particle operator, v <- (I - (I - S S+)^m) v_p + S a dt; m = "
        "solver.xpic_order, XPIC(1) = PIC"},
       {"tpic", Scheme::tpic,
-       "TPIC (Nakamura et al. 2023): the particle's velocity gradient sum v_i grad w_ip^T from "
-       "G2P as the affine term of P2G (a first-order Taylor expansion); every kernel"},
+       "TPIC (Nakamura et al. 2023, as the first author's Tesserae.jl documents it; no equation "
+       "numbers reachable): P2G m v_i = sum w m (v_p + grad v_p (x_i - x_p)), G2P grad v_p = "
+       "sum v_i grad w_ip^T (a first-order Taylor expansion); every kernel"},
       {"polypic", Scheme::polypic,
-       "PolyPIC (Fu et al. 2017): per-particle polynomial velocity modes orthogonal under the "
+       "PolyPIC (Fu, Guo, Gast, Jiang and Teran 2017; MLS on velocities with B-spline weights, "
+       "Hu et al. 2018 Sec 3.2; no equation numbers reachable): per-particle polynomial velocity "
+       "modes orthogonal under the "
        "weights, solver.polypic_modes of them (1 = PIC, 3 in 2D / 4 in 3D = APIC's affine, 9 / 27 "
        "= all); quadratic kernel"}};
   return c;

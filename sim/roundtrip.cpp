@@ -4,19 +4,29 @@
 
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include "mpm.hpp"
 #include "sampling.hpp"
 
 namespace apiclab {
 
+std::string roundtrip_refusal(Scheme scheme) {
+  if (!blends_flip(scheme)) return "";
+  std::string others;
+  for (const auto& c : scheme_choices())
+    if (!blends_flip(c.value)) others += (others.empty() ? "" : ", ") + std::string(c.key);
+  return "the round trip starts from the grid; FLIP and ASFLIP need prior particle velocities "
+         "(use " +
+         others + ")";
+}
+
 RoundTripResult roundtrip_error(KernelType kernel, Scheme scheme, int resolution,
-                                std::uint64_t seed) {
-  if (blends_flip(scheme))
-    throw std::invalid_argument(
-        "the round trip starts from the grid; FLIP and ASFLIP need prior particle velocities (use "
-        "pic, apic, rpic, mls or xpic)");
+                                std::uint64_t seed, int xpic_order) {
+  if (const std::string why = roundtrip_refusal(scheme); !why.empty())
+    throw std::invalid_argument(why);
   if (resolution < 4) throw std::invalid_argument("resolution must be at least 4");
+  if (xpic_order < 1) throw std::invalid_argument("the XPIC order must be at least 1");
   SceneDesc s;
   s.name = "roundtrip";
   s.dim = 2;
@@ -26,6 +36,7 @@ RoundTripResult roundtrip_error(KernelType kernel, Scheme scheme, int resolution
   s.domain.walls.fill(BoundaryCondition::periodic);
   s.solver.scheme = scheme;
   s.solver.kernel = kernel;
+  s.solver.xpic_order = xpic_order;
   s.materials.emplace_back();  // particles name material 0; the probe never computes stress
   MpmSimulation<double, 2> sim(s);
 
@@ -45,9 +56,15 @@ RoundTripResult roundtrip_error(KernelType kernel, Scheme scheme, int resolution
     p.id[q] = std::int32_t(q);
   }
   sim.sort_particles();  // the phases run over the nodes the sorted particles reach
+  // The node masses m_i = Σ w m_p (eq 24) of these particles before G2P, as a step has them:
+  // XPIC's grid passes (A = S⁺S, sim/transfer_xpic.hpp) read them; the other schemes' G2P does
+  // not. The P2G momentum is zero (v_p = 0) and is overwritten below.
+  sim.clear_grid();
+  sim.particles_to_grid(false);
 
   // Grid velocity (1.1 sin x, 0.9 cos y) as both v_i^n and ṽ_i, then G2P with Δt = 0 (x_p and
-  // F_p stay), then P2G (eqs 24, 26) and v_i = (mv)_i / m_i.
+  // F_p stay), then P2G (eqs 24, 26) and v_i = (mv)_i / m_i. XPIC(m) then returns
+  // (I − (I − A)^m) v: its series needs only vⁿ and the masses, not prior particle velocities.
   Grid<double, 2>& g = sim.grid();
   std::vector<Vec<double, 2>> before(g.size());
   for (std::size_t i = 0; i < g.size(); ++i) {

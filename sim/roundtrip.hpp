@@ -2,6 +2,7 @@
 // solver's own G2P and P2G (MpmSimulation's public phases), not on a copy of them.
 #pragma once
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "registry.hpp"
@@ -16,9 +17,12 @@ struct RoundTripResult {
 };
 
 // Periodic [0, 2π]², Poisson disk particles with minimum separation Δx/3, grid velocity
-// (1.1 sin x, 0.9 cos y); the solver's G2P then P2G with Δt = 0. Scheme pic, apic or rpic
-// (std::invalid_argument for flip or a resolution below 4).
+// (1.1 sin x, 0.9 cos y); the solver's G2P then P2G with Δt = 0. Any scheme but those that
+// blend with a prior particle velocity (std::invalid_argument for flip, asflip or a resolution
+// below 4); xpic_order is XPIC's m.
+// "" when the probe runs `scheme`, else why not (one line).
+std::string roundtrip_refusal(Scheme scheme);
 RoundTripResult roundtrip_error(KernelType kernel, Scheme scheme, int resolution,
-                                std::uint64_t seed = 1);
+                                std::uint64_t seed = 1, int xpic_order = 2);
 
 }  // namespace apiclab

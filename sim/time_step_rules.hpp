@@ -28,17 +28,25 @@ double MpmSimulation<T, D>::choose_dt(double t_limit) const {
     const double affine_reach =
         6.0 * std::sqrt(double(D)) * inertia_factor(scene_.solver.kernel) * dx;
     const std::ptrdiff_t n = std::ptrdiff_t(p_.size());
+    // The particle term |v_p| + 6√d/Δx ‖B_p‖_F (+ PolyPIC's modes) is the cfl rule's alone; the
+    // elastic and two-step rules read only v_max.
+    const bool cfl = tm.rule == DtRule::cfl;
+    // PolyPIC's higher modes, in the row form P2G uses: two axis functions per axis without the
+    // G modes, three with them.
+    const bool g_modes = polypic::keeps_g_modes(1 + D + int(p_.modes.size()), D);
 #pragma omp parallel for reduction(max : vmax, cterm) if (parallel_worthwhile())
     for (std::ptrdiff_t q = 0; q < n; ++q) {
       double v = double(p_.v[q].norm());
       vmax = std::max(vmax, v);
+      if (!cfl) continue;
       double modes = 0;  // PolyPIC: the largest speed its higher modes give a stencil node
       if (!p_.modes.empty()) {
         Stencil<T, D, QuadraticKernel> st;
         st.compute(p_.x[q], grid_);
-        polypic::scatter_modes<T, D>(
-            st, grid_.inv_dx, p_.modes, std::size_t(q),
-            [&](std::size_t, T, const Vec<T, D>& u) { modes = std::max(modes, double(u.norm())); });
+        const std::size_t p = std::size_t(q);
+        modes =
+            double(g_modes ? polypic::max_modes_speed_rows<T, D, 3>(st, grid_.inv_dx, p_.modes, p)
+                           : polypic::max_modes_speed_rows<T, D, 2>(st, grid_.inv_dx, p_.modes, p));
       }
       // |v_p| + 6√d/Δx ‖B_p‖_F
       cterm = std::max(cterm, v + affine_reach * double(p_.C[q].norm()) + modes);

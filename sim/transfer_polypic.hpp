@@ -1,5 +1,5 @@
-// PolyPIC (Fu, Zhou, Jiang, Teran, Schroeder and Kavan 2017, "A polynomial particle-in-cell
-// method"): each particle carries a velocity field v_p(x) = Σ_r c_pr s_r(x_i − x_p) over scalar
+// PolyPIC (Fu, Guo, Gast, Jiang and Teran 2017, "A polynomial particle-in-cell method", ACM TOG
+// 36(6), 222): each particle carries a velocity field v_p(x) = Σ_r c_pr s_r(x_i − x_p) over scalar
 // modes s_r that are orthogonal under the kernel weights, Σ_i w_ip s_r s_t = 0 (r ≠ t). Then
 //   G2P: c_pr = Σ_i w_ip ṽ_i s_r(x_i − x_p) / Σ_i w_ip s_r²   (a projection per mode)
 //   P2G: (m v)_i = Σ_p w_ip m_p Σ_r c_pr s_r(x_i − x_p).
@@ -17,10 +17,12 @@
 #pragma once
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <tuple>
 #include <vector>
 
+#include "lanes.hpp"
 #include "math.hpp"
 
 namespace apiclab::polypic {
@@ -174,7 +176,9 @@ void scatter_modes(const St& st, T inv_dx, const std::vector<std::vector<Vec<T, 
 // products, and each term is one multiply-add on a node's lane group. F is the number of
 // per-axis functions the kept modes reach: 2 (1, u) up to the multilinear modes, 3 with the G's.
 // Coefficient tables are indexed f_0 + F f_1 + F² f_2.
-template <class T, int D, int F, int W>
+// Weighted = false keeps the bare axis functions b_f(k) (a velocity at the nodes, not a
+// momentum contribution): the CFL rule's speed bound, max_modes_speed_rows.
+template <class T, int D, int F, int W, bool Weighted = true>
 struct RowBasis {
   static constexpr int count = D == 2 ? F * F : F * F * F;
   T a[D][F][W];  // w_k b_f(k) per axis: the weight folded into the axis functions
@@ -186,7 +190,8 @@ struct RowBasis {
       b.compute(st.w[ax], st.r[ax], inv_dx);
       for (int f = 0; f < F; ++f) {
         norm[ax][f] = b.norm[f];
-        for (int k = 0; k < W; ++k) a[ax][f][k] = st.w[ax][k] * b.value[f][k];
+        for (int k = 0; k < W; ++k)
+          a[ax][f][k] = Weighted ? st.w[ax][k] * b.value[f][k] : b.value[f][k];
       }
     }
   }
@@ -247,6 +252,33 @@ void gather_modes_rows(const St& st, T inv_dx, NodeAt&& node, int extra,
   }
 }
 
+// The stencil's node values of a coefficient table c (indexed f_0 + F f_1 + F² f_2) over the
+// axis functions a[axis][f][k]: emit(offset, Σ_f c_f Π_ax a[ax][f_ax][k_ax]) for every node, in
+// row form: per row r[f0] = Σ_{f1} a1[f1][j] u[f0 + F f1], then each node Σ_{f0} a0[f0][i] r[f0].
+template <class T, int D, int F, int W, class L, class St, class Emit>
+void expand_rows(const T (&a)[D][F][W], const St& st, const L* c, Emit&& emit) {
+  auto row = [&](std::size_t row_off, int j, const L* u) {
+    L r[F] = {};
+    for (int f1 = 0; f1 < F; ++f1)
+      for (int f0 = 0; f0 < F; ++f0) r[f0] += a[1][f1][j] * u[f0 + F * f1];
+    for (int i = 0; i < W; ++i) {
+      L v = a[0][0][i] * r[0];
+      for (int f0 = 1; f0 < F; ++f0) v += a[0][f0][i] * r[f0];
+      emit(st.off[0][i] + row_off, v);
+    }
+  };
+  if constexpr (D == 2) {
+    for (int j = 0; j < W; ++j) row(st.off[1][j], j, c);
+  } else {
+    for (int k = 0; k < W; ++k) {
+      L u[F * F] = {};
+      for (int f2 = 0; f2 < F; ++f2)
+        for (int e = 0; e < F * F; ++e) u[e] += a[2][f2][k] * c[e + F * F * f2];
+      for (int j = 0; j < W; ++j) row(st.off[1][j] + st.off[2][k], j, u);
+    }
+  }
+}
+
 // scatter_modes in row form, weighted by the particle mass for P2G: add(offset, lanes) with
 // lanes (0, m w_ip Σ_j c_j s_j) in the P2G accumulator's layout [m, m v (D), …].
 template <class T, int D, int F, class L, class St, class Add>
@@ -262,27 +294,34 @@ void scatter_modes_rows(const St& st, T inv_dx, const std::vector<std::vector<Ve
     else
       c[RowBasis<T, D, F, W>::index(j)] = L::of(T(0), mc[0], mc[1], mc[2]);
   }
-  // One row: r[f0] = Σ_{f1} a1[f1][j] u[f0 + F f1], then each node Σ_{f0} a0[f0][i] r[f0].
-  auto row = [&](std::size_t row_off, int j, const L* u) {
-    L r[F] = {};
-    for (int f1 = 0; f1 < F; ++f1)
-      for (int f0 = 0; f0 < F; ++f0) r[f0] += rb.a[1][f1][j] * u[f0 + F * f1];
-    for (int i = 0; i < W; ++i) {
-      L v = rb.a[0][0][i] * r[0];
-      for (int f0 = 1; f0 < F; ++f0) v += rb.a[0][f0][i] * r[f0];
-      add(st.off[0][i] + row_off, v);
-    }
-  };
-  if constexpr (D == 2) {
-    for (int j = 0; j < W; ++j) row(st.off[1][j], j, c);
-  } else {
-    for (int k = 0; k < W; ++k) {
-      L u[F * F] = {};
-      for (int f2 = 0; f2 < F; ++f2)
-        for (int e = 0; e < F * F; ++e) u[e] += rb.a[2][f2][k] * c[e + F * F * f2];
-      for (int j = 0; j < W; ++j) row(st.off[1][j] + st.off[2][k], j, u);
-    }
+  expand_rows<T, D, F, W>(rb.a, st, c, add);
+}
+
+// The largest speed the higher modes give a node of the stencil, max_i |Σ_j c_j s_j(x_i − x_p)|
+// over all 3^D nodes whatever their weight (the PolyPIC term of the CFL rule, choose_dt in
+// sim/time_step_rules.hpp): scatter_modes_rows' expansion with the bare axis functions, on
+// lane groups of 4 values (the velocity, no mass lane; 4, not D: there is no 2-float register).
+template <class T, int D, int F, class St>
+T max_modes_speed_rows(const St& st, T inv_dx, const std::vector<std::vector<Vec<T, D>>>& modes,
+                       std::size_t q) {
+  constexpr int W = St::W;
+  using L = Lanes<T, 4>;
+  const RowBasis<T, D, F, W, false> rb(st, inv_dx);
+  L c[RowBasis<T, D, F, W, false>::count] = {};
+  for (int j = 0; j < int(modes.size()); ++j) {
+    const Vec<T, D>& m = modes[std::size_t(j)][q];
+    if constexpr (D == 2)
+      c[RowBasis<T, D, F, W, false>::index(j)] = L::of(m[0], m[1]);
+    else
+      c[RowBasis<T, D, F, W, false>::index(j)] = L::of(m[0], m[1], m[2]);
   }
+  T speed2 = 0;
+  expand_rows<T, D, F, W>(rb.a, st, c, [&](std::size_t, const L& v) {
+    T s = 0;
+    for (int a = 0; a < D; ++a) s += v[a] * v[a];
+    speed2 = std::max(speed2, s);
+  });
+  return std::sqrt(speed2);
 }
 
 // Σ_j |c_j|² Σ_i w s_j²: the higher modes' share of Σ_i w_ip |v_p(x_i)|² (the modes are

@@ -63,12 +63,12 @@ inline void update_particle_velocity(const GatheredVelocity<T, D>& g, T flip_alp
     v = g.pic;
     C = g.apic_C;
   } else if constexpr (S == Scheme::asflip) {
-    // Fei et al. 2021, Sec 4: APIC's v^PIC and C plus α times the particle's own FLIP difference
+    // Fei et al. 2021: APIC's v^PIC and C plus α times the particle's own FLIP difference
     // v_p^n − Σ w v_i^n (v_i^n from APIC's affine P2G); α = 0 is APIC.
     v = g.pic + flip_alpha * (v - g.old);
     C = g.apic_C;
   } else if constexpr (S == Scheme::xpic) {
-    // Hammerquist and Nairn 2017, Sec 3: V^{n+1} = S (ṽ − vⁿ + v*) = v^PIC + Σ w e_i with
+    // Hammerquist and Nairn 2017: V^{n+1} = S (ṽ − vⁿ + v*) = v^PIC + Σ w e_i with
     // e = v* − vⁿ; e = 0 for m = 1 (PIC).
     v = g.pic + g.xpic_shift;
   } else {

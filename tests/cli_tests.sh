@@ -347,6 +347,16 @@ flip_line=$(grep -F -- "--flip-alpha" "$OUT" | head -n 1)
 case "$flip_line" in *allowed*default*) ;; *) help_problems+=("--flip-alpha line lacks range/default: $flip_line") ;; esac
 if [ ${#help_problems[@]} -eq 0 ]; then ok "run --help shows ranges and defaults"; else nok "run --help" "${help_problems[@]}"; fi
 
+# ---- --help: every scheme key of --scheme has a line with its help (source, equations) --------
+scheme_keys=$(grep -oE -- '--scheme TEXT +transfer scheme: [a-z|]+' "$OUT" | sed 's/.*: //' | tr '|' ' ')
+scheme_problems=()
+[ -n "$scheme_keys" ] || scheme_problems+=("no scheme keys on the --scheme line")
+for key in $scheme_keys; do
+  grep -qE "^  $key  [A-Z].{20,}" "$OUT" || scheme_problems+=("no help line for scheme '$key'")
+done
+grep -qE '^  mls  MLS-MPM \(Hu et al\. 2018.*eq 17.*eq 18' "$OUT" || scheme_problems+=("mls line lacks eqs 17, 18")
+if [ ${#scheme_problems[@]} -eq 0 ]; then ok "run --help: every scheme key with its source ($scheme_keys)"; else nok "run --help schemes" "${scheme_problems[@]}"; fi
+
 # ---- run: diagnostics CSV and particle dumps -----------------------------------------------
 CSV="$TMP/disk.csv"
 run_cli run rotating-disk --t-end 0.05 --csv "$CSV" --dump "$TMP/dump" --quiet

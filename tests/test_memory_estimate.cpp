@@ -7,6 +7,7 @@
 #include <fstream>
 #include <string>
 
+#include "sim/math.hpp"
 #include "sim/memory_estimate.hpp"
 #include "sim/scene.hpp"
 #include "sim/simulation.hpp"
@@ -95,6 +96,16 @@ TEST(MemoryEstimate, SceneKeySetsTheCap) {
 
 TEST(MemoryEstimate, RoundTripProbe) {
   EXPECT_NEAR(estimate_roundtrip_memory(64).grid_nodes, 64 * 64, 0);
+  // The probed scheme's own state: PolyPIC's 6 extra modes (2D, all 9: 1, x, y and 6 more) and
+  // their sort copy per particle, XPIC(m > 1)'s two node arrays.
+  const auto apic = estimate_roundtrip_memory(64);
+  EXPECT_DOUBLE_EQ(
+      estimate_roundtrip_memory(64, Scheme::polypic).bytes_per_particle - apic.bytes_per_particle,
+      2.0 * 6 * sizeof(Vec<double, 2>));
+  EXPECT_DOUBLE_EQ(estimate_roundtrip_memory(64, Scheme::xpic).bytes_per_node - apic.bytes_per_node,
+                   2.0 * sizeof(Vec<double, 2>));
+  EXPECT_DOUBLE_EQ(estimate_roundtrip_memory(64, Scheme::xpic, 1).bytes_per_node,
+                   apic.bytes_per_node);
   EXPECT_THROW(check_memory(estimate_roundtrip_memory(1 << 20), 8e9, "roundtrip"), SceneError);
 }
 

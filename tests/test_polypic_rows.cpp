@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <random>
 #include <vector>
@@ -104,6 +105,55 @@ void all_counts() {
 
 TEST(PolypicRows, MatchThePerModeSums2D) { all_counts<2>(); }
 TEST(PolypicRows, MatchThePerModeSums3D) { all_counts<3>(); }
+
+// The CFL rule's PolyPIC term (choose_dt, sim/time_step_rules.hpp): max over the stencil's nodes
+// of |Σ_j c_j s_j|, unweighted, in row form (max_modes_speed_rows) against the per-mode scatter
+// it replaced, for every kept mode count, on random particles and one whose axis weights
+// vanish at a node (|x_p − x_i| = 1.5 Δx, where the G modes' norm is 0 but their values are not).
+template <int D, int F>
+void max_speed_matches_plain(int extra, std::mt19937_64& rng, double& worst) {
+  using St = Stencil<double, D, QuadraticKernel>;
+  const auto g = small_grid<D>(12);
+  constexpr std::size_t particles = 40;
+  std::vector<std::vector<Vec<double, D>>> modes(static_cast<std::size_t>(extra),
+                                                 std::vector<Vec<double, D>>(particles));
+  for (auto& m : modes)
+    for (auto& c : m) c = test::random_vector<double, D>(rng, -1.0, 1.0);
+  std::uniform_real_distribution<double> pos(0.3, 0.8);
+  for (std::size_t q = 0; q < particles; ++q) {
+    Vec<double, D> x;
+    for (int a = 0; a < D; ++a) x[a] = q == 0 ? 0.45 : pos(rng);  // q = 0: 1.5 Δx from a node
+    St st;
+    st.compute(x, g);
+    double plain = 0;
+    polypic::scatter_modes<double, D>(
+        st, g.inv_dx, modes, q,
+        [&](std::size_t, double, const Vec<double, D>& u) { plain = std::max(plain, u.norm()); });
+    const double rows = polypic::max_modes_speed_rows<double, D, F>(st, g.inv_dx, modes, q);
+    ASSERT_GT(plain, 0.01);
+    EXPECT_LT(std::abs(rows - plain), 1e-14 * plain)
+        << D << "D, " << extra << " extra modes, F = " << F << ", particle " << q;
+    worst = std::max(worst, std::abs(rows - plain) / plain);
+  }
+}
+
+template <int D>
+void max_speed_all_counts() {
+  std::mt19937_64 rng(91 + D);
+  double worst = 0;
+  for (int kept = D + 2; kept <= polypic::full_modes(D); ++kept) {
+    const int extra = polypic::extra_modes(kept, D);
+    if (polypic::keeps_g_modes(kept, D))
+      max_speed_matches_plain<D, 3>(extra, rng, worst);
+    else
+      max_speed_matches_plain<D, 2>(extra, rng, worst);  // as choose_dt picks F
+  }
+  std::printf("[ polypic rows ] %dD: CFL mode speed, row form vs per-mode, worst relative %.2g\n",
+              D, worst);
+}
+
+TEST(PolypicRows, CflModeSpeedMatchesThePerModeScatter2D) { max_speed_all_counts<2>(); }
+TEST(PolypicRows, CflModeSpeedMatchesThePerModeScatter3D) { max_speed_all_counts<3>(); }
 
 }  // namespace
 }  // namespace apiclab

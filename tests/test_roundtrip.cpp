@@ -129,7 +129,39 @@ TEST(RoundTrip, SameSeedSameAnswer) {
 
 TEST(RoundTrip, RejectsFlipAndTinyGrids) {
   EXPECT_THROW(roundtrip_error(KernelType::quadratic, Scheme::flip, 16), std::invalid_argument);
+  EXPECT_THROW(roundtrip_error(KernelType::quadratic, Scheme::asflip, 16), std::invalid_argument);
   EXPECT_THROW(roundtrip_error(KernelType::quadratic, Scheme::apic, 2), std::invalid_argument);
+  EXPECT_THROW(roundtrip_error(KernelType::quadratic, Scheme::xpic, 16, 1, 0),
+               std::invalid_argument);
+  // The refusal names every scheme the probe does run, the later ones included.
+  const std::string why = roundtrip_refusal(Scheme::asflip);
+  for (const char* key : {"pic", "apic", "rpic", "mls", "xpic", "tpic", "polypic"})
+    EXPECT_NE(why.find(key), std::string::npos) << why;
+  EXPECT_EQ(roundtrip_refusal(Scheme::xpic), "");
+}
+
+// XPIC(m) from a grid field: its series needs vⁿ and the node masses only (A = S⁺S), so the
+// probe returns (I − (I − A)^m) v and the error is |(I − A)^m v|: XPIC(1) is PIC to the bit,
+// and each further term shrinks the error (0 ≤ A ≤ I in the mass inner product; every node of
+// the periodic square has mass). Before the probe computed the masses, XPIC's passes found
+// none and every m read PIC's error to the last digit.
+TEST(RoundTrip, XpicSeriesShrinksPicsError) {
+  for (int n : {16, 32, 64}) {
+    const double pic = roundtrip_error(KernelType::quadratic, Scheme::pic, n).l2_error;
+    double previous = pic;
+    std::printf("[ round trip ] n = %2d  PIC %.4e", n, pic);
+    for (int m : {1, 2, 3, 5, 10}) {
+      const double e = roundtrip_error(KernelType::quadratic, Scheme::xpic, n, 1, m).l2_error;
+      std::printf("  XPIC(%d) %.4e", m, e);
+      if (m == 1) {
+        EXPECT_EQ(e, pic) << "n = " << n;
+      } else {
+        EXPECT_LT(e, 0.9 * previous) << "XPIC(" << m << "), n = " << n;
+      }
+      previous = e;
+    }
+    std::printf("\n");
+  }
 }
 
 }  // namespace
