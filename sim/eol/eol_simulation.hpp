@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "sim/eol/energy_ledger.hpp"
 #include "sim/eol/eulerian_grid.hpp"
 #include "sim/eol/extrapolation.hpp"
 #include "sim/eol/forces.hpp"
@@ -111,6 +112,14 @@ class EolSimulation final : public Simulation {
     double forces = 0, assembly = 0, split = 0, advection = 0, surface = 0;
   };
   const StageSeconds& stage_seconds() const { return stages_; }
+  // The energy ledger (energy_ledger.hpp): on, every step adds its stages' energy changes to
+  // energy_ledger() (cleared when turned on) and leaves them in last_step_ledger().
+  void record_energy_ledger(bool on) {
+    ledger_on_ = on;
+    ledger_ = last_ledger_ = EnergyLedger{};
+  }
+  const EnergyLedger& energy_ledger() const { return ledger_; }
+  const EnergyLedger& last_step_ledger() const { return last_ledger_; }
 
  private:
   void add_object_grid(const std::vector<int>& shapes, const Vec3d& lo, const Vec3d& hi, double dx,
@@ -121,6 +130,11 @@ class EolSimulation final : public Simulation {
   void forces(EolObject<T, D>& o);
   std::vector<Vec<T, D>> placed_surface(const EolObject<T, D>& o) const;
   bool parallel() const { return parallel_; }
+  struct LedgerEnergies {
+    double kinetic = 0, gravity = 0;
+  };
+  LedgerEnergies ledger_energies(const EolObject<T, D>& o) const;
+  void ledger_work(const EolObject<T, D>& o, double dt, EnergyLedger& step) const;
 
   SceneDesc scene_;
   bool lagrangian_ = true, parallel_ = false;
@@ -140,6 +154,8 @@ class EolSimulation final : public Simulation {
   std::optional<Failure> failure_;
   DtLimit last_limit_ = DtLimit::fixed;
   StageSeconds stages_;
+  bool ledger_on_ = false;
+  EnergyLedger ledger_, last_ledger_;
   // choose_dt's one pass over the nodes (sum_node_blocks): max|u|, and eq 32's two fields'
   // split sums (eol) or advection rates (eulerian).
   struct DtSums {

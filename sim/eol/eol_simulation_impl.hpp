@@ -296,7 +296,14 @@ template <class T, int D>
 void EolSimulation<T, D>::finish_step(double dt_in) {
   forces_ready_ = false;
   const T dt = T(dt_in);
+  EnergyLedger ledger;
+  ledger.steps = 1;
   for (auto& o : objects_) {
+    LedgerEnergies before;
+    if (ledger_on_) {
+      before = ledger_energies(o);
+      ledger.elastic_change -= o.elastic.energy();  // Ψ of this state (its forces' pass)
+    }
     auto start = std::chrono::steady_clock::now();
     // Eqs 16 and 29 node by node and, in the same pass, the sums of the split's normal
     // equations (eq 23), which read the u just written: one pass over the nodes, not two.
@@ -308,6 +315,14 @@ void EolSimulation<T, D>::finish_step(double dt_in) {
           if (lagrangian_) acc.template add<T>(o.r[i], {o.u[i]});
         });
     stages_.assembly += detail::seconds_since(start);
+    LedgerEnergies pushed;  // after the impulse and plane rows
+    if (ledger_on_) {
+      const double work_before = ledger.elastic_work + ledger.gravity_work + ledger.qvv_work;
+      ledger_work(o, dt_in, ledger);  // before the split changes the frame's ω
+      pushed = ledger_energies(o);
+      const double work = ledger.elastic_work + ledger.gravity_work + ledger.qvv_work;
+      ledger.impulse_loss += work - work_before - (pushed.kinetic - before.kinetic);
+    }
     start = std::chrono::steady_clock::now();
     if (lagrangian_) {
       const Mat<T, D> R = o.frame.rotation();
@@ -328,10 +343,57 @@ void EolSimulation<T, D>::finish_step(double dt_in) {
     update_mass(o, true);
     update_spatial(o);
     stages_.advection += detail::seconds_since(start);
+    if (ledger_on_) {
+      const LedgerEnergies after = ledger_energies(o);
+      ledger.transport_kinetic_change += after.kinetic - pushed.kinetic;
+      ledger.gravity_change += after.gravity - before.gravity;
+      ledger.elastic_change += elastic_energy_moved(o.grid, materials_);
+    }
+  }
+  if (ledger_on_) {
+    last_ledger_ = ledger;
+    ledger_.add(ledger);
   }
   surfaces_placed_ = false;
   time_ += dt_in;
   ++steps_;
+}
+
+// K and G of one object as measure() counts them.
+template <class T, int D>
+typename EolSimulation<T, D>::LedgerEnergies EolSimulation<T, D>::ledger_energies(
+    const EolObject<T, D>& o) const {
+  LedgerEnergies e;
+  for (std::size_t i = 0; i < o.grid.size(); ++i) {
+    const double m = double(o.grid.mass[i]);
+    if (!(m > 0)) continue;
+    e.kinetic += 0.5 * m * double(o.u[i].squaredNorm());
+    for (int a = 0; a < D; ++a) e.gravity -= m * scene_.gravity[std::size_t(a)] * double(o.x[i][a]);
+  }
+  return e;
+}
+
+// Adds the forces' work Δt Σ f·u⁺ (u⁺ after the impulse and plane rows) to `step`, split into
+// gravity m g, f_qvv (from the frame's ω and the v this step's forces saw) and elasticity, the
+// rest of f. The impulse's loss is what the work leaves over ΔK (finish_step).
+template <class T, int D>
+void EolSimulation<T, D>::ledger_work(const EolObject<T, D>& o, double dt,
+                                      EnergyLedger& step) const {
+  const Mat<T, D> R = o.frame.rotation();
+  Vec<T, D> g;
+  for (int a = 0; a < D; ++a) g[a] = T(scene_.gravity[std::size_t(a)]);
+  for (std::size_t i = 0; i < o.grid.size(); ++i) {
+    const T m = o.grid.mass[i];
+    if (!(m > T(0))) continue;
+    const Vec<T, D> fg = m * g;
+    const Vec<T, D> fq = lagrangian_ ? quadratic_velocity_force<T, D>(m, o.frame.omega, o.r[i],
+                                                                      Vec<T, D>(R * o.grid.v[i]))
+                                     : Vec<T, D>::Zero();
+    const Vec<T, D>& u = o.u[i];
+    step.gravity_work += dt * double(fg.dot(u));
+    step.qvv_work += dt * double(fq.dot(u));
+    step.elastic_work += dt * double((o.force[i] - fg - fq).dot(u));
+  }
 }
 
 template <class T, int D>
