@@ -36,8 +36,8 @@ template <class T, int D>
 Mat<T, D> cofactor(const Mat<T, D>& F);
 
 // R of F = R S for det F > 0 by Higham's (1986) Newton iteration X ← ½(γX + X⁻ᵀ/γ), scaled by
-// γ = |det X|^(-1/3) while far from converged: a few 3×3 inverses instead of a JacobiSVD (Eigen
-// has no polar decomposition). Returns false for an inverted or nearly singular F.
+// γ = (‖X⁻¹‖_F / ‖X‖_F)^½ while far from converged: a few 3×3 inverses instead of a JacobiSVD
+// (Eigen has no polar decomposition). Returns false for an inverted or nearly singular F.
 template <class T>
 bool polar_newton_3d(const Mat<T, 3>& F, Mat<T, 3>& R) {
   const T scale = F.norm();
@@ -47,9 +47,13 @@ bool polar_newton_3d(const Mat<T, 3>& F, Mat<T, 3>& R) {
   Mat<T, 3> X = F;
   T step = T(1);
   for (int it = 0; it < 30; ++it) {
-    const T gamma = step > T(1e-2) ? std::cbrt(T(1) / det) : T(1);
-    Mat<T, 3> next =
-        T(0.5) * (gamma * X + cofactor<T, 3>(X) / (gamma * det));  // X⁻ᵀ = cof(X) / det X
+    const Mat<T, 3> cof = cofactor<T, 3>(X);  // X⁻ᵀ = cof(X) / det X
+    // Frobenius scaling γ = (‖X⁻¹‖ / ‖X‖)^½ (Higham 1986, Sec 3): a square root, which SIMD
+    // lanes have, where |det X|^(-1/3) needs a scalar cbrt per lane (sim/stress_lanes.hpp).
+    const T gamma = step > T(1e-2)
+                        ? std::sqrt(std::sqrt(cof.squaredNorm() / (det * det * X.squaredNorm())))
+                        : T(1);
+    Mat<T, 3> next = T(0.5) * (gamma * X + cof / (gamma * det));
     const T previous = step;
     step = (next - X).norm();
     X = next;

@@ -85,10 +85,23 @@ struct StressLanes {
         T(64) * std::numeric_limits<T>::epsilon() * std::numeric_limits<T>::epsilon();
     V step2 = splat(T(1));
     for (int it = 0; it < 30 && any(active); ++it) {
-      V gamma = splat(T(1));
-      for (int l = 0; l < count; ++l)  // γ = |det X|^(-1/3) while far from converged
-        if (active[l] && step2[l] > T(1e-4)) gamma[l] = std::cbrt(T(1) / d[l]);
       const M3 c = cofactor(x);
+      // γ = (‖X⁻¹‖ / ‖X‖)^½ = (‖cof X‖ / (det X ‖X‖))^½ while far from converged, as
+      // polar_newton_3d (sim/math.hpp).
+      V c_norm2 = V{}, x_norm2 = V{};
+      for (int k = 0; k < 9; ++k) {
+        c_norm2 += c.m[k] * c.m[k];
+        x_norm2 += x.m[k] * x.m[k];
+      }
+      V gamma = splat(T(1));
+      const Mask scaled = active & (step2 > T(1e-4));
+      if (any(scaled)) {
+        V ratio = c_norm2 / (d * d * x_norm2);
+        ratio = scaled ? ratio : splat(T(1));
+        V root;
+        for (int l = 0; l < count; ++l) root[l] = std::sqrt(std::sqrt(ratio[l]));
+        gamma = scaled ? root : gamma;
+      }
       const V inverse = T(1) / (gamma * d);
       V s2 = V{};
       M3 next;
