@@ -1,5 +1,8 @@
 // Grid to particles: the gather of eqs 37-40 and the particle update (eqs 39-40).
 #pragma once
+#include <omp.h>
+
+#include <algorithm>
 #include <cmath>
 #include <type_traits>
 
@@ -14,9 +17,14 @@ namespace apiclab {
 // (eq 30), so x_p^{n+1} = Σ w x̃_i = x_p + Δt Σ w u_i (eq 39) and F^{n+1} = (I + Δt Σ u_i ∇wᵀ) F
 // (eq 40). APIC's eq 38 expands to B = Σ w ṽ rᵀ + Δt/2 (S − Sᵀ − v_p ūᵀ + ū v_pᵀ) with
 // S = Σ w ṽ u_iᵀ and ū = Σ w u_i, which is exact and needs one pass over the stencil.
+//
+// With sums, each particle also adds its share of the diagnostics row at its new state (x, v,
+// C, modes), which this loop has in registers: measure()'s own pass over the particles saved
+// (sim/particle_sums.hpp). Each thread adds its static share of particles, in index order, into
+// a slot of its own; the slots are then added in thread order.
 template <class T, int D>
 template <class K, Scheme S>
-void MpmSimulation<T, D>::g2p_impl(T dt) {
+void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
   const T lambda = T(scene_.solver.integrator_lambda());
   const T alpha = T(scene_.solver.flip_alpha);
   const T beta = T(scene_.solver.asflip_beta);
@@ -55,6 +63,9 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
       return n.template front3<0, 0, 0>() * n.template front3<3, 3, 3>() -
              n.template front3<1, 1, 1>() * n.template front3<2, 2, 2>();
   };
+  const Vec3d gravity = scene_.gravity;
+  const T k_inertia = inertia_scale();
+  if (sums) thread_sums_.assign(std::size_t(std::max(1, omp_get_max_threads())), ParticleSums{});
 #pragma omp parallel for schedule(static) reduction(||     \
                                                     : bad) \
     reduction(max                                          \
@@ -199,43 +210,72 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
     }
     p_.x[q] = x;
     if (!std::isfinite(x.sum() + p_.v[q].sum())) bad = true;
+    if (sums) {  // the row's sums at the new state, as particle_sums() adds them
+      ParticleSums::Affine affine;
+      const T m = p_.mass[q];
+      if constexpr (is_affine(S)) {
+        if constexpr (K::type == KernelType::linear) {
+          Stencil<T, D, LinearKernel> at_x;
+          at_x.compute(x, grid_);
+          affine = ParticleSums::affine_of<T, D>(m, p_.C[q], Mat<T, D>(at_x.inertia()));
+        } else {
+          affine = ParticleSums::affine_isotropic<T, D>(m, p_.C[q], k_inertia);
+        }
+      }
+      double modes_kinetic = 0;  // PolyPIC's higher modes (sim/transfer_polypic.hpp)
+      if constexpr (S == Scheme::polypic) {
+        if (polypic_extra > 0) {
+          Stencil<T, D, QuadraticKernel> at_x;
+          at_x.compute(x, grid_);
+          modes_kinetic = 0.5 * double(m) *
+                          double(polypic::modes_energy_density<T, D>(at_x, grid_.inv_dx, p_.modes,
+                                                                     std::size_t(q)));
+        }
+      }
+      thread_sums_[std::size_t(omp_get_thread_num())].add_particle<T, D>(m, x, p_.v[q], gravity,
+                                                                         affine, modes_kinetic);
+    }
+  }
+  if (sums) {
+    *sums = ParticleSums{};
+    for (const ParticleSums& own : thread_sums_) sums->add(own);
   }
   non_finite_ = non_finite_ || bad;
   blocks_.add_drift(std::isfinite(max_move) ? max_move * double(grid_.inv_dx) : 1e30);
 }
 
 template <class T, int D>
-void MpmSimulation<T, D>::grid_to_particles(T dt) {
+void MpmSimulation<T, D>::grid_to_particles(T dt, ParticleSums* sums) {
   with_kernel(scene_.solver.kernel, [&](auto kernel) {
     using K = decltype(kernel);
     switch (scene_.solver.scheme) {
       case Scheme::pic:
-        g2p_impl<K, Scheme::pic>(dt);
+        g2p_impl<K, Scheme::pic>(dt, sums);
         break;
       case Scheme::flip:
-        g2p_impl<K, Scheme::flip>(dt);
+        g2p_impl<K, Scheme::flip>(dt, sums);
         break;
       case Scheme::apic:
-        g2p_impl<K, Scheme::apic>(dt);
+        g2p_impl<K, Scheme::apic>(dt, sums);
         break;
       case Scheme::rpic:
-        g2p_impl<K, Scheme::rpic>(dt);
+        g2p_impl<K, Scheme::rpic>(dt, sums);
         break;
       case Scheme::mls:
-        g2p_impl<K, Scheme::mls>(dt);
+        g2p_impl<K, Scheme::mls>(dt, sums);
         break;
       case Scheme::asflip:
-        g2p_impl<K, Scheme::asflip>(dt);
+        g2p_impl<K, Scheme::asflip>(dt, sums);
         break;
       case Scheme::xpic:
         xpic_grid_passes<K>();
-        g2p_impl<K, Scheme::xpic>(dt);
+        g2p_impl<K, Scheme::xpic>(dt, sums);
         break;
       case Scheme::tpic:
-        g2p_impl<K, Scheme::tpic>(dt);
+        g2p_impl<K, Scheme::tpic>(dt, sums);
         break;
       case Scheme::polypic:
-        g2p_impl<K, Scheme::polypic>(dt);
+        g2p_impl<K, Scheme::polypic>(dt, sums);
         break;
     }
   });
