@@ -3,6 +3,7 @@
 // of a real scene over a few frames.
 #include <omp.h>
 #include <sys/resource.h>
+#include <time.h>
 
 #include <algorithm>
 #include <cmath>
@@ -108,17 +109,46 @@ struct BlockResult {
   std::size_t particles = 0;
   int steps = 0;
   double dx = 0, wall = 0, rate = 0;
-  // Seconds per diagnostics row as step() pays for it: steps with their rows
-  // (Simulation::step_fixed_measured) less the same steps without, per step.
-  double measure_wall = 0;
+  // The diagnostics row as step() pays for it, as a share of a step: the CPU time of steps with
+  // their rows (Simulation::step_fixed_measured) less that of the same steps without, over the
+  // latter, the two alternating step by step (see time_block); and in seconds per row at the
+  // timed step's wall time.
+  double row_share = 0, measure_wall = 0;
   std::optional<double> reference;  // particle-steps/s of the reference step (--reference)
 };
 
+double cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+// The diagnostics row step() computes after each step (energies, momenta; MPM sums the
+// particles' share inside G2P), as a share of a step: `rounds` times from `warm`, `steps` steps
+// of one copy without rows and of another with them, alternating step by step, in process CPU
+// time, so that time the machine gives other processes, and its drift over the run, fall out of
+// the difference. `sink` collects the rows' totals (the caller checks them for blow-ups).
+double row_cost(const Simulation& warm, double dt, int steps, int rounds, double& sink) {
+  double without = 0, with = 0;
+  for (int k = 0; k < rounds; ++k) {
+    auto plain = warm.clone(), rows = warm.clone();
+    for (int s = 0; s < steps; ++s) {
+      const double start = cpu_seconds();
+      plain->step_fixed(dt);
+      const double middle = cpu_seconds();
+      sink += rows->step_fixed_measured(dt).total;
+      with += cpu_seconds() - middle;
+      without += middle - start;
+    }
+  }
+  return (with - without) / without;
+}
+
 // Times `steps` steps of the block at about `particles` particles after 3 warm-up steps (the
 // first sort, page faults), `repeats` times from the same warmed-up state (small sizes: enough
-// work to time, in the same stage of the motion as the large ones), each time followed by the
-// same steps with their diagnostics rows; with --reference, then the reference step from that
-// state. Returns nullopt, having said why, if the block blew up.
+// work to time, in the same stage of the motion as the large ones); then the diagnostics row's
+// cost (row_cost); with --reference, then the reference step from that state. Returns nullopt,
+// having said why, if the block blew up.
 std::optional<BlockResult> time_block(const BenchOptions& o, Precision precision, long particles,
                                       int steps, int repeats = 1) {
   BlockResult r;
@@ -130,23 +160,18 @@ std::optional<BlockResult> time_block(const BenchOptions& o, Precision precision
   const double dt = scene.time.dt;
   for (int s = 0; s < 3; ++s) warm->step_fixed(dt);
   std::unique_ptr<Simulation> sim;
-  double wall_with_rows = 0, sink = 0;
   for (int k = 0; k < repeats; ++k) {
     sim = warm->clone();
     const double start = now_seconds();
     for (int s = 0; s < steps; ++s) sim->step_fixed(dt);
     r.wall += now_seconds() - start;
-    // The same steps with the row step() computes after each (energies, momenta; MPM sums the
-    // particles' share inside G2P): the row costs the difference.
-    auto with_rows = warm->clone();
-    const double rows_start = now_seconds();
-    for (int s = 0; s < steps; ++s) sink += with_rows->step_fixed_measured(dt).total;
-    wall_with_rows += now_seconds() - rows_start;
   }
   r.particles = particle_count(*sim);
   r.steps = steps * repeats;
   r.rate = double(r.particles) * r.steps / r.wall;
-  r.measure_wall = (wall_with_rows - r.wall) / r.steps;
+  double sink = 0;
+  r.row_share = row_cost(*warm, dt, std::max(1, (steps + 1) / 2), repeats, sink);
+  r.measure_wall = r.row_share * r.wall / r.steps;
   bool finite = std::isfinite(sink) && finite_state(*sim);
   if (finite && o.reference) {
     // Fewer steps (about 10⁶ particle-steps, a few seconds): the reference is slower, and its
@@ -195,7 +220,7 @@ int bench_sizes(const BenchOptions& o, Precision precision) {
     if (!r) return 2;
     const double step_wall = r->wall / r->steps;
     std::printf("%10zu %6d %10.3f %6.1f%% %18.0f", r->particles, r->steps, 1e3 * step_wall,
-                100 * r->measure_wall / step_wall, r->rate);
+                100 * r->row_share, r->rate);
     if (r->reference) std::printf(" %18.0f %8.2fx", *r->reference, r->rate / *r->reference);
     std::printf("\n");
     std::fflush(stdout);
@@ -314,8 +339,9 @@ int bench(BenchOptions o, const CLI::App& cmd) {
       o.dim, o.precision->c_str(), o.scheme.c_str(), o.kernel.c_str(), o.integrator.c_str(),
       r->particles, r->dx, o.steps, omp_get_max_threads());
   std::printf("wall: %.3f s, %.3f ms/step\n", r->wall, 1e3 * r->wall / o.steps);
-  std::printf("diagnostics row: %.3f ms, %.1f%% of a step (steps with rows less steps without)\n",
-              1e3 * r->measure_wall, 100 * r->measure_wall * o.steps / r->wall);
+  std::printf(
+      "diagnostics row: %.3f ms, %.1f%% of a step (CPU time of steps with rows less without)\n",
+      1e3 * r->measure_wall, 100 * r->row_share);
   if (r->reference)
     std::printf("reference step (same state and precision): %.0f particle-steps/s; speed-up %.2f\n",
                 *r->reference, r->rate / *r->reference);

@@ -211,8 +211,8 @@ class MpmSimulation final : public Simulation, public TransferControls {
   // and the sum e = Σ_{k=1}^{m−1} of those terms, per grid node.
   std::vector<Vec<T, D>> xpic_term_, xpic_shift_;
   ImplicitSolveState<T, D> imp_;
-  NewtonCgReport last_solve_;              // the last grid update's (zero iterations when explicit)
-  std::vector<ParticleSums> thread_sums_;  // G2P's sums per thread, added in thread order
+  NewtonCgReport last_solve_;             // the last grid update's (zero iterations when explicit)
+  std::vector<ParticleSums> chunk_sums_;  // G2P's row sums per chunk of particles (sim/g2p.hpp)
   SolverIterationObserver on_solver_iteration_;
 };
 

@@ -2,7 +2,8 @@
 // gravitational potential, linear and angular momentum (docs/architecture.md, Diagnostics CSV).
 // measure() sums them in a pass of its own (the readable oracle, sim/mpm_measure.hpp); a step
 // asked for its row sums them inside G2P instead (sim/g2p.hpp), where x, v and C are in
-// registers, per thread, the threads' sums then added in thread order.
+// registers: in fixed chunks of particles, the chunks' sums added in chunk order, so that the
+// row does not depend on the thread count.
 #pragma once
 #include <array>
 
@@ -10,7 +11,8 @@
 
 namespace apiclab {
 
-// One cache line (8 doubles), so that the threads' slots in G2P never share a line.
+// One cache line (8 doubles): neighbouring chunks' sums, written by different threads in G2P,
+// never share a line.
 struct alignas(64) ParticleSums {
   double kinetic = 0;  // ½ Σ m |v|² (+ ½ m tr(C D Cᵀ) affine, + PolyPIC's higher modes)
   double gravity = 0;  // −Σ m g·x
