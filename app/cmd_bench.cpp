@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <vector>
 
 #include "app/cli_checks.hpp"
 #include "app/frame_loop.hpp"
@@ -109,10 +110,9 @@ struct BlockResult {
   std::size_t particles = 0;
   int steps = 0;
   double dx = 0, wall = 0, rate = 0;
-  // The diagnostics row as step() pays for it, as a share of a step: the CPU time of steps with
-  // their rows (Simulation::step_fixed_measured) less that of the same steps without, over the
-  // latter, the two alternating step by step (see time_block); and in seconds per row at the
-  // timed step's wall time.
+  // The diagnostics row as step() pays for it, as a share of a step: the CPU time of a step with
+  // its row (Simulation::step_fixed_measured) over that of the same step without, less 1, the
+  // median over pairs (row_cost); and in seconds per row at the timed step's wall time.
   double row_share = 0, measure_wall = 0;
   std::optional<double> reference;  // particle-steps/s of the reference step (--reference)
 };
@@ -125,11 +125,13 @@ double cpu_seconds() {
 
 // The diagnostics row step() computes after each step (energies, momenta; MPM sums the
 // particles' share inside G2P), as a share of a step: `rounds` times from `warm`, `steps` steps
-// of one copy without rows and of another with them, alternating step by step, in process CPU
-// time, so that time the machine gives other processes, and its drift over the run, fall out of
-// the difference. `sink` collects the rows' totals (the caller checks them for blow-ups).
+// of one copy without rows and of another with them, alternating step by step, each timed in
+// process CPU time (time the machine gives other processes falls out); the median over the
+// pairs of (with / without − 1), so that a step that met a context switch or another process's
+// cache traffic does not count. `sink` collects the rows' totals (the caller checks them).
 double row_cost(const Simulation& warm, double dt, int steps, int rounds, double& sink) {
-  double without = 0, with = 0;
+  std::vector<double> ratios;
+  ratios.reserve(std::size_t(steps) * std::size_t(rounds));
   for (int k = 0; k < rounds; ++k) {
     auto plain = warm.clone(), rows = warm.clone();
     for (int s = 0; s < steps; ++s) {
@@ -137,11 +139,12 @@ double row_cost(const Simulation& warm, double dt, int steps, int rounds, double
       plain->step_fixed(dt);
       const double middle = cpu_seconds();
       sink += rows->step_fixed_measured(dt).total;
-      with += cpu_seconds() - middle;
-      without += middle - start;
+      ratios.push_back((cpu_seconds() - middle) / std::max(middle - start, 1e-9) - 1);
     }
   }
-  return (with - without) / without;
+  const auto mid = ratios.begin() + std::ptrdiff_t(ratios.size() / 2);
+  std::nth_element(ratios.begin(), mid, ratios.end());
+  return *mid;
 }
 
 // Times `steps` steps of the block at about `particles` particles after 3 warm-up steps (the
@@ -340,7 +343,7 @@ int bench(BenchOptions o, const CLI::App& cmd) {
       r->particles, r->dx, o.steps, omp_get_max_threads());
   std::printf("wall: %.3f s, %.3f ms/step\n", r->wall, 1e3 * r->wall / o.steps);
   std::printf(
-      "diagnostics row: %.3f ms, %.1f%% of a step (CPU time of steps with rows less without)\n",
+      "diagnostics row: %.3f ms, %.1f%% of a step (CPU time, steps with rows against without)\n",
       1e3 * r->measure_wall, 100 * r->row_share);
   if (r->reference)
     std::printf("reference step (same state and precision): %.0f particle-steps/s; speed-up %.2f\n",
