@@ -61,7 +61,8 @@ struct alignas(64) ParticleSums {
     for (int a = 0; a < D; ++a) p[a] += double(mv[a]);
     const Eigen::Vector3d moment = cross_moment<T, D>(x, mv) + affine.moment;
     for (int a = 0; a < D; ++a) gravity -= md * g[a] * double(x[a]);
-    for (int a = 0; a < 3; ++a) L[a] += moment[a];
+    // In 2D only L_z: the oracle adds exact zeros to L_x and L_y, which leaves them 0.
+    for (int a = D == 2 ? 2 : 0; a < 3; ++a) L[a] += moment[a];
   }
 };
 
