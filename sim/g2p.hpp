@@ -1,5 +1,6 @@
 // Grid to particles: the gather of eqs 37-40 and the particle update (eqs 39-40).
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <type_traits>
 
@@ -14,9 +15,13 @@ namespace apiclab {
 // (eq 30), so x_p^{n+1} = Σ w x̃_i = x_p + Δt Σ w u_i (eq 39) and F^{n+1} = (I + Δt Σ u_i ∇wᵀ) F
 // (eq 40). APIC's eq 38 expands to B = Σ w ṽ rᵀ + Δt/2 (S − Sᵀ − v_p ūᵀ + ū v_pᵀ) with
 // S = Σ w ṽ u_iᵀ and ū = Σ w u_i, which is exact and needs one pass over the stencil.
+//
+// With sums, each particle also adds its share of the diagnostics row at its new state (x, v,
+// C, modes), which this loop has in registers: measure()'s own pass over the particles saved
+// (sim/particle_sums.hpp).
 template <class T, int D>
 template <class K, Scheme S>
-void MpmSimulation<T, D>::g2p_impl(T dt) {
+void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
   const T lambda = T(scene_.solver.integrator_lambda());
   const T alpha = T(scene_.solver.flip_alpha);
   const T beta = T(scene_.solver.asflip_beta);
@@ -55,191 +60,232 @@ void MpmSimulation<T, D>::g2p_impl(T dt) {
       return n.template front3<0, 0, 0>() * n.template front3<3, 3, 3>() -
              n.template front3<1, 1, 1>() * n.template front3<2, 2, 2>();
   };
+  const Vec3d gravity = scene_.gravity;
+  const T k_inertia = inertia_scale();
+  // With sums: the particles in fixed chunks, each summed in index order, the chunks' sums then
+  // added in chunk order, so that the row does not depend on the thread count.
+  constexpr std::ptrdiff_t chunk = 256;
+  const std::ptrdiff_t chunks = (n + chunk - 1) / chunk;
+  if (sums) chunk_sums_.resize(std::size_t(chunks));
 #pragma omp parallel for schedule(static) reduction(||     \
                                                     : bad) \
     reduction(max                                          \
               : max_move) if (parallel_worthwhile())
-  for (std::ptrdiff_t q = 0; q < n; ++q) {
-    Stencil<T, D, K> st;
-    st.compute(p_.x[std::size_t(q)], grid_);
-    // Gather row by row (see Stencil::for_each_row) on nodes packed as [ṽ (D), vⁿ (D), pad],
-    // whole vectors at a time: lanes 0..D−1 give the sums over ṽ, lanes D..2D−1 over vⁿ.
-    constexpr int W = K::width;
-    const T* wx = st.w[0];
-    T wr[W];
-    for (int i = 0; i < W; ++i) wr[i] = wx[i] * st.r[0][i];
-    Lanes vsum{}, grad_cols[D] = {}, b_cols[D] = {}, twist{};
-    auto gather = [&](auto moving_nodes) {  // Σ w (ṽ × vⁿ) only for λ > 0
-      // Forced inline: GCC 12 keeps this row body out of line on x86-64-v3 in 3D double, and
-      // the sums it adds to, taken by reference, then go through memory at every row.
-      st.for_each_row([&](const typename Stencil<T, D, K>::Row& row)
-                          __attribute__((always_inline)) {
-                            Lanes s0{}, s1{}, g0{}, t0{};
-                            for (int i = 0; i < W; ++i) {
-                              const Lanes node = Lanes::prefix_of(packed[st.off[0][i] + row.off]);
-                              s0 += wx[i] * node;
-                              s1 += wr[i] * node;
-                              g0 += st.dw[0][i] * node;
-                              if constexpr (decltype(moving_nodes)::value)
-                                t0 += wx[i] * cross(node);
-                            }
-                            vsum += row.w * s0;
-                            if constexpr (decltype(moving_nodes)::value) twist += row.w * t0;
-                            grad_cols[0] += row.w * g0;
-                            b_cols[0] += row.w * s1;
-                            for (int ax = 1; ax < D; ++ax) {
-                              grad_cols[ax] += row.dw[ax] * s0;
-                              b_cols[ax] += (row.w * row.r[ax]) * s0;
-                            }
-                          });
-    };
-    if (lambda != T(0))
-      gather(std::true_type{});
-    else
-      gather(std::false_type{});
-    // u_i = λ vⁿ_i + (1 − λ) ṽ_i (eq 30): ū = Σ w u, ∇u = Σ u ∇wᵀ.
-    Vec<T, D> vpic, vold_p, ubar;
-    Mat<T, D> Bsum, gradu, gradv;
-    for (int a = 0; a < D; ++a) {
-      vpic[a] = vsum[a];
-      vold_p[a] = vsum[D + a];
-      ubar[a] = lambda * vsum[D + a] + (T(1) - lambda) * vsum[a];
-      for (int c = 0; c < D; ++c) {
-        gradv(a, c) = grad_cols[c][a];
-        gradu(a, c) = lambda * grad_cols[c][D + a] + (T(1) - lambda) * grad_cols[c][a];
-        Bsum(a, c) = b_cols[c][a];
-      }
-    }
-    // Velocity and affine matrix per scheme (sim/transfer_schemes.hpp).
-    GatheredVelocity<T, D> gathered{vpic, vold_p, Mat<T, D>::Zero()};
-    if constexpr (is_affine(S)) {
-      if (lagged || S == Scheme::tpic) {
-        // Sec 5.9: C = Σ ṽ_i ∇w_ipᵀ; TPIC (Nakamura et al. 2023) takes this velocity gradient
-        // for every kernel: P2G's v_p + ∇v_p (x_i − x_p) is the first-order Taylor expansion.
-        gathered.apic_C = gradv;
-      } else {
-        Mat<T, D> B = Bsum;
-        if (lambda != T(0)) {
-          // S − Sᵀ with S = Σ w ṽ uᵀ is λ Σ w (ṽ vⁿᵀ − vⁿ ṽᵀ), whose entries are Σ w (ṽ × vⁿ).
-          Mat<T, D> skew;
-          if constexpr (D == 3)
-            skew << T(0), twist[2], -twist[1], -twist[2], T(0), twist[0], twist[1], -twist[0], T(0);
-          else
-            skew << T(0), twist[0], -twist[0], T(0);
-          B += T(0.5) * dt * (lambda * skew - vpic * ubar.transpose() + ubar * vpic.transpose());
-        }
-        if (bform_multilinear) {
-          // Sec 5.9's B form: B^{n+1} is inverted with D_p at the start of the next step, at
-          // x_p^{n+1}, where f(1 − f) Δx² per axis vanishes as a particle nears a grid line.
-          Vec<T, D> x_next = p_.x[q] + dt * ubar;
-          for (int a = 0; a < D; ++a) x_next[a] = std::min(std::max(x_next[a], lo[a]), hi[a]);
-          Stencil<T, D, K> next;
-          next.compute(x_next, grid_);
-          const Mat<T, D> Dp = next.inertia();  // diagonal
-          for (int c = 0; c < D; ++c) B.col(c) /= Dp(c, c);
-          gathered.apic_C = B;
-        } else {
-          gathered.apic_C = B * inv_k;  // C = B D⁻¹ with D = k Δx² I
-        }
-      }
-    }
-    if constexpr (S == Scheme::xpic) {
-      if (xpic_gather) {
-        Vec<T, D> shift = Vec<T, D>::Zero();
-        st.for_each_row([&](const typename Stencil<T, D, K>::Row& row) {
-          Vec<T, D> s = Vec<T, D>::Zero();
-          for (int i = 0; i < W; ++i) s += wx[i] * xpic_shift[st.off[0][i] + row.off];
-          shift += row.w * s;
-        });
-        gathered.xpic_shift = shift;
-      }
-    }
-    // ASFLIP's position correction reads the FLIP difference before v_p is overwritten.
-    Vec<T, D> flip_difference;
-    if constexpr (S == Scheme::asflip) flip_difference = p_.v[q] - vold_p;
-    update_particle_velocity<S>(
-        gathered, alpha, multilinear, [&] { return Mat<T, D>(st.inertia()); }, p_.v[q], p_.C[q]);
-    if constexpr (S == Scheme::polypic) {  // Fu et al. 2017: the kept modes, by projection
-      polypic::keep_linear_modes<T, D>(p_.C[q], polypic_kept);
-      if constexpr (K::type == KernelType::quadratic) {
-        if (polypic_extra > 0) {  // the row form of polypic::gather_modes, on the packed ṽ
-          auto node = [&](std::size_t i) { return Lanes::prefix_of(packed[i]); };
-          if (polypic_g)
-            polypic::gather_modes_rows<T, D, 3, Lanes>(st, grid_.inv_dx, node, polypic_extra,
-                                                       p_.modes, std::size_t(q));
-          else
-            polypic::gather_modes_rows<T, D, 2, Lanes>(st, grid_.inv_dx, node, polypic_extra,
-                                                       p_.modes, std::size_t(q));
-        }
-      }
-    }
-    // MLS-MPM (Hu et al. 2018): the new C is the velocity gradient, F^{n+1} = (I + Δt C) F.
-    if constexpr (S == Scheme::mls) gradu = p_.C[q];
-    const Mat<T, D> F0 = p_.F[q];
-    for (int b = 0; b < D; ++b)
+  for (std::ptrdiff_t c = 0; c < chunks; ++c) {
+    ParticleSums own;
+    const std::ptrdiff_t end = std::min(n, (c + 1) * chunk);
+    for (std::ptrdiff_t q = c * chunk; q < end; ++q) {
+      Stencil<T, D, K> st;
+      st.compute(p_.x[std::size_t(q)], grid_);
+      // Gather row by row (see Stencil::for_each_row) on nodes packed as [ṽ (D), vⁿ (D), pad],
+      // whole vectors at a time: lanes 0..D−1 give the sums over ṽ, lanes D..2D−1 over vⁿ.
+      constexpr int W = K::width;
+      const T* wx = st.w[0];
+      T wr[W];
+      for (int i = 0; i < W; ++i) wr[i] = wx[i] * st.r[0][i];
+      Lanes vsum{}, grad_cols[D] = {}, b_cols[D] = {}, twist{};
+      auto gather = [&](auto moving_nodes) {  // Σ w (ṽ × vⁿ) only for λ > 0
+        // Forced inline: GCC 12 keeps this row body out of line on x86-64-v3 in 3D double, and
+        // the sums it adds to, taken by reference, then go through memory at every row.
+        st.for_each_row([&](const typename Stencil<T, D, K>::Row& row)
+                            __attribute__((always_inline)) {
+                              Lanes s0{}, s1{}, g0{}, t0{};
+                              for (int i = 0; i < W; ++i) {
+                                const Lanes node = Lanes::prefix_of(packed[st.off[0][i] + row.off]);
+                                s0 += wx[i] * node;
+                                s1 += wr[i] * node;
+                                g0 += st.dw[0][i] * node;
+                                if constexpr (decltype(moving_nodes)::value)
+                                  t0 += wx[i] * cross(node);
+                              }
+                              vsum += row.w * s0;
+                              if constexpr (decltype(moving_nodes)::value) twist += row.w * t0;
+                              grad_cols[0] += row.w * g0;
+                              b_cols[0] += row.w * s1;
+                              for (int ax = 1; ax < D; ++ax) {
+                                grad_cols[ax] += row.dw[ax] * s0;
+                                b_cols[ax] += (row.w * row.r[ax]) * s0;
+                              }
+                            });
+      };
+      if (lambda != T(0))
+        gather(std::true_type{});
+      else
+        gather(std::false_type{});
+      // u_i = λ vⁿ_i + (1 − λ) ṽ_i (eq 30): ū = Σ w u, ∇u = Σ u ∇wᵀ.
+      Vec<T, D> vpic, vold_p, ubar;
+      Mat<T, D> Bsum, gradu, gradv;
       for (int a = 0; a < D; ++a) {
-        T s = F0(a, b);
-        for (int k = 0; k < D; ++k) s += dt * gradu(a, k) * F0(k, b);
-        p_.F[q](a, b) = s;
+        vpic[a] = vsum[a];
+        vold_p[a] = vsum[D + a];
+        ubar[a] = lambda * vsum[D + a] + (T(1) - lambda) * vsum[a];
+        for (int c = 0; c < D; ++c) {
+          gradv(a, c) = grad_cols[c][a];
+          gradu(a, c) = lambda * grad_cols[c][D + a] + (T(1) - lambda) * grad_cols[c][a];
+          Bsum(a, c) = b_cols[c][a];
+        }
       }
-    // Particle update: positions on the moved grid (eq 39), F by eq 40 (above).
-    Vec<T, D> move = dt * ubar;
-    // ASFLIP (Fei et al. 2021): separating particles also move by β α (v_p^n − v_old);
-    // a particle whose volume shrinks this step (ln J^{n+1} < −10⁻³, the threshold of the
-    // authors' pyasflip demo) keeps the grid's motion (β_min = 0).
-    if constexpr (S == Scheme::asflip)
-      if (beta != T(0) && std::log(std::max(p_.F[q].determinant(), T(1e-15))) >= T(-1e-3))
-        move += (dt * beta * alpha) * flip_difference;
-    Vec<T, D> x = p_.x[q] + move;
-    max_move = std::max(max_move, double(move.cwiseAbs().maxCoeff()));
-    for (int a = 0; a < D; ++a) {
-      if (grid_.periodic[a]) {
-        const T L = hi[a] - lo[a];
-        if (x[a] < lo[a] || x[a] >= hi[a]) x[a] -= L * std::floor((x[a] - lo[a]) / L);
-        if (x[a] >= hi[a]) x[a] = lo[a];  // round-off of the line above
-      } else {
-        x[a] = std::min(std::max(x[a], lo[a]), hi[a]);  // walls: keep the stencil on the grid
+      // Velocity and affine matrix per scheme (sim/transfer_schemes.hpp).
+      GatheredVelocity<T, D> gathered{vpic, vold_p, Mat<T, D>::Zero()};
+      if constexpr (is_affine(S)) {
+        if (lagged || S == Scheme::tpic) {
+          // Sec 5.9: C = Σ ṽ_i ∇w_ipᵀ; TPIC (Nakamura et al. 2023) takes this velocity gradient
+          // for every kernel: P2G's v_p + ∇v_p (x_i − x_p) is the first-order Taylor expansion.
+          gathered.apic_C = gradv;
+        } else {
+          Mat<T, D> B = Bsum;
+          if (lambda != T(0)) {
+            // S − Sᵀ with S = Σ w ṽ uᵀ is λ Σ w (ṽ vⁿᵀ − vⁿ ṽᵀ), whose entries are Σ w (ṽ × vⁿ).
+            Mat<T, D> skew;
+            if constexpr (D == 3)
+              skew << T(0), twist[2], -twist[1], -twist[2], T(0), twist[0], twist[1], -twist[0],
+                  T(0);
+            else
+              skew << T(0), twist[0], -twist[0], T(0);
+            B += T(0.5) * dt * (lambda * skew - vpic * ubar.transpose() + ubar * vpic.transpose());
+          }
+          if (bform_multilinear) {
+            // Sec 5.9's B form: B^{n+1} is inverted with D_p at the start of the next step, at
+            // x_p^{n+1}, where f(1 − f) Δx² per axis vanishes as a particle nears a grid line.
+            Vec<T, D> x_next = p_.x[q] + dt * ubar;
+            for (int a = 0; a < D; ++a) x_next[a] = std::min(std::max(x_next[a], lo[a]), hi[a]);
+            Stencil<T, D, K> next;
+            next.compute(x_next, grid_);
+            const Mat<T, D> Dp = next.inertia();  // diagonal
+            for (int c = 0; c < D; ++c) B.col(c) /= Dp(c, c);
+            gathered.apic_C = B;
+          } else {
+            gathered.apic_C = B * inv_k;  // C = B D⁻¹ with D = k Δx² I
+          }
+        }
+      }
+      if constexpr (S == Scheme::xpic) {
+        if (xpic_gather) {
+          Vec<T, D> shift = Vec<T, D>::Zero();
+          st.for_each_row([&](const typename Stencil<T, D, K>::Row& row) {
+            Vec<T, D> s = Vec<T, D>::Zero();
+            for (int i = 0; i < W; ++i) s += wx[i] * xpic_shift[st.off[0][i] + row.off];
+            shift += row.w * s;
+          });
+          gathered.xpic_shift = shift;
+        }
+      }
+      // ASFLIP's position correction reads the FLIP difference before v_p is overwritten.
+      Vec<T, D> flip_difference;
+      if constexpr (S == Scheme::asflip) flip_difference = p_.v[q] - vold_p;
+      update_particle_velocity<S>(
+          gathered, alpha, multilinear, [&] { return Mat<T, D>(st.inertia()); }, p_.v[q], p_.C[q]);
+      if constexpr (S == Scheme::polypic) {  // Fu et al. 2017: the kept modes, by projection
+        polypic::keep_linear_modes<T, D>(p_.C[q], polypic_kept);
+        if constexpr (K::type == KernelType::quadratic) {
+          if (polypic_extra > 0) {  // the row form of polypic::gather_modes, on the packed ṽ
+            auto node = [&](std::size_t i) { return Lanes::prefix_of(packed[i]); };
+            if (polypic_g)
+              polypic::gather_modes_rows<T, D, 3, Lanes>(st, grid_.inv_dx, node, polypic_extra,
+                                                         p_.modes, std::size_t(q));
+            else
+              polypic::gather_modes_rows<T, D, 2, Lanes>(st, grid_.inv_dx, node, polypic_extra,
+                                                         p_.modes, std::size_t(q));
+          }
+        }
+      }
+      // MLS-MPM (Hu et al. 2018): the new C is the velocity gradient, F^{n+1} = (I + Δt C) F.
+      if constexpr (S == Scheme::mls) gradu = p_.C[q];
+      const Mat<T, D> F0 = p_.F[q];
+      for (int b = 0; b < D; ++b)
+        for (int a = 0; a < D; ++a) {
+          T s = F0(a, b);
+          for (int k = 0; k < D; ++k) s += dt * gradu(a, k) * F0(k, b);
+          p_.F[q](a, b) = s;
+        }
+      // Particle update: positions on the moved grid (eq 39), F by eq 40 (above).
+      Vec<T, D> move = dt * ubar;
+      // ASFLIP (Fei et al. 2021): separating particles also move by β α (v_p^n − v_old);
+      // a particle whose volume shrinks this step (ln J^{n+1} < −10⁻³, the threshold of the
+      // authors' pyasflip demo) keeps the grid's motion (β_min = 0).
+      if constexpr (S == Scheme::asflip)
+        if (beta != T(0) && std::log(std::max(p_.F[q].determinant(), T(1e-15))) >= T(-1e-3))
+          move += (dt * beta * alpha) * flip_difference;
+      Vec<T, D> x = p_.x[q] + move;
+      max_move = std::max(max_move, double(move.cwiseAbs().maxCoeff()));
+      for (int a = 0; a < D; ++a) {
+        if (grid_.periodic[a]) {
+          const T L = hi[a] - lo[a];
+          if (x[a] < lo[a] || x[a] >= hi[a]) x[a] -= L * std::floor((x[a] - lo[a]) / L);
+          if (x[a] >= hi[a]) x[a] = lo[a];  // round-off of the line above
+        } else {
+          x[a] = std::min(std::max(x[a], lo[a]), hi[a]);  // walls: keep the stencil on the grid
+        }
+      }
+      p_.x[q] = x;
+      if (!std::isfinite(x.sum() + p_.v[q].sum())) bad = true;
+      if (sums) {  // the row's sums at the new state, as particle_sums() adds them
+        ParticleSums::Affine affine;
+        const T m = p_.mass[q];
+        if constexpr (is_affine(S)) {
+          if constexpr (K::type == KernelType::linear) {
+            Stencil<T, D, LinearKernel> at_x;
+            at_x.compute(x, grid_);
+            affine = ParticleSums::affine_of<T, D>(m, p_.C[q], Mat<T, D>(at_x.inertia()));
+          } else {
+            affine = ParticleSums::affine_isotropic<T, D>(m, p_.C[q], k_inertia);
+          }
+        }
+        double modes_kinetic = 0;  // PolyPIC's higher modes (sim/transfer_polypic.hpp)
+        if constexpr (S == Scheme::polypic) {
+          if (polypic_extra > 0) {
+            Stencil<T, D, QuadraticKernel> at_x;
+            at_x.compute(x, grid_);
+            modes_kinetic = 0.5 * double(m) *
+                            double(polypic::modes_energy_density<T, D>(at_x, grid_.inv_dx, p_.modes,
+                                                                       std::size_t(q)));
+          }
+        }
+        own.add_particle<T, D>(m, x, p_.v[q], gravity, affine, modes_kinetic);
       }
     }
-    p_.x[q] = x;
-    if (!std::isfinite(x.sum() + p_.v[q].sum())) bad = true;
+    if (sums) chunk_sums_[std::size_t(c)] = own;
+  }
+  if (sums) {
+    *sums = ParticleSums{};
+    for (const ParticleSums& own : chunk_sums_) sums->add(own);
   }
   non_finite_ = non_finite_ || bad;
   blocks_.add_drift(std::isfinite(max_move) ? max_move * double(grid_.inv_dx) : 1e30);
 }
 
 template <class T, int D>
-void MpmSimulation<T, D>::grid_to_particles(T dt) {
+void MpmSimulation<T, D>::grid_to_particles(T dt, ParticleSums* sums) {
   with_kernel(scene_.solver.kernel, [&](auto kernel) {
     using K = decltype(kernel);
     switch (scene_.solver.scheme) {
       case Scheme::pic:
-        g2p_impl<K, Scheme::pic>(dt);
+        g2p_impl<K, Scheme::pic>(dt, sums);
         break;
       case Scheme::flip:
-        g2p_impl<K, Scheme::flip>(dt);
+        g2p_impl<K, Scheme::flip>(dt, sums);
         break;
       case Scheme::apic:
-        g2p_impl<K, Scheme::apic>(dt);
+        g2p_impl<K, Scheme::apic>(dt, sums);
         break;
       case Scheme::rpic:
-        g2p_impl<K, Scheme::rpic>(dt);
+        g2p_impl<K, Scheme::rpic>(dt, sums);
         break;
       case Scheme::mls:
-        g2p_impl<K, Scheme::mls>(dt);
+        g2p_impl<K, Scheme::mls>(dt, sums);
         break;
       case Scheme::asflip:
-        g2p_impl<K, Scheme::asflip>(dt);
+        g2p_impl<K, Scheme::asflip>(dt, sums);
         break;
       case Scheme::xpic:
         xpic_grid_passes<K>();
-        g2p_impl<K, Scheme::xpic>(dt);
+        g2p_impl<K, Scheme::xpic>(dt, sums);
         break;
       case Scheme::tpic:
-        g2p_impl<K, Scheme::tpic>(dt);
+        g2p_impl<K, Scheme::tpic>(dt, sums);
         break;
       case Scheme::polypic:
-        g2p_impl<K, Scheme::polypic>(dt);
+        g2p_impl<K, Scheme::polypic>(dt, sums);
         break;
     }
   });

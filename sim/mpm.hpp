@@ -13,6 +13,7 @@
 #include "grid.hpp"
 #include "implicit_state.hpp"
 #include "materials.hpp"
+#include "particle_sums.hpp"
 #include "particles.hpp"
 #include "simulation.hpp"
 #include "stencil.hpp"
@@ -47,6 +48,7 @@ class MpmSimulation final : public Simulation, public TransferControls {
   long steps() const override { return steps_; }
   std::optional<Failure> step(double t_limit, DiagnosticsRow* row) override;
   void step_fixed(double dt) override;
+  DiagnosticsRow step_fixed_measured(double dt) override;
   DiagnosticsRow measure() const override;
   double total_mass() const override {
     double m = 0;
@@ -80,6 +82,10 @@ class MpmSimulation final : public Simulation, public TransferControls {
   const Grid<T, D>& grid() const { return grid_; }
   SolverDesc& solver() { return scene_.solver; }
   T inertia_scale() const;  // k Δx² with D_p = k Δx² I (quadratic, cubic)
+  // The diagnostics row's particle sums by measure()'s own pass (the readable form of those
+  // G2P takes for step() and step_fixed_measured, sim/particle_sums.hpp), and the row of sums.
+  ParticleSums particle_sums() const;
+  DiagnosticsRow row_of(const ParticleSums& sums) const;
 
   // The phases, in step_fixed's order, public so tests can check each one's conservation.
   void sort_particles();
@@ -88,7 +94,9 @@ class MpmSimulation final : public Simulation, public TransferControls {
       bool with_forces);            // eqs 24-25: m_i and (m v)_i (+ eq 34 at F^n when with_forces)
   void grid_velocity_update(T dt);  // eq 26, then eq 29 explicit (λ = 0)
   void apply_boundary_conditions();
-  void grid_to_particles(T dt);  // eqs 37-40, or the scheme's variant
+  // Eqs 37-40, or the scheme's variant; with sums, also the row's sums over the new particle
+  // state (sim/particle_sums.hpp).
+  void grid_to_particles(T dt, ParticleSums* sums = nullptr);
   // Σ_i m_i v_i, Σ_i x_i × m_i v_i over the grid (after the update: updated = false gives v^n,
   // true gives ṽ).
   void grid_momentum(bool updated, Eigen::Vector3d& p, Eigen::Vector3d& L) const;
@@ -130,7 +138,10 @@ class MpmSimulation final : public Simulation, public TransferControls {
   void pack_velocities();
   bool velocity_from_momentum(std::size_t node);
   template <class K, Scheme S>
-  void g2p_impl(T dt);
+  void g2p_impl(T dt, ParticleSums* sums);
+  // step_fixed; G2P fills sums when given. False when the state was frozen (non-finite) and
+  // no step was taken, so the sums were not taken.
+  bool step_fixed_summing(double dt, ParticleSums* sums);
   template <class K>
   void xpic_grid_passes();  // sim/transfer_xpic.hpp
   template <class K>
@@ -200,7 +211,8 @@ class MpmSimulation final : public Simulation, public TransferControls {
   // and the sum e = Σ_{k=1}^{m−1} of those terms, per grid node.
   std::vector<Vec<T, D>> xpic_term_, xpic_shift_;
   ImplicitSolveState<T, D> imp_;
-  NewtonCgReport last_solve_;  // the last grid update's (zero iterations when explicit)
+  NewtonCgReport last_solve_;             // the last grid update's (zero iterations when explicit)
+  std::vector<ParticleSums> chunk_sums_;  // G2P's row sums per chunk of particles (sim/g2p.hpp)
   SolverIterationObserver on_solver_iteration_;
 };
 

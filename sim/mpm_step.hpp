@@ -24,9 +24,20 @@ void MpmSimulation<T, D>::sort_particles() {
 
 template <class T, int D>
 void MpmSimulation<T, D>::step_fixed(double dt) {
+  step_fixed_summing(dt, nullptr);
+}
+
+template <class T, int D>
+DiagnosticsRow MpmSimulation<T, D>::step_fixed_measured(double dt) {
+  ParticleSums sums;
+  return step_fixed_summing(dt, &sums) ? row_of(sums) : measure();
+}
+
+template <class T, int D>
+bool MpmSimulation<T, D>::step_fixed_summing(double dt, ParticleSums* sums) {
   // A non-finite position would index the grid out of range: the state stays frozen, and
   // step() (or the caller of step_fixed, through measure()) reports it.
-  if (non_finite_) return;
+  if (non_finite_) return false;
   sort_particles();
   clear_grid();
   if (!uses_implicit_solve()) {
@@ -41,13 +52,14 @@ void MpmSimulation<T, D>::step_fixed(double dt) {
                 [&](auto kernel) { implicit_velocity_update<decltype(kernel)>(T(dt)); });
   }
   apply_boundary_conditions();
-  grid_to_particles(T(dt));
+  grid_to_particles(T(dt), sums);
   stress_of_current_F_ = false;
   // An explicit step computes the next step's stress now: its pass also sums the elastic energy
   // that measure() reports after this step, so the diagnostics need no decomposition of their own.
   if (!uses_implicit_solve() && !non_finite_) compute_stress();
   time_ += dt;
   ++steps_;
+  return true;
 }
 
 template <class T, int D>
@@ -56,14 +68,15 @@ std::optional<Failure> MpmSimulation<T, D>::step(double t_limit, DiagnosticsRow*
   if (!(t_limit > time_)) return std::nullopt;
   auto start = std::chrono::steady_clock::now();
   double dt = choose_dt(t_limit);
-  step_fixed(dt);
+  ParticleSums sums;  // the row's particle sums, taken by G2P (sim/particle_sums.hpp)
+  const bool summed = step_fixed_summing(dt, &sums);
   // Landing on t_limit (a sum of steps is off by round-off): within 1e-12 of the time scale for
   // the landing rules; for an exact fixed step within 1e-6 of a step, which n·Δt accumulated in
   // double misses only after ~1e9 steps, so a frame time that is a whole number of steps is met.
   const double landing =
       scene_.time.lands_on_frames() ? 1e-12 * std::max(1.0, std::abs(t_limit)) : 1e-6 * dt;
   if (std::abs(t_limit - time_) < landing) time_ = t_limit;
-  DiagnosticsRow r = measure();
+  DiagnosticsRow r = summed ? row_of(sums) : measure();
   r.dt = dt;
   r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (row) *row = r;

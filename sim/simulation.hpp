@@ -37,6 +37,12 @@ class Simulation {
                                     const std::function<void(const DiagnosticsRow&)>& on_step = {});
   // One step of exactly dt, without diagnostics or blow-up checks (benchmarks, tests).
   virtual void step_fixed(double dt) = 0;
+  // step_fixed and the diagnostics row of the state it leaves, as step() computes it (MPM sums
+  // the particles' share inside its G2P); `bench` times it against step_fixed.
+  virtual DiagnosticsRow step_fixed_measured(double dt) {
+    step_fixed(dt);
+    return measure();
+  }
 
   virtual DiagnosticsRow measure() const = 0;  // energies and momenta of the current state
   virtual double total_mass() const = 0;

@@ -1,0 +1,202 @@
+// The diagnostics row's particle sums that G2P takes for a step asked for its row
+// (step_fixed_measured, step; sim/particle_sums.hpp) against measure()'s own pass over the same
+// particles (particle_sums, the readable oracle), for 2D and 3D, float and double, several
+// schemes and kernels, on one and two threads. Also: taking the sums leaves the step unchanged.
+#include <gtest/gtest.h>
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "sim/mpm.hpp"
+#include "sim/scene.hpp"
+
+namespace apiclab {
+namespace {
+
+// The bench's block, small: fixed-corotated, spinning about z and falling, so that v, C (the
+// rotation's skew part and the elastic waves) and x × v are all far from zero.
+SceneDesc spinning_block(int dim, const std::string& scheme, const std::string& kernel) {
+  using json = nlohmann::json;
+  const bool d2 = dim == 2;
+  const double dx = d2 ? 1.0 / 32 : 1.0 / 16;
+  const json scene = {
+      {"name", "spinning-block"},
+      {"dim", dim},
+      {"domain",
+       {{"min", d2 ? json{0, 0} : json{0, 0, 0}},
+        {"max", d2 ? json{1, 1} : json{1, 1, 1}},
+        {"dx", dx},
+        {"boundary", "sticky"}}},
+      {"gravity", d2 ? json{0, -9.8} : json{0, -9.8, 0}},
+      {"solver", {{"scheme", scheme}, {"kernel", kernel}}},
+      {"materials", json::array({{{"name", "jelly"},
+                                  {"model", "fixed-corotated"},
+                                  {"E", 10000},
+                                  {"nu", 0.3},
+                                  {"rho", 1000}}})},
+      {"objects", json::array({{{"shape",
+                                 {{"type", "box"},
+                                  {"min", d2 ? json{0.3, 0.35} : json{0.3, 0.35, 0.3}},
+                                  {"max", d2 ? json{0.7, 0.65} : json{0.6, 0.65, 0.55}}}},
+                                {"material", 0},
+                                {"velocity", d2 ? json{0.3, 0.1} : json{0.3, 0.1, -0.2}},
+                                {"angular_velocity", d2 ? json(2.0) : json{0.5, -1.0, 2.0}}}})},
+  };
+  SceneDesc s = parse_scene_text(scene.dump(), "test");
+  s.solver.parallel_min_particles = 0;  // the threaded G2P even for this small block
+  return s;
+}
+
+// Σ_p of the absolute values of each particle's terms in the sums, the scale of their
+// round-off: kinetic (non-negative terms: the sum itself), momentum Σ m |v|₁, angular momentum
+// Σ m (|x| |v| + 2Δx² ‖C‖) (D_p ≤ Δx²/3 I for every kernel), gravity Σ m |g| |x|.
+template <class T, int D>
+ParticleSums term_scales(const MpmSimulation<T, D>& sim, const ParticleSums& oracle) {
+  const auto& p = sim.particles();
+  const double dx = sim.scene().domain.dx, g = 9.8;
+  ParticleSums s;
+  s.kinetic = oracle.kinetic;
+  for (std::size_t q = 0; q < p.size(); ++q) {
+    const double m = double(p.mass[q]), v = double(p.v[q].norm()), x = double(p.x[q].norm());
+    s.gravity += m * g * x;
+    for (int a = 0; a < 3; ++a) {
+      s.p[a] += m * v;
+      s.L[a] += m * (x * v + 2 * dx * dx * double(p.C[q].norm()));
+    }
+  }
+  return s;
+}
+
+double worst_ratio = 0;  // the largest difference seen, in units of ε_T Σ_p |term_p|
+
+// The fused sums differ from the oracle's in each particle's terms, which both evaluate in T
+// with up to 2D + 2 roundings (|C|² with D_p: k Σ C² fused, tr(C D Cᵀ) in the oracle, and where
+// the compiler contracts to FMA), so each term differs by at most ~2 (2D + 2) ε_T of its size:
+// 16 ε_T Σ_p |term_p|; and in the order of the double sums (G2P: chunks of 256 particles, the
+// chunks' sums added in order; the oracle: each thread's share, the threads' sums added), each
+// within n ε_64 Σ_p |term_p| of the exact sum (recursive summation, Higham 2002, eq 4.4).
+template <class T, int D>
+void expect_fused_equals_oracle(const std::string& scheme, const std::string& kernel, int threads) {
+  SCOPED_TRACE(std::to_string(D) + "D " + (sizeof(T) == 4 ? "float " : "double ") + scheme + " " +
+               kernel + ", " + std::to_string(threads) + " thread(s)");
+  const int threads_before = omp_get_max_threads();
+  omp_set_num_threads(threads);
+  MpmSimulation<T, D> fused(spinning_block(D, scheme, kernel));
+  MpmSimulation<T, D> plain = fused;
+  const double dt = 2e-4;
+  const double bound =
+      16 * double(std::numeric_limits<T>::epsilon()) +
+      2 * double(fused.particles().size()) * std::numeric_limits<double>::epsilon();
+  const int steps = threads == 1 ? 4 : 2;  // two threads: see all_schemes
+  for (int step = 1; step <= steps; ++step) {
+    const DiagnosticsRow row = fused.step_fixed_measured(dt);
+    plain.step_fixed(dt);
+    const ParticleSums oracle = fused.particle_sums();
+    const ParticleSums scale = term_scales(fused, oracle);
+    ASSERT_GT(oracle.kinetic, 0);
+    const double eps = double(std::numeric_limits<T>::epsilon());
+    auto track = [&](double fused_value, double oracle_value, double term_scale) {
+      worst_ratio =
+          std::max(worst_ratio, std::abs(fused_value - oracle_value) / (eps * term_scale));
+    };
+    track(row.kinetic, oracle.kinetic, scale.kinetic);
+    for (int a = 0; a < 3; ++a) {
+      track(row.p[a], oracle.p[a], scale.p[a]);
+      track(row.L[a], oracle.L[a], scale.L[a]);
+    }
+    EXPECT_NEAR(row.kinetic, oracle.kinetic, bound * scale.kinetic) << "step " << step;
+    EXPECT_NEAR(row.potential - row.elastic, oracle.gravity, bound * scale.gravity)
+        << "step " << step;
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_NEAR(row.p[a], oracle.p[a], bound * scale.p[a]) << "step " << step << " p" << a;
+      EXPECT_NEAR(row.L[a], oracle.L[a], bound * scale.L[a]) << "step " << step << " L" << a;
+    }
+    // The rest of the row is measure()'s.
+    const DiagnosticsRow measured = fused.measure();
+    EXPECT_EQ(row.step, measured.step);
+    EXPECT_EQ(row.elastic, measured.elastic);
+    EXPECT_EQ(row.kinetic_grid, measured.kinetic_grid);
+    // Taking the sums does not change the step: the same particles, bit for bit.
+    const auto &a = fused.particles(), &b = plain.particles();
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t q = 0; q < a.size(); ++q) {
+      ASSERT_EQ(a.x[q], b.x[q]) << "particle " << q << " step " << step;
+      ASSERT_EQ(a.v[q], b.v[q]) << "particle " << q << " step " << step;
+      ASSERT_EQ(a.C[q], b.C[q]) << "particle " << q << " step " << step;
+      ASSERT_EQ(a.F[q], b.F[q]) << "particle " << q << " step " << step;
+    }
+  }
+  omp_set_num_threads(threads_before);
+}
+
+// Every scheme and kernel on one thread; on two (the threads' slots added in order) the five
+// the issue names, fewer because two threads on a loaded machine wait at every barrier.
+template <class T, int D>
+void all_schemes() {
+  for (const char* scheme :
+       {"apic", "pic", "flip", "polypic", "mls", "rpic", "tpic", "asflip", "xpic"})
+    expect_fused_equals_oracle<T, D>(scheme, "quadratic", 1);
+  expect_fused_equals_oracle<T, D>("apic", "cubic", 1);
+  expect_fused_equals_oracle<T, D>("apic", "linear", 1);  // D_p from the stencil at x
+  for (const char* scheme : {"apic", "pic", "flip", "polypic", "mls"})
+    expect_fused_equals_oracle<T, D>(scheme, "quadratic", 2);
+  std::printf("worst |fused - oracle| / (eps_T sum |terms|): %.3g (bound 16 + 2 n eps_64/eps_T)\n",
+              worst_ratio);
+  worst_ratio = 0;
+}
+
+TEST(ParticleSums, FusedEqualsOracle2DFloat) { all_schemes<float, 2>(); }
+TEST(ParticleSums, FusedEqualsOracle2DDouble) { all_schemes<double, 2>(); }
+TEST(ParticleSums, FusedEqualsOracle3DFloat) { all_schemes<float, 3>(); }
+TEST(ParticleSums, FusedEqualsOracle3DDouble) { all_schemes<double, 3>(); }
+
+// G2P's sums go in fixed chunks of particles, added in chunk order: the row is the same, bit for
+// bit, on one thread and on two (the step itself does not depend on the thread count).
+template <class T, int D>
+void same_on_one_and_two_threads(const std::string& scheme) {
+  SCOPED_TRACE(std::to_string(D) + "D " + (sizeof(T) == 4 ? "float " : "double ") + scheme);
+  const int threads_before = omp_get_max_threads();
+  MpmSimulation<T, D> one(spinning_block(D, scheme, "quadratic"));
+  MpmSimulation<T, D> two = one;
+  ASSERT_GT(one.particles().size(), 256u);  // two chunks or more: one per thread at least
+  for (int step = 1; step <= 2; ++step) {
+    omp_set_num_threads(1);
+    const DiagnosticsRow a = one.step_fixed_measured(2e-4);
+    omp_set_num_threads(2);
+    const DiagnosticsRow b = two.step_fixed_measured(2e-4);
+    EXPECT_EQ(a.kinetic, b.kinetic) << "step " << step;
+    EXPECT_EQ(a.potential, b.potential) << "step " << step;
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(a.p[k], b.p[k]) << "step " << step;
+      EXPECT_EQ(a.L[k], b.L[k]) << "step " << step;
+    }
+  }
+  omp_set_num_threads(threads_before);
+}
+
+TEST(ParticleSums, RowIndependentOfThreadCount) {
+  same_on_one_and_two_threads<float, 2>("apic");
+  same_on_one_and_two_threads<double, 3>("polypic");
+}
+
+// step() takes its row from G2P's sums too: its row equals measure() of the state it leaves.
+TEST(ParticleSums, StepRowIsMeasureOfTheNewState) {
+  MpmSimulation<double, 3> sim(spinning_block(3, "apic", "quadratic"));
+  for (int k = 0; k < 3; ++k) {
+    DiagnosticsRow row;
+    ASSERT_FALSE(sim.step(1.0, &row).has_value());
+    const DiagnosticsRow measured = sim.measure();
+    EXPECT_EQ(row.t, measured.t);
+    EXPECT_NEAR(row.kinetic, measured.kinetic, 1e-13 * measured.kinetic);
+    EXPECT_NEAR(row.total, measured.total, 1e-13 * std::abs(measured.kinetic));
+    EXPECT_NEAR(row.L[2], measured.L[2], 1e-13 * std::abs(measured.L[2]));
+  }
+}
+
+}  // namespace
+}  // namespace apiclab
