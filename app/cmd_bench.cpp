@@ -119,7 +119,7 @@ struct BlockResult {
 
 // Process CPU time on one thread; wall time on more, where the CPU time would count OpenMP's
 // threads spinning at their barriers (measured: shares of −26 % to +51 % on 2 threads).
-double cpu_seconds() {
+double row_clock_seconds() {
   timespec t{};
   clock_gettime(omp_get_max_threads() > 1 ? CLOCK_MONOTONIC : CLOCK_PROCESS_CPUTIME_ID, &t);
   return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
@@ -137,11 +137,11 @@ double row_cost(const Simulation& warm, double dt, int steps, int rounds, double
   for (int k = 0; k < rounds; ++k) {
     auto plain = warm.clone(), rows = warm.clone();
     for (int s = 0; s < steps; ++s) {
-      const double start = cpu_seconds();
+      const double start = row_clock_seconds();
       plain->step_fixed(dt);
-      const double middle = cpu_seconds();
+      const double middle = row_clock_seconds();
       sink += rows->step_fixed_measured(dt).total;
-      ratios.push_back((cpu_seconds() - middle) / std::max(middle - start, 1e-9) - 1);
+      ratios.push_back((row_clock_seconds() - middle) / std::max(middle - start, 1e-9) - 1);
     }
   }
   const auto mid = ratios.begin() + std::ptrdiff_t(ratios.size() / 2);
