@@ -192,10 +192,13 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
       // MLS-MPM (Hu et al. 2018): the new C is the velocity gradient, F^{n+1} = (I + Δt C) F.
       if constexpr (S == Scheme::mls) gradu = p_.C[q];
       const Mat<T, D> F0 = p_.F[q];
+      // Δt ∇u before the stores: Δt is the parallel region's shared variable, which a store to
+      // F may alias, so reading it inside the loop reloaded it at every entry (perf annotate).
+      const Mat<T, D> dt_gradu = dt * gradu;
       for (int b = 0; b < D; ++b)
         for (int a = 0; a < D; ++a) {
           T s = F0(a, b);
-          for (int k = 0; k < D; ++k) s += dt * gradu(a, k) * F0(k, b);
+          for (int k = 0; k < D; ++k) s += dt_gradu(a, k) * F0(k, b);
           p_.F[q](a, b) = s;
         }
       // Particle update: positions on the moved grid (eq 39), F by eq 40 (above).
