@@ -39,10 +39,13 @@ struct Particles {
     for (auto& m : modes) m.resize(n, Vec<T, D>::Zero());
   }
   // out[k] = this[order[k]] for every array; `out` keeps its capacity between calls.
-  void gather_into(const std::vector<std::uint32_t>& order, Particles& out) const {
+  void gather_into(const std::vector<std::uint32_t>& order, Particles& out,
+                   [[maybe_unused]] bool parallel = false) const {
     if (out.modes.size() != modes.size()) out.modes.resize(modes.size());
     out.resize(order.size());
-    for (std::size_t k = 0; k < order.size(); ++k) {
+    const std::ptrdiff_t n = std::ptrdiff_t(order.size());
+#pragma omp parallel for schedule(static) if (parallel)
+    for (std::ptrdiff_t k = 0; k < n; ++k) {
       std::uint32_t s = order[k];
       out.x[k] = x[s];
       out.v[k] = v[s];
@@ -55,7 +58,8 @@ struct Particles {
       out.id[k] = id[s];
     }
     for (std::size_t j = 0; j < modes.size(); ++j)
-      for (std::size_t k = 0; k < order.size(); ++k) out.modes[j][k] = modes[j][order[k]];
+#pragma omp parallel for schedule(static) if (parallel)
+      for (std::ptrdiff_t k = 0; k < n; ++k) out.modes[j][k] = modes[j][order[k]];
   }
 };
 
