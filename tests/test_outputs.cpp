@@ -2,6 +2,7 @@
 // their times, the GUI's drift series by run's rule (L0 = 0 and L0 at round-off), round-off
 // momenta plotted as zero, the settings sidecar and the JSON run summary.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -155,7 +156,8 @@ TEST(RunOutputs, SidecarHoldsEverySetting) {
   for (const NumericParameter& p : numeric_parameters())
     if (!p.count && (!p.is_set || p.is_set(s, 0)))
       EXPECT_TRUE(settings["parameters"].contains(std::string(p.key))) << p.key;
-  const auto dir = std::filesystem::temp_directory_path() / "apiclab-test-outputs";
+  const auto dir = std::filesystem::temp_directory_path() /
+                   ("apiclab-test-outputs-" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   const std::string csv = (dir / "x.csv").string();
   write_csv_sidecar(csv, settings);

@@ -2,6 +2,7 @@
 // reader of our own; every array bit for bit), binary PLY bit for bit, OBJ and CSV to their
 // printed precision (max_digits10 round-trips exactly), series.pvd lists every frame's time.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdint>
 #include <cstring>
@@ -45,8 +46,12 @@ ParticleTable table_of(const std::string& scene_name, int steps) {
   return sim->transfers()->particle_table();
 }
 
+// Named by process: ctest runs the parameterised cases (and other checkouts their own) at the
+// same time, and a shared name let one case read the file another was writing.
 std::string temp_path(const std::string& name) {
-  return (std::filesystem::temp_directory_path() / ("apiclab-export-" + name)).string();
+  return (std::filesystem::temp_directory_path() /
+          ("apiclab-export-" + std::to_string(::getpid()) + "-" + name))
+      .string();
 }
 
 struct VtkArray {
