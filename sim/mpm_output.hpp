@@ -94,6 +94,7 @@ std::shared_ptr<Snapshot> MpmSimulation<T, D>::snapshot() const {
   s->kernel = key_of(scene_.solver.kernel);
   s->integrator = key_of(scene_.solver.integrator);
   s->flip_alpha = scene_.solver.flip_alpha;
+  s->scheme_parameters = scheme_parameters_of(scene_);
   const std::size_t n = p_.size();
   s->positions.resize(n * D);
   s->velocities.resize(n * D);

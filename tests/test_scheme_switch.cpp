@@ -1,12 +1,14 @@
 // Switching a live simulation's scheme (GUI panes, SimWorker::set_scheme; the same call
 // rewinds a pane) gives back the arrays only the old scheme used: XPIC(m)'s two node arrays and
 // PolyPIC's modes ("model no more than a scene needs", issue 15). Capacity is checked, not size:
-// clear() keeps the memory.
+// clear() keeps the memory. And every label names the parameter of a scheme that has one:
+// XPIC(3), PolyPIC(9 modes), ASFLIP(α, β), from the scene a simulation runs (sim/scheme_label.hpp).
 #include <gtest/gtest.h>
 
 #include <cstdio>
 #include <utility>
 
+#include "sim/scheme_label.hpp"
 #include "test_helpers.hpp"
 
 namespace apiclab {
@@ -59,6 +61,37 @@ TEST(SchemeSwitch, PolypicToPicFreesItsModes) {
               sim.state_bytes(), p.size());
   ASSERT_FALSE(sim.step(100.0, nullptr));
   EXPECT_EQ(mode_capacity(p), 0u);  // the sort copy does not bring them back
+}
+
+// The labels read the scene's numbers, and the snapshot carries them to the renderer and GUI.
+TEST(SchemeLabel, NamesTheParameter) {
+  const SceneDesc xpic = test::disk_symplectic("xpic", {"solver.xpic_order=3"});
+  EXPECT_EQ(run_label(xpic), "xpic(3)");
+  EXPECT_EQ(run_label(test::disk_symplectic("polypic")), "polypic(9 modes)");  // 0: all of 2D's
+  EXPECT_EQ(run_label(test::disk_symplectic("polypic", {"solver.polypic_modes=1"})),
+            "polypic(1 mode)");
+  EXPECT_EQ(run_label(test::disk_symplectic("asflip",
+                                            {"solver.flip_alpha=0.9", "solver.asflip_beta=0.25"})),
+            "asflip(\u03B1=0.9 \u03B2=0.25)");
+  EXPECT_EQ(with_scheme_parameter("ASFLIP", Scheme::asflip, 0.9, {2, 9, 0.25}, true),
+            "ASFLIP(a=0.9 b=0.25)");  // the GUI's font has no Greek
+  EXPECT_EQ(run_label(test::disk_symplectic("flip", {"solver.flip_alpha=0.95"})),
+            "flip(\u03B1=0.95)");
+  for (const char* plain : {"pic", "flip", "apic", "rpic", "mls", "tpic"})
+    EXPECT_EQ(run_label(test::disk_symplectic(plain)), plain);
+  SceneDesc eol = xpic;
+  eol.solver.method = "eol";
+  EXPECT_EQ(run_label(eol), "eol");
+
+  // A pane switched live keeps the scene's numbers: XPIC(3) after APIC, in the snapshot too.
+  MpmSimulation<double, 2> sim(test::disk_symplectic("apic", {"solver.xpic_order=3"}));
+  sim.set_scheme(Scheme::xpic, 1.0);
+  const auto snap = sim.snapshot();
+  EXPECT_EQ(snap->scheme, "xpic");
+  EXPECT_EQ(snap->scheme_parameters.xpic_order, 3);
+  EXPECT_EQ(with_scheme_parameter("XPIC", Scheme::xpic, snap->flip_alpha, snap->scheme_parameters),
+            "XPIC(3)");
+  EXPECT_EQ(run_label(sim.scene()), "xpic(3)");
 }
 
 }  // namespace
