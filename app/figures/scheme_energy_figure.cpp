@@ -62,7 +62,11 @@ void draw_bars(const std::vector<Bar>& bars, ImVec2 origin, ImVec2 size) {
     else
       std::snprintf(value, sizeof value, "blew up");
     dl->AddText(ImVec2(x0, y - 18), ink, value);
-    dl->AddText(ImVec2(x0, bottom + 6), ink, b.label.c_str());
+    // The parameter, "(9 modes)", on a line of its own: nine names side by side would overlap.
+    const std::size_t open = b.label.find('(');
+    dl->AddText(ImVec2(x0, bottom + 6), ink, b.label.substr(0, open).c_str());
+    if (open != std::string::npos)
+      dl->AddText(ImVec2(x0, bottom + 21), ink, b.label.substr(open).c_str());
   }
   if (!bars.empty()) {  // the initial energy, the same for every scheme up to its C terms
     const float y = bottom - float(bars.front().initial / top) * height;
