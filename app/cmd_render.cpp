@@ -14,6 +14,7 @@
 #include "cli.hpp"
 #include "commands.hpp"
 #include "sim/diagnostics.hpp"
+#include "sim/scheme_label.hpp"
 
 namespace apiclab::cli {
 namespace {
@@ -76,9 +77,9 @@ int render(const RenderOptions& o) {
   DiagnosticsRow first = sim->measure();
   first.dt = 0;
   write_diagnostics_row(csv, first);
-  Progress progress(
-      scene.name + " [" + scheme + ", " + std::to_string(particle_count(*sim)) + " particles]",
-      times.frames + 1, o.run.quiet);
+  Progress progress(scene.name + " [" + run_label(scene) + ", " +
+                        std::to_string(particle_count(*sim)) + " particles]",
+                    times.frames + 1, o.run.quiet);
   int computing = 1;  // the frame being computed, for the solver's progress
   show_solver_progress(*sim, progress, computing, times.frames);
   int status = 0;
@@ -140,6 +141,7 @@ int compare(const RenderOptions& o) {
   // start from the same particles; each starts with its own initial state (APIC's C = ω*).
   struct Pane {
     std::string key;
+    std::string label;  // the key with its scheme's parameter, "xpic(3)" (sim/scheme_label.hpp)
     std::unique_ptr<Simulation> sim;
     std::ofstream csv;
     bool reported = false;
@@ -152,7 +154,8 @@ int compare(const RenderOptions& o) {
     SceneDesc scene = session.scene;
     scene.solver.method = spec.method;
     scene.solver.scheme = spec.scheme;
-    Pane p{spec.key, make_simulation(scene, precision_of(o.run)),
+    Pane p{spec.key, spec.method == "mpm" ? run_label(scene) : spec.key,
+           make_simulation(scene, precision_of(o.run)),
            open_csv(o.out + "/" + spec.key + ".csv", scene, o)};
     DiagnosticsRow first = p.sim->measure();
     first.dt = 0;
@@ -176,9 +179,10 @@ int compare(const RenderOptions& o) {
   std::vector<std::string> keys;
   for (const Pane& p : panes) keys.push_back(p.key);
   FrameIndex frame_times(o.out, keys);  // panes step in lockstep: one time per frame
-  Progress progress(
-      scene.name + " [" + o.schemes + ", " + std::to_string(particles) + " particles]",
-      times.frames + 1, o.run.quiet);
+  std::string labels;
+  for (const Pane& p : panes) labels += (labels.empty() ? "" : ",") + p.label;
+  Progress progress(scene.name + " [" + labels + ", " + std::to_string(particles) + " particles]",
+                    times.frames + 1, o.run.quiet);
   int computing = 1;
   std::vector<Simulation*> sims;
   for (Pane& p : panes) {
@@ -200,7 +204,7 @@ int compare(const RenderOptions& o) {
       if (p.sim->failure() && !p.reported) {
         p.reported = true;
         ++failed;
-        failures += "\n" + p.key + ": " + p.sim->failure()->message;
+        failures += "\n" + p.label + ": " + p.sim->failure()->message;
       }
       if (p.dump) {
         p.dump->write(*p.sim, f);

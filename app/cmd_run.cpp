@@ -14,6 +14,7 @@
 #include "commands.hpp"
 #include "sim/diagnostics.hpp"
 #include "sim/run_summary.hpp"
+#include "sim/scheme_label.hpp"
 
 namespace apiclab::cli {
 namespace {
@@ -56,7 +57,7 @@ int run(const RunCommandOptions& command) {
   first.dt = 0;
   write_diagnostics_row(out, first);
   RunSummary summary(first, sim->total_mass(), DriftRule::domain_extent(scene));
-  std::string label = scene.name + " [" + scheme + ", " +
+  std::string label = scene.name + " [" + run_label(scene) + ", " +
                       std::string(key_of(scene.solver.integrator)) + ", " +
                       std::to_string(particle_count(*sim)) + " particles]";
   Progress progress(label, scene.time.end, o.quiet);

@@ -20,6 +20,8 @@ void execute(Run& r) {
   SceneDesc scene = load_scene(resolve_scene_path(r.scene), overrides);
   scene.asset_dirs.push_back(assets_directory());
   if (r.t_end <= 0) r.t_end = scene.time.end;
+  r.scheme_parameters = scheme_parameters_of(scene);
+  r.flip_alpha = scene.solver.flip_alpha;
   auto sim = make_simulation(scene);
   r.rows.push_back(sim->measure());
   Lockstep pane({sim.get()});

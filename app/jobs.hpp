@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "app/thread_pool.hpp"
+#include "sim/scheme_label.hpp"
 #include "sim/simulation.hpp"
 
 namespace apiclab::jobs {
@@ -26,8 +27,10 @@ struct Run {
   // Results.
   std::vector<DiagnosticsRow> rows;
   std::vector<std::shared_ptr<Snapshot>> snapshots;
-  std::string failure;  // the solver's failure, with its time; the rows stop there
-  double seconds = 0;   // wall time of the whole run, building the particles included
+  std::string failure;                 // the solver's failure, with its time; the rows stop there
+  SchemeParameters scheme_parameters;  // of the scene it ran, for labels: "XPIC(2)"
+  double flip_alpha = 1;
+  double seconds = 0;  // wall time of the whole run, building the particles included
 };
 
 // A run that could not start (a bad scene or override), naming the run.

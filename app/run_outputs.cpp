@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "sim/parameters.hpp"
+#include "sim/scheme_label.hpp"
 
 namespace apiclab {
 
@@ -30,6 +31,7 @@ nlohmann::json run_settings(const SceneDesc& scene, Precision precision,
       {"solver",
        {{"method", scene.solver.method},
         {"scheme", key_of(scene.solver.scheme)},
+        {"label", run_label(scene)},  // the scheme with its parameter: "xpic(3)"
         {"kernel", key_of(scene.solver.kernel)},
         {"integrator", key_of(scene.solver.integrator)},
         {"preconditioner", key_of(scene.solver.preconditioner)}}},

@@ -8,6 +8,7 @@
 #include "render/palette.hpp"
 #include "render/snapshot_stats.hpp"
 #include "sim/registry.hpp"
+#include "sim/scheme_label.hpp"
 
 namespace apiclab::render {
 namespace {
@@ -101,14 +102,13 @@ Layout layout(Renderer& r, int width, int height, int panes, const Snapshot& fir
 }  // namespace
 
 std::string scheme_label(const Snapshot& s) {
-  std::string label = render::scheme_label(s.scheme);
-  // The blend α belongs to FLIP alone (eq 3); the registry says which scheme that is.
   const auto& schemes = scheme_choices();
   const auto it = std::find_if(schemes.begin(), schemes.end(),
                                [&](const auto& c) { return c.key == s.scheme; });
-  if (it != schemes.end() && blends_flip(it->value) && s.flip_alpha < 1)
-    label += " \u03B1=" + format("%g", s.flip_alpha);
-  return label;
+  if (it == schemes.end()) return render::scheme_label(s.scheme);
+  // FLIP's blend α (eq 3), XPIC's m, PolyPIC's modes, ASFLIP's α and β (sim/scheme_label.hpp).
+  return with_scheme_parameter(render::scheme_label(s.scheme), it->value, s.flip_alpha,
+                               s.scheme_parameters);
 }
 
 std::vector<Rect> figure_scene_rects(Renderer& r, int width, int height, int panes,

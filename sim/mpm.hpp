@@ -81,6 +81,11 @@ class MpmSimulation final : public Simulation, public TransferControls {
   Grid<T, D>& grid() { return grid_; }
   const Grid<T, D>& grid() const { return grid_; }
   SolverDesc& solver() { return scene_.solver; }
+  // Bytes held (capacity) by the particles with their sort copy, the grid and the per-scheme
+  // arrays (PolyPIC's modes, XPIC's node arrays): what a scheme switch must give back.
+  std::size_t state_bytes() const;
+  // XPIC(m)'s two node arrays (capacity 0 unless the scheme is xpic with m > 1), for tests.
+  std::size_t xpic_capacity() const { return xpic_term_.capacity() + xpic_shift_.capacity(); }
   T inertia_scale() const;  // k Δx² with D_p = k Δx² I (quadratic, cubic)
   // The diagnostics row's particle sums by measure()'s own pass (the readable form of those
   // G2P takes for step() and step_fixed_measured, sim/particle_sums.hpp), and the row of sums.
@@ -208,7 +213,7 @@ class MpmSimulation final : public Simulation, public TransferControls {
   std::vector<Stencil<T, D, QuadraticKernel>> stencils_quadratic_;
   std::vector<Stencil<T, D, CubicKernel>> stencils_cubic_;
   // XPIC(m) only, sized on its first step (sim/transfer_xpic.hpp): the series term (I − S S⁺)^k vⁿ
-  // and the sum e = Σ_{k=1}^{m−1} of those terms, per grid node.
+  // and the sum e = Σ_{k=1}^{m−1} of those terms, per grid node; freed by set_scheme.
   std::vector<Vec<T, D>> xpic_term_, xpic_shift_;
   ImplicitSolveState<T, D> imp_;
   NewtonCgReport last_solve_;             // the last grid update's (zero iterations when explicit)

@@ -22,6 +22,18 @@ void MpmSimulation<T, D>::set_scheme(Scheme scheme, double flip_alpha) {
     for (auto& C : p_.C) C = rpic_skew_part<T, D>(C);  // returns a new matrix: C is not aliased
   }
   allocate_polypic_modes();  // zero higher modes when switching to polypic, none otherwise
+  // XPIC's node arrays exist only while it runs with m > 1 ("model no more than a scene needs");
+  // swapped with empty vectors, since clear() keeps the capacity.
+  if (scheme != Scheme::xpic || scene_.solver.xpic_order <= 1) {
+    std::vector<Vec<T, D>>().swap(xpic_term_);
+    std::vector<Vec<T, D>>().swap(xpic_shift_);
+  }
+}
+
+template <class T, int D>
+std::size_t MpmSimulation<T, D>::state_bytes() const {
+  return p_.allocated_bytes() + scratch_.allocated_bytes() + grid_.allocated_bytes() +
+         xpic_capacity() * sizeof(Vec<T, D>);
 }
 
 // |v_p − Σ w_ip v_i| with v_i from a fresh P2G of the current particles (this scheme's own
@@ -82,6 +94,7 @@ std::shared_ptr<Snapshot> MpmSimulation<T, D>::snapshot() const {
   s->kernel = key_of(scene_.solver.kernel);
   s->integrator = key_of(scene_.solver.integrator);
   s->flip_alpha = scene_.solver.flip_alpha;
+  s->scheme_parameters = scheme_parameters_of(scene_);
   const std::size_t n = p_.size();
   s->positions.resize(n * D);
   s->velocities.resize(n * D);

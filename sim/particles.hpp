@@ -26,6 +26,17 @@ struct Particles {
   }
 
   std::size_t size() const { return x.size(); }
+  // Bytes the arrays hold (their capacity, PolyPIC's modes included), for state_bytes().
+  std::size_t allocated_bytes() const {
+    std::size_t b =
+        (x.capacity() + v.capacity()) * sizeof(Vec<T, D>) +
+        (C.capacity() + F.capacity()) * sizeof(Mat<T, D>) +
+        (mass.capacity() + volume0.capacity()) * sizeof(T) +
+        (material.capacity() + object.capacity() + id.capacity()) * sizeof(std::int32_t) +
+        modes.capacity() * sizeof(modes[0]);
+    for (const auto& m : modes) b += m.capacity() * sizeof(Vec<T, D>);
+    return b;
+  }
   void resize(std::size_t n) {
     x.resize(n);
     v.resize(n);

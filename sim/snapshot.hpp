@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "scene.hpp"
+#include "scheme_label.hpp"
 
 namespace apiclab {
 
@@ -52,6 +53,7 @@ struct Snapshot {
   double time = 0;
   std::string scene_name, scheme, kernel, integrator;
   double flip_alpha = 1;  // FLIP's blend (eq 3); labels show it for the FLIP scheme only
+  SchemeParameters scheme_parameters;  // XPIC's m, PolyPIC's modes, ASFLIP's β, for labels
   // Per particle, in a stable order (particle id), dim floats each.
   std::vector<float> positions, velocities;
   // |v_p − Σ w_ip v_i| after a fresh P2G: FLIP's null modes (may be empty).

@@ -42,8 +42,9 @@ if ! command -v xvfb-run >/dev/null; then
   echo "SKIP: xvfb-run not found (apt-get install xvfb xauth)"
   exit 0
 fi
-# A run that is not its own reference: the last column of runs.csv names each row's reference.
-id=$(awk -F, 'NR > 1 && $1 != $NF { print $1; exit }' "$sweep/runs.csv")
+# A run that is not its own reference: column `reference` of runs.csv names each row's reference.
+id=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) if ($i == "reference") r = i; next }
+              $1 != $r { print $1; exit }' "$sweep/runs.csv")
 [ -n "$id" ] || fail "no non-reference run in $sweep/runs.csv"
 png="$out/gui-sweep.png"
 rm -f "$png"

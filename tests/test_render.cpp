@@ -420,9 +420,20 @@ TEST(Palette, OneColourPerSchemeAndCategory) {
   Snapshot s;
   s.scheme = "flip";
   s.flip_alpha = 0.95;
-  EXPECT_EQ(scheme_label(s), "FLIP \u03B1=0.95");
+  EXPECT_EQ(scheme_label(s), "FLIP(\u03B1=0.95)");
+  s.flip_alpha = 1;  // pure FLIP: nothing to say
+  EXPECT_EQ(scheme_label(s), "FLIP");
   s.scheme = "pic";
   EXPECT_EQ(scheme_label(s), "PIC");
+  // Compare's pane labels name the parameter of the schemes that have one (issue 15).
+  s.scheme_parameters = {3, 9, 0.5};
+  s.scheme = "xpic";
+  EXPECT_EQ(scheme_label(s), "XPIC(3)");
+  s.scheme = "polypic";
+  EXPECT_EQ(scheme_label(s), "PolyPIC(9 modes)");
+  s.scheme = "asflip";
+  s.flip_alpha = 0.95;
+  EXPECT_EQ(scheme_label(s), "ASFLIP(\u03B1=0.95 \u03B2=0.5)");
 }
 
 // A rotated 2D grid layer with a ramp field over a few particles, and its 3D counterpart.

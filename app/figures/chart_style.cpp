@@ -8,6 +8,14 @@ SchemeStyle style_of(const std::string& key) {
   return {render::scheme_label(key), render::packed_abgr(render::scheme_color(key))};
 }
 
+SchemeStyle style_of(const std::string& key, const SchemeParameters& parameters,
+                     double flip_alpha) {
+  SchemeStyle s = style_of(key);
+  for (const auto& c : scheme_choices())
+    if (c.key == key) s.label = with_scheme_parameter(s.label, c.value, flip_alpha, parameters);
+  return s;
+}
+
 float heading(ChartCanvas& canvas, const std::string& text, float width) {
   ImGui::PushFont(canvas.title_font());
   const ImVec2 ts = ImGui::CalcTextSize(text.c_str());

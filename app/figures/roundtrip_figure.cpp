@@ -62,9 +62,11 @@ void write_roundtrip_figure(ChartCanvas& canvas, const std::vector<int>& resolut
     std::sort(results[s].begin(), results[s].end(), [](auto& a, auto& b) { return a.dx < b.dx; });
     const double slope = fitted_slope(results[s]);
     slopes.push_back(slope);
-    char label[64];
-    std::snprintf(label, sizeof label, "%s (slope %.2f)", style_of(schemes[s]).label.c_str(),
-                  slope);
+    // The probe's own XPIC(2) and PolyPIC with every 2D mode (roundtrip_error's scene).
+    const SchemeParameters probed{2, polypic::full_modes(2), 1.0};
+    char label[96];
+    std::snprintf(label, sizeof label, "%s (slope %.2f)",
+                  style_of(schemes[s], probed, 1.0).label.c_str(), slope);
     gui::PlotSeries p;
     p.label = label;
     p.color = style_of(schemes[s]).color;

@@ -24,7 +24,7 @@ const std::vector<std::string> kOverrides{"solver.integrator=symplectic",
 constexpr const char* kScene = "ring-collision";
 
 struct Bar {
-  std::string scheme;
+  std::string scheme, label;  // the key, and the legend's name with its parameter: "XPIC(2)"
   double t = 0, total = 0, kinetic = 0, potential = 0, initial = 0;
   std::string failure;
 };
@@ -62,7 +62,11 @@ void draw_bars(const std::vector<Bar>& bars, ImVec2 origin, ImVec2 size) {
     else
       std::snprintf(value, sizeof value, "blew up");
     dl->AddText(ImVec2(x0, y - 18), ink, value);
-    dl->AddText(ImVec2(x0, bottom + 6), ink, st.label.c_str());
+    // The parameter, "(9 modes)", on a line of its own: nine names side by side would overlap.
+    const std::size_t open = b.label.find('(');
+    dl->AddText(ImVec2(x0, bottom + 6), ink, b.label.substr(0, open).c_str());
+    if (open != std::string::npos)
+      dl->AddText(ImVec2(x0, bottom + 21), ink, b.label.substr(open).c_str());
   }
   if (!bars.empty()) {  // the initial energy, the same for every scheme up to its C terms
     const float y = bottom - float(bars.front().initial / top) * height;
@@ -99,6 +103,7 @@ void write_scheme_energy_figure(ChartCanvas& canvas, bool quick, int threads,
   for (const jobs::Run& r : runs) {
     Bar b;
     b.scheme = r.scheme;
+    b.label = style_of(r.scheme, r.scheme_parameters, r.flip_alpha).label;
     b.failure = r.failure;
     if (!r.rows.empty()) {
       const DiagnosticsRow& last = r.rows.back();
@@ -132,11 +137,10 @@ void write_scheme_energy_figure(ChartCanvas& canvas, bool quick, int threads,
                t_end);
   for (const Bar& b : bars)
     if (b.failure.empty())
-      std::fprintf(stderr, "| %s | %.1f | %.1f %% |\n", style_of(b.scheme).label.c_str(), b.total,
+      std::fprintf(stderr, "| %s | %.1f | %.1f %% |\n", b.label.c_str(), b.total,
                    100 * b.total / b.initial);
     else  // the blow-up report names the time
-      std::fprintf(stderr, "| %s | blew up at t = %.3g s | – |\n", style_of(b.scheme).label.c_str(),
-                   b.t);
+      std::fprintf(stderr, "| %s | blew up at t = %.3g s | – |\n", b.label.c_str(), b.t);
 }
 
 }  // namespace apiclab::figures

@@ -18,7 +18,7 @@ const std::string& key_of(const jobs::Run& r) { return r.method.empty() ? r.sche
 SchemeStyle run_style(const jobs::Run& r) {
   if (r.method == "eol") return {"EoL", style_of("apic").color};
   if (r.method == "eulerian") return {"Eulerian", style_of("flip").color};
-  return style_of(key_of(r));
+  return style_of(key_of(r), r.scheme_parameters, r.flip_alpha);
 }
 
 double value(const jobs::Run& r, const Quantity& q, std::size_t i) {

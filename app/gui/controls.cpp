@@ -94,7 +94,8 @@ void parameter_field(ViewerState& st, SimWorker& worker, const std::string& key)
   PendingEdit& edit = pending_edit();
   double value = edit.id == id ? edit.value : p->get(st.scene, index);
   const Range& r = p->range;
-  const bool bounded = std::isfinite(r.lo) && std::isfinite(r.hi);
+  // A count (XPIC's m, PolyPIC's modes) is typed: a slider would give fractions, refused.
+  const bool bounded = std::isfinite(r.lo) && std::isfinite(r.hi) && !p->integer;
   const bool changed =
       bounded
           ? ImGui::SliderScalar(label.c_str(), ImGuiDataType_Double, &value, &r.lo, &r.hi, "%.3g")
@@ -323,6 +324,18 @@ void solver_section(ViewerState& st, SimWorker& worker) {
     if (choice_combo("CG preconditioner", s.solver.preconditioner, cg_preconditioner_choices()))
       restart_because(st, worker, "CG preconditioner");
   }
+  // The parameters of the panes' schemes, scene-wide, while a pane runs the scheme: XPIC's m,
+  // PolyPIC's modes, ASFLIP's beta (its alpha is the pane's slider).
+  bool runs[3] = {false, false, false};
+  for (const PaneConfig& c : st.panes)
+    if ((c.method.empty() ? s.solver.method : c.method) == "mpm") {
+      runs[0] |= c.scheme == Scheme::xpic;
+      runs[1] |= c.scheme == Scheme::polypic;
+      runs[2] |= c.scheme == Scheme::asflip;
+    }
+  const char* scheme_keys[3] = {"solver.xpic_order", "solver.polypic_modes", "solver.asflip_beta"};
+  for (int k = 0; k < 3; ++k)
+    if (runs[k]) parameter_field(st, worker, scheme_keys[k]);
   for (std::size_t m = 0; m < s.materials.size(); ++m) {
     MaterialDesc& mat = s.materials[m];
     ImGui::PushID(int(m));

@@ -25,6 +25,7 @@
 #include "render/palette.hpp"
 #include "render/renderer.hpp"
 #include "render/target.hpp"
+#include "sim/scheme_label.hpp"
 
 namespace apiclab::gui {
 namespace {
@@ -75,12 +76,12 @@ std::string pane_label(const PaneState& p) {
   if (!p.config.method.empty() && p.config.method != "mpm") return before + p.config.method;
   std::string s(key_of(p.config.scheme));
   for (auto& c : s) c = char(std::toupper(static_cast<unsigned char>(c)));
-  s = before + s;
-  if (blends_flip(p.config.scheme) && p.config.flip_alpha != 1.0) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, " a=%.2f", p.config.flip_alpha);
-    s += buf;
-  }
+  // XPIC's m, PolyPIC's modes, ASFLIP's a and b (sim/scheme_label.hpp): scene-wide numbers, so
+  // the last snapshot's hold for the pane's current scheme even right after a switch.
+  const SchemeParameters parameters = p.snapshot       ? p.snapshot->scheme_parameters
+                                      : p.config.scene ? scheme_parameters_of(*p.config.scene)
+                                                       : SchemeParameters{};
+  s = before + with_scheme_parameter(s, p.config.scheme, p.config.flip_alpha, parameters, true);
   return s;
 }
 

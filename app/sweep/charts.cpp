@@ -16,10 +16,36 @@
 #include "app/sweep/tables.hpp"
 #include "render/image.hpp"
 #include "render/palette.hpp"
+#include "sim/scheme_label.hpp"
 
 namespace apiclab::sweep {
 namespace fs = std::filesystem;
 using figures::ChartCanvas;
+
+// A series' legend with its scheme's parameter, "xpic" -> "xpic(2)" (sim/scheme_label.hpp), read
+// from the scenes its runs simulated. Unchanged when they name no scheme with a parameter or
+// disagree (another axis varies the parameter, and names it in the label itself).
+std::string legend_label(const Series& s, const std::vector<RunResult>& results) {
+  std::string key, named;
+  for (std::size_t i : s.runs) {
+    SceneDesc scene;
+    try {
+      scene = scene_of(*results[i].run);
+    } catch (const std::exception&) {
+      return s.label;
+    }
+    if (scene.solver.method != "mpm") return s.label;
+    const std::string n = run_label(scene);
+    if (!named.empty() && n != named) return s.label;
+    named = n, key = std::string(key_of(scene.solver.scheme));
+  }
+  if (named.empty() || named == key) return s.label;
+  if (s.label == key) return named;          // the series axis is the scheme
+  const std::string part = "scheme=" + key;  // or one of the axes in "scheme=xpic, kernel=..."
+  const std::size_t at = s.label.find(part), end = at + part.size();
+  if (at == std::string::npos || (end < s.label.size() && s.label[end] != ',')) return s.label;
+  return s.label.substr(0, at) + "scheme=" + named + s.label.substr(end);
+}
 
 ImU32 series_color(const Spec& spec, const std::string& value, std::size_t k) {
   if (spec.series == "solver.scheme") return figures::style_of(value).color;
@@ -104,8 +130,8 @@ std::string error_vs_cost(ChartCanvas& canvas, const Spec& spec,
     const std::string value = series[k].runs.empty()
                                   ? series[k].label
                                   : results[series[k].runs.front()].run->value_text(spec.series);
-    plots.push_back(
-        scatter(series[k].label, series_color(spec, value, k), series[k].x, series[k].y));
+    plots.push_back(scatter(legend_label(series[k], results), series_color(spec, value, k),
+                            series[k].x, series[k].y));
   }
   gui::PlotSeries pareto;
   pareto.label = "Pareto front";
@@ -211,11 +237,12 @@ std::string convergence(ChartCanvas& canvas, const Spec& spec,
   std::vector<gui::PlotSeries> plots;
   for (std::size_t k = 0; k < series.size(); ++k) {
     const Series& s = series[k];
-    char label[160];
+    const std::string name = legend_label(s, results);
+    char label[200];
     if (std::isfinite(s.slope))
-      std::snprintf(label, sizeof label, "%s (slope %.2f)", s.label.c_str(), s.slope);
+      std::snprintf(label, sizeof label, "%s (slope %.2f)", name.c_str(), s.slope);
     else  // one resolution: no slope to fit
-      std::snprintf(label, sizeof label, "%s (one dx, no slope)", s.label.c_str());
+      std::snprintf(label, sizeof label, "%s (one dx, no slope)", name.c_str());
     gui::PlotSeries p;
     p.label = label;
     p.color = render::packed_abgr(render::palette_color(int(k)));

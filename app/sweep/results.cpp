@@ -9,6 +9,7 @@
 #include <map>
 
 #include "sim/scene.hpp"
+#include "sim/scheme_label.hpp"
 
 namespace apiclab::sweep {
 namespace {
@@ -95,6 +96,20 @@ std::vector<RunResult> collect(const Spec& spec, const Plan& plan, const std::st
   return results;
 }
 
+namespace {
+
+// The run's scheme with its parameter, "xpic(2)" (sim/scheme_label.hpp), or its solver method;
+// "" when its scene cannot be read back.
+std::string scheme_label_of(const PlannedRun& run) {
+  try {
+    return run_label(scene_of(run));
+  } catch (const std::exception&) {
+    return "";
+  }
+}
+
+}  // namespace
+
 std::string write_runs_csv(const Spec& spec, const std::vector<RunResult>& results,
                            const std::string& out_dir) {
   const std::string path = (std::filesystem::path(out_dir) / "runs.csv").string();
@@ -106,7 +121,7 @@ std::string write_runs_csv(const Spec& spec, const std::vector<RunResult>& resul
          "newton_iters,cg_iters,peak_rss_mb,outcome,fail_step,fail_t,fail_quantity,"
          "unconverged_steps,noise,max_energy,final_energy,max_angular,final_angular,"
          "angular_relative,max_momentum,final_momentum,err_com,err_kinetic,err_elastic,"
-         "err_displacement,displacement_rms,err_rigid,reference\n";
+         "err_displacement,displacement_rms,err_rigid,reference,scheme_label\n";
   for (const RunResult& r : results) {
     const PlannedRun& p = *r.run;
     const RunRecord& c = r.rec;
@@ -128,7 +143,7 @@ std::string write_runs_csv(const Spec& spec, const std::vector<RunResult>& resul
         << number_text(r.ref.com, 6) << ',' << number_text(r.ref.kinetic, 6) << ','
         << number_text(r.ref.elastic, 6) << ',' << number_text(r.ref.displacement, 6) << ','
         << number_text(r.ref.displacement_rms, 6) << ',' << number_text(r.rigid, 6) << ','
-        << results[p.reference].run->id << '\n';
+        << results[p.reference].run->id << ',' << csv_field(scheme_label_of(p)) << '\n';
   }
   return path;
 }
