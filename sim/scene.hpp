@@ -49,6 +49,12 @@ struct EolSolverDesc {
   int padding = 3;         // eol: empty cells around the rest shape in its grid
   double cell = 0;         // eol: the objects' cell size; 0 = domain.dx
   double grid_extent = 0;  // eol: side of each object's grid; 0 = rest shape + padding
+  // Contact with walls and colliders (sim/eol/surface_contact.hpp): the surface rows of eqs
+  // 27-28, one per collision cell of side contact_cell (0 = the grid cell), or one row per node
+  // on or behind a plane.
+  enum class Contact { surface, nodes };
+  Contact contact = Contact::surface;
+  double contact_cell = 0;
 };
 
 struct SolverDesc {

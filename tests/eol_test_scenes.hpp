@@ -25,6 +25,7 @@ struct EolSceneSpec {
   std::string boundary = "slip";
   double end = 1, fps = 10;
   nlohmann::json colliders = nlohmann::json::array();
+  std::string contact;  // solver.contact; empty: the default
 };
 
 inline std::string eol_scene_json(const EolSceneSpec& s) {
@@ -41,6 +42,8 @@ inline std::string eol_scene_json(const EolSceneSpec& s) {
     else
       object["angular_velocity"] = {0, 0, s.spin};
   }
+  nlohmann::json solver = {{"method", s.method}};
+  if (!s.contact.empty()) solver["contact"] = s.contact;
   const nlohmann::json scene = {
       {"name", "eol-test"},
       {"dim", s.dim},
@@ -51,7 +54,7 @@ inline std::string eol_scene_json(const EolSceneSpec& s) {
         {"boundary", s.boundary}}},
       {"gravity", take(s.gravity)},
       {"time", {{"end", s.end}, {"fps", s.fps}, {"dt", {{"rule", "elastic"}, {"nu", 0.3}}}}},
-      {"solver", {{"method", s.method}}},
+      {"solver", solver},
       {"materials",
        {{{"name", "jelly"}, {"model", "neo-hookean"}, {"E", s.E}, {"nu", 0.3}, {"rho", s.rho}}}},
       {"objects", {object}},

@@ -19,6 +19,14 @@ void validate_common(SceneSection& r, SceneDesc& s) {
   auto& e = s.solver.eol;
   // Ranges are checked once, for every method, by validate() (sim/parameters.hpp).
   e.alpha = r.number("alpha", e.alpha);
+  e.contact = r.choice(
+      "contact",
+      std::vector<Choice<EolSolverDesc::Contact>>{
+          {"surface", EolSolverDesc::Contact::surface,
+           "rows of the object's surface behind a plane, eqs 27-29"},
+          {"nodes", EolSolverDesc::Contact::nodes, "one row per node on or behind a plane"}},
+      e.contact, "contact");
+  e.contact_cell = r.number("contact_cell", e.contact_cell);
   s.solver.blowup_energy_factor = r.number("blowup_energy_factor", s.solver.blowup_energy_factor);
   for (int a = 0; a < s.dim; ++a)
     if (s.domain.periodic(a))

@@ -1,7 +1,8 @@
 // The Eulerian-on-Lagrangian solver (Fan et al. 2013), Algorithm 1 per object:
 //   forces (eq 12: elasticity, gravity, f_qvv) → dynamic Δt (Sec 3.6, eq 33)
-//   → impulse solve with the node–plane rows (eqs 16, 29) → least-squares split (eqs 23-24)
-//   → frame update q₁ += Δt q̇₁ → advection of v and X by v* (eq 15) → extrapolation.
+//   → impulse solve with the surface or node–plane contact rows (eqs 16, 27-29) → least-squares
+//   split (eqs 23-24) → frame update q₁ += Δt q̇₁ → advection of v and X by v* (eq 15) →
+//   extrapolation.
 // Each object has its own rigid frame and grid (eol). The pure-Eulerian baseline (eulerian) is
 // the same code with the frame locked to the world and one grid over the whole domain. Objects
 // do not touch each other yet (object–object contact is part 2).
@@ -12,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "sim/eol/contact_qp.hpp"
 #include "sim/eol/energy_ledger.hpp"
 #include "sim/eol/eulerian_grid.hpp"
 #include "sim/eol/extrapolation.hpp"
@@ -119,6 +121,10 @@ class EolSimulation final : public Simulation {
     ledger_ = last_ledger_ = EnergyLedger{};
   }
   const EnergyLedger& energy_ledger() const { return ledger_; }
+  // solver.contact surface: the last step's rows (eq 28, the last object that had any) and
+  // its QP solve (eq 29), for tests.
+  const ContactRows<T, D>& last_contact_rows() const { return contact_rows_; }
+  const ContactSolveStats& last_contact_solve() const { return contact_stats_; }
   const EnergyLedger& last_step_ledger() const { return last_ledger_; }
 
  private:
@@ -135,6 +141,8 @@ class EolSimulation final : public Simulation {
   };
   LedgerEnergies ledger_energies(const EolObject<T, D>& o) const;
   void ledger_work(const EolObject<T, D>& o, double dt, EnergyLedger& step) const;
+  void impulse_surface_contact(EolObject<T, D>& o, T dt);
+  bool may_touch_planes(const EolObject<T, D>& o) const;
 
   SceneDesc scene_;
   bool lagrangian_ = true, parallel_ = false;
@@ -149,6 +157,9 @@ class EolSimulation final : public Simulation {
   std::vector<ElasticMaterial<T>> materials_;
   std::vector<T> density_;  // ρ₀ per material
   std::vector<PlaneConstraint<T, D>> planes_;
+  ContactRows<T, D> contact_rows_;
+  ContactSolver<T, D> contact_solver_;
+  ContactSolveStats contact_stats_;
   double time_ = 0, energy_ref_ = 0, max_wave_speed_ = 0;
   long steps_ = 0;
   std::optional<Failure> failure_;

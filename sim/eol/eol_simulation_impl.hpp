@@ -307,11 +307,13 @@ void EolSimulation<T, D>::finish_step(double dt_in) {
     auto start = std::chrono::steady_clock::now();
     // Eqs 16 and 29 node by node and, in the same pass, the sums of the split's normal
     // equations (eq 23), which read the u just written: one pass over the nodes, not two.
+    const bool surface = scene_.solver.eol.contact == EolSolverDesc::Contact::surface;
+    if (surface) impulse_surface_contact(o, dt);
     const SplitSums<D, 1> sums = sum_node_blocks(
         o.grid.size(), parallel_, split_partial_, [&](SplitSums<D, 1>& acc, std::size_t i) {
           const T m = o.grid.mass[i];
           if (!(m > T(0))) return;
-          impulse_update(o.u[i], o.force[i], m, o.x[i], planes_, dt);
+          if (!surface) impulse_update(o.u[i], o.force[i], m, o.x[i], planes_, dt);
           if (lagrangian_) acc.template add<T>(o.r[i], {o.u[i]});
         });
     stages_.assembly += detail::seconds_since(start);
@@ -357,6 +359,42 @@ void EolSimulation<T, D>::finish_step(double dt_in) {
   surfaces_placed_ = false;
   time_ += dt_in;
   ++steps_;
+}
+
+// Whether any corner of the object's grid box is on or behind a plane (the surface lies inside
+// the box, so otherwise no row can exist). The eulerian grid spans the domain: always.
+template <class T, int D>
+bool EolSimulation<T, D>::may_touch_planes(const EolObject<T, D>& o) const {
+  const Mat<T, D> R = o.frame.rotation();
+  for (int corner = 0; corner < (1 << D); ++corner) {
+    Vec<T, D> y = o.grid.origin;
+    for (int a = 0; a < D; ++a)
+      if (corner & (1 << a)) y[a] += o.grid.dx * T(o.grid.n[std::size_t(a)] - 1);
+    const Vec<T, D> x = R * y + o.frame.p;
+    for (const auto& c : planes_)
+      if ((x - c.point).dot(c.normal) <= T(0)) return true;
+  }
+  return false;
+}
+
+// Eq 16 for every node with mass, then eqs 27-29: the surface placed now (Algorithm 2), its rows
+// against the planes, and the QP on them.
+template <class T, int D>
+void EolSimulation<T, D>::impulse_surface_contact(EolObject<T, D>& o, T dt) {
+  const std::ptrdiff_t n = std::ptrdiff_t(o.grid.size());
+#pragma omp parallel for if (parallel_)
+  for (std::ptrdiff_t ii = 0; ii < n; ++ii) {
+    const std::size_t i = std::size_t(ii);
+    const T m = o.grid.mass[i];
+    if (m > T(0)) o.u[i] += (dt / m) * o.force[i];
+  }
+  if (planes_.empty() || !may_touch_planes(o)) return;
+  place_surface(o);
+  const T cell = scene_.solver.eol.contact_cell > 0 ? T(scene_.solver.eol.contact_cell) : o.grid.dx;
+  contact_rows_.clear();
+  assemble_surface_rows(o.grid, o.surface_y, o.surface.simplex, o.frame.rotation(), o.frame.p,
+                        planes_, cell, contact_rows_);
+  contact_stats_ = contact_solver_.solve(contact_rows_, o.grid.mass, o.u);
 }
 
 // K and G of one object as measure() counts them.

@@ -1,6 +1,7 @@
 // The velocity-impulse solve (Fan et al. 2013, eq 16) on the spatial velocities of the nodes,
-// with walls and collider planes as constraints (eq 29, the node–plane rows; object–object
-// contact is part 2). With the lumped (diagonal) mass and one row per node and plane, the QP
+// with walls and collider planes as constraints (eq 29 with node–plane rows, solver.contact
+// nodes; the default, the paper's surface rows, is surface_contact.hpp; object–object contact
+// is part 2). With the lumped (diagonal) mass and one row per node and plane, the QP
 //   minimise ½ (u − u*)ᵀ M (u − u*)  subject to the plane's row
 // is solved exactly by projecting the node's velocity: slip n·u = 0, separate n·u ≥ 0,
 // sticky u = 0. Orthogonal planes (a domain corner) commute, so applying them in turn is exact.

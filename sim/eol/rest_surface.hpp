@@ -145,12 +145,15 @@ void append_rest_surface(const ShapeDesc& shape, std::int32_t owner, double h,
                 crossing(in[1], outside[1]), crossing(in[1], outside[0])};
       }
       const Vec<double, D> outward = outside[0].x - in[0].x;
+      auto at = [&](std::uint32_t v) { return linear[v - first]; };
       if constexpr (D == 2) {
+        // Oriented so that the tangent turned by −90° points out (the contact rows' normal).
+        const Vec<double, 2> t = at(ring[1]) - at(ring[0]);
+        if (Vec<double, 2>(t[1], -t[0]).dot(outward) < 0) std::swap(ring[0], ring[1]);
         out.simplex.insert(out.simplex.end(), {ring[0], ring[1]});
       } else {
         for (std::size_t k = 1; k + 1 < ring.size(); ++k) {
           std::array<std::uint32_t, 3> t{ring[0], ring[k], ring[k + 1]};
-          auto at = [&](std::uint32_t v) { return linear[v - first]; };
           const Vec<double, 3> normal =
               (at(t[1]) - at(t[0])).cross(Vec<double, 3>(at(t[2]) - at(t[0])));
           if (normal.dot(outward) < 0) std::swap(t[1], t[2]);  // counter-clockwise from outside

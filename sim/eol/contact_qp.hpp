@@ -1,0 +1,155 @@
+// The contact QP of Fan et al. 2013, eq 29, with the lumped (diagonal) mass:
+//   minimise ½ (u − u*)ᵀ M (u − u*)   subject to  J u ≤ 0 (unilateral rows), J u = 0 (bilateral),
+// u* the velocities after the impulse (eq 16). Its dual on the m rows is the LCP
+//   u = u* − M⁻¹Jᵀλ,  w = J u = b − Aλ,  A = J M⁻¹ Jᵀ,  b = J u*,
+//   unilateral: λ ≥ 0, w ≤ 0, λ w = 0;  bilateral: w = 0.
+// Nodes without mass are not unknowns (their velocities are the extrapolated field, held fixed):
+// their terms go into b only. A is small and dense (m is tens of rows), so it is assembled and
+// solved by projected Gauss–Seidel, then polished by the primal–dual active set the paper uses
+// (Ito and Kunisch 2008): on the rows PGS left active, A_SS λ_S = b_S solved exactly (LDLT),
+// accepted when it is feasible, so the KKT conditions hold to round-off. Written by hand: Eigen
+// has no QP and a dense m × m LCP is 60 lines (Debian's QP libraries are sparse interior-point
+// solvers for much larger problems).
+#pragma once
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "sim/eol/surface_contact.hpp"
+
+namespace apiclab::eol {
+
+struct ContactSolveStats {
+  int rows = 0, active = 0, sweeps = 0;
+  bool polished = false;
+  double max_violation = 0;  // max over rows of w (unilateral) or |w| (bilateral), after
+};
+
+template <class T, int D>
+class ContactSolver {
+ public:
+  // Solves eq 29 for `u` in place (u holds u* on entry). mass: the lumped node masses.
+  ContactSolveStats solve(const ContactRows<T, D>& J, const std::vector<T>& mass,
+                          std::vector<Vec<T, D>>& u) {
+    ContactSolveStats st;
+    const int m = int(J.rows());
+    st.rows = m;
+    if (m == 0) return st;
+    // b = J u* (every node), and per node its rows with mass: entries sorted by node.
+    b_.assign(std::size_t(m), 0.0);
+    order_.clear();
+    for (std::size_t e = 0; e < J.row.size(); ++e) {
+      b_[J.row[e]] += double(J.coeff[e].dot(u[J.node[e]]));
+      if (mass[J.node[e]] > T(0)) order_.push_back(std::uint32_t(e));
+    }
+    std::sort(order_.begin(), order_.end(), [&](std::uint32_t a, std::uint32_t b) {
+      return J.node[a] != J.node[b] ? J.node[a] < J.node[b] : J.row[a] < J.row[b];
+    });
+    // One entry per (node, row): the quadrature points' terms summed.
+    node_.clear();
+    row_.clear();
+    coeff_.clear();
+    for (std::uint32_t e : order_) {
+      if (!node_.empty() && node_.back() == J.node[e] && row_.back() == J.row[e]) {
+        coeff_.back() += J.coeff[e];
+        continue;
+      }
+      node_.push_back(J.node[e]);
+      row_.push_back(J.row[e]);
+      coeff_.push_back(J.coeff[e]);
+    }
+    A_.setZero(m, m);
+    for (std::size_t s = 0; s < node_.size();) {
+      std::size_t end = s;
+      while (end < node_.size() && node_[end] == node_[s]) ++end;
+      const double inv_m = 1.0 / double(mass[node_[s]]);
+      for (std::size_t a = s; a < end; ++a)
+        for (std::size_t c = s; c < end; ++c)
+          A_(row_[a], row_[c]) += inv_m * double(coeff_[a].dot(coeff_[c]));
+      s = end;
+    }
+    // Rows no node with mass can move are left out (λ = 0): nothing can enforce them.
+    double diag_max = 0;
+    for (int k = 0; k < m; ++k) diag_max = std::max(diag_max, A_(k, k));
+    usable_.assign(std::size_t(m), 0);
+    for (int k = 0; k < m; ++k) usable_[std::size_t(k)] = A_(k, k) > 1e-12 * diag_max;
+    lambda_.setZero(m);
+    const double tol = 1e-15 * (diag_max > 0 ? 1.0 : 0.0);
+    // Projected Gauss–Seidel on the dual, to a relative step of 1e-12 or 2000 sweeps.
+    double b_scale = 0;
+    for (double v : b_) b_scale = std::max(b_scale, std::abs(v));
+    for (st.sweeps = 0; st.sweeps < 2000; ++st.sweeps) {
+      double change = 0;
+      for (int k = 0; k < m; ++k) {
+        if (!usable_[std::size_t(k)]) continue;
+        const double w = b_[std::size_t(k)] - A_.row(k).dot(lambda_);
+        double l = lambda_[k] + w / A_(k, k);
+        if (!J.bilateral[std::size_t(k)]) l = std::max(l, 0.0);
+        change = std::max(change, std::abs(l - lambda_[k]) * A_(k, k));
+        lambda_[k] = l;
+      }
+      if (change <= 1e-12 * b_scale + tol) break;
+    }
+    polish(J, st);
+    // u = u* − M⁻¹ Jᵀ λ.
+    for (std::size_t e = 0; e < node_.size(); ++e) {
+      const double l = lambda_[row_[e]];
+      if (l != 0.0) u[node_[e]] -= T(l / double(mass[node_[e]])) * coeff_[e];
+    }
+    for (int k = 0; k < m; ++k) st.active += lambda_[k] != 0.0;
+    std::fill(b_.begin(), b_.end(), 0.0);  // now J u, for the violation
+    for (std::size_t e = 0; e < J.row.size(); ++e)
+      b_[J.row[e]] += double(J.coeff[e].dot(u[J.node[e]]));
+    for (int k = 0; k < m; ++k)
+      if (usable_[std::size_t(k)])
+        st.max_violation =
+            std::max(st.max_violation, J.bilateral[std::size_t(k)] ? std::abs(b_[std::size_t(k)])
+                                                                   : b_[std::size_t(k)]);
+    return st;
+  }
+  const Eigen::VectorXd& multipliers() const { return lambda_; }
+
+ private:
+  // The active set S (bilateral rows, and unilateral rows with λ > 0): A_SS λ_S = b_S exactly;
+  // kept when λ_S ≥ 0 on the unilateral rows and w ≤ 0 off S (up to round-off of b).
+  void polish(const ContactRows<T, D>& J, ContactSolveStats& st) {
+    const int m = int(J.rows());
+    active_.clear();
+    for (int k = 0; k < m; ++k)
+      if (usable_[std::size_t(k)] && (J.bilateral[std::size_t(k)] || lambda_[k] > 0))
+        active_.push_back(k);
+    if (active_.empty()) return;
+    const int s = int(active_.size());
+    Eigen::MatrixXd As(s, s);
+    Eigen::VectorXd bs(s);
+    for (int a = 0; a < s; ++a) {
+      bs[a] = b_[std::size_t(active_[std::size_t(a)])];
+      for (int c = 0; c < s; ++c) As(a, c) = A_(active_[std::size_t(a)], active_[std::size_t(c)]);
+    }
+    const Eigen::VectorXd ls = As.ldlt().solve(bs);
+    Eigen::VectorXd trial = Eigen::VectorXd::Zero(m);
+    for (int a = 0; a < s; ++a) trial[active_[std::size_t(a)]] = ls[a];
+    if (!trial.allFinite()) return;
+    const Eigen::VectorXd w = Eigen::Map<const Eigen::VectorXd>(b_.data(), m) - A_ * trial;
+    double scale = 0;
+    for (double v : b_) scale = std::max(scale, std::abs(v));
+    const double eps = 1e-10 * scale;
+    for (int k = 0; k < m; ++k) {
+      if (!usable_[std::size_t(k)] || J.bilateral[std::size_t(k)]) continue;
+      if (trial[k] < 0 || (trial[k] == 0 && w[k] > eps)) return;
+    }
+    lambda_ = trial;
+    st.polished = true;
+  }
+
+  std::vector<double> b_;
+  std::vector<std::uint32_t> order_, node_, row_;
+  std::vector<Vec<T, D>> coeff_;
+  std::vector<char> usable_;
+  std::vector<int> active_;
+  Eigen::MatrixXd A_;
+  Eigen::VectorXd lambda_;
+};
+
+}  // namespace apiclab::eol
