@@ -307,13 +307,19 @@ void EolSimulation<T, D>::finish_step(double dt_in) {
     auto start = std::chrono::steady_clock::now();
     // Eqs 16 and 29 node by node and, in the same pass, the sums of the split's normal
     // equations (eq 23), which read the u just written: one pass over the nodes, not two.
+    // Surface rows (eqs 27-29) need the impulse of every node before their QP, so a pass of
+    // its own; only while the object's grid box reaches a plane, else no row can exist and the
+    // impulse stays in this pass, with no node rows.
+    static const std::vector<PlaneConstraint<T, D>> no_planes;
     const bool surface = scene_.solver.eol.contact == EolSolverDesc::Contact::surface;
-    if (surface) impulse_surface_contact(o, dt);
+    const bool surface_rows = surface && !planes_.empty() && may_touch_planes(o);
+    if (surface_rows) impulse_surface_contact(o, dt);
+    const auto& node_planes = surface ? no_planes : planes_;
     const SplitSums<D, 1> sums = sum_node_blocks(
         o.grid.size(), parallel_, split_partial_, [&](SplitSums<D, 1>& acc, std::size_t i) {
           const T m = o.grid.mass[i];
           if (!(m > T(0))) return;
-          if (!surface) impulse_update(o.u[i], o.force[i], m, o.x[i], planes_, dt);
+          if (!surface_rows) impulse_update(o.u[i], o.force[i], m, o.x[i], node_planes, dt);
           if (lagrangian_) acc.template add<T>(o.r[i], {o.u[i]});
         });
     stages_.assembly += detail::seconds_since(start);
@@ -378,7 +384,7 @@ bool EolSimulation<T, D>::may_touch_planes(const EolObject<T, D>& o) const {
 }
 
 // Eq 16 for every node with mass, then eqs 27-29: the surface placed now (Algorithm 2), its rows
-// against the planes, and the QP on them.
+// against the planes, and the QP on them. finish_step calls it only when may_touch_planes.
 template <class T, int D>
 void EolSimulation<T, D>::impulse_surface_contact(EolObject<T, D>& o, T dt) {
   const std::ptrdiff_t n = std::ptrdiff_t(o.grid.size());
@@ -386,9 +392,8 @@ void EolSimulation<T, D>::impulse_surface_contact(EolObject<T, D>& o, T dt) {
   for (std::ptrdiff_t ii = 0; ii < n; ++ii) {
     const std::size_t i = std::size_t(ii);
     const T m = o.grid.mass[i];
-    if (m > T(0)) o.u[i] += (dt / m) * o.force[i];
+    if (m > T(0)) impulse_update(o.u[i], o.force[i], m, o.x[i], {}, dt);
   }
-  if (planes_.empty() || !may_touch_planes(o)) return;
   place_surface(o);
   const T cell = scene_.solver.eol.contact_cell > 0 ? T(scene_.solver.eol.contact_cell) : o.grid.dx;
   contact_rows_.clear();
