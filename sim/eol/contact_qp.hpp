@@ -37,12 +37,10 @@ class ContactSolver {
     st.rows = m;
     if (m == 0) return st;
     // b = J u* (every node), and per node its rows with mass: entries sorted by node.
-    b_.assign(std::size_t(m), 0.0);
+    rates(J, u);
     order_.clear();
-    for (std::size_t e = 0; e < J.row.size(); ++e) {
-      b_[J.row[e]] += double(J.coeff[e].dot(u[J.node[e]]));
+    for (std::size_t e = 0; e < J.row.size(); ++e)
       if (mass[J.node[e]] > T(0)) order_.push_back(std::uint32_t(e));
-    }
     std::sort(order_.begin(), order_.end(), [&](std::uint32_t a, std::uint32_t b) {
       return J.node[a] != J.node[b] ? J.node[a] < J.node[b] : J.row[a] < J.row[b];
     });
@@ -77,7 +75,7 @@ class ContactSolver {
     lambda_.setZero(m);
     const double tol = 1e-15 * (diag_max > 0 ? 1.0 : 0.0);
     // Projected Gauss–Seidel on the dual, to a relative step of 1e-12 or 2000 sweeps.
-    double b_scale = 0;
+    double b_scale = 0;  // max |b|
     for (double v : b_) b_scale = std::max(b_scale, std::abs(v));
     for (st.sweeps = 0; st.sweeps < 2000; ++st.sweeps) {
       double change = 0;
@@ -91,16 +89,14 @@ class ContactSolver {
       }
       if (change <= 1e-12 * b_scale + tol) break;
     }
-    polish(J, st);
+    polish(J, b_scale, st);
     // u = u* − M⁻¹ Jᵀ λ.
     for (std::size_t e = 0; e < node_.size(); ++e) {
       const double l = lambda_[row_[e]];
       if (l != 0.0) u[node_[e]] -= T(l / double(mass[node_[e]])) * coeff_[e];
     }
     for (int k = 0; k < m; ++k) st.active += lambda_[k] != 0.0;
-    std::fill(b_.begin(), b_.end(), 0.0);  // now J u, for the violation
-    for (std::size_t e = 0; e < J.row.size(); ++e)
-      b_[J.row[e]] += double(J.coeff[e].dot(u[J.node[e]]));
+    rates(J, u);  // now J u, for the violation
     for (int k = 0; k < m; ++k)
       if (usable_[std::size_t(k)])
         st.max_violation =
@@ -113,7 +109,15 @@ class ContactSolver {
  private:
   // The active set S (bilateral rows, and unilateral rows with λ > 0): A_SS λ_S = b_S exactly;
   // kept when λ_S ≥ 0 on the unilateral rows and w ≤ 0 off S (up to round-off of b).
-  void polish(const ContactRows<T, D>& J, ContactSolveStats& st) {
+  // b = J u, every row's rate.
+  void rates(const ContactRows<T, D>& J, const std::vector<Vec<T, D>>& u) {
+    b_.assign(J.rows(), 0.0);
+    for (std::size_t e = 0; e < J.row.size(); ++e)
+      b_[J.row[e]] += double(J.coeff[e].dot(u[J.node[e]]));
+  }
+
+  // b_scale: max |b|, as solve() computed it.
+  void polish(const ContactRows<T, D>& J, double b_scale, ContactSolveStats& st) {
     const int m = int(J.rows());
     active_.clear();
     for (int k = 0; k < m; ++k)
@@ -132,9 +136,7 @@ class ContactSolver {
     for (int a = 0; a < s; ++a) trial[active_[std::size_t(a)]] = ls[a];
     if (!trial.allFinite()) return;
     const Eigen::VectorXd w = Eigen::Map<const Eigen::VectorXd>(b_.data(), m) - A_ * trial;
-    double scale = 0;
-    for (double v : b_) scale = std::max(scale, std::abs(v));
-    const double eps = 1e-10 * scale;
+    const double eps = 1e-10 * b_scale;
     for (int k = 0; k < m; ++k) {
       if (!usable_[std::size_t(k)] || J.bilateral[std::size_t(k)]) continue;
       if (trial[k] < 0 || (trial[k] == 0 && w[k] > eps)) return;
