@@ -88,14 +88,14 @@ struct StressLanes {
       const M3 c = cofactor(x);
       // γ = (‖X⁻¹‖ / ‖X‖)^½ = (‖cof X‖ / (det X ‖X‖))^½ while far from converged, as
       // polar_newton_3d (sim/math.hpp).
-      V c_norm2 = V{}, x_norm2 = V{};
-      for (int k = 0; k < 9; ++k) {
-        c_norm2 += c.m[k] * c.m[k];
-        x_norm2 += x.m[k] * x.m[k];
-      }
       V gamma = splat(T(1));
       const Mask scaled = active & (step2 > T(1e-4));
-      if (any(scaled)) {
+      if (any(scaled)) {  // the norms only for a step that scales
+        V c_norm2 = V{}, x_norm2 = V{};
+        for (int k = 0; k < 9; ++k) {
+          c_norm2 += c.m[k] * c.m[k];
+          x_norm2 += x.m[k] * x.m[k];
+        }
         V ratio = c_norm2 / (d * d * x_norm2);
         ratio = scaled ? ratio : splat(T(1));
         V root;
