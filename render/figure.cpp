@@ -101,14 +101,18 @@ Layout layout(Renderer& r, int width, int height, int panes, const Snapshot& fir
 
 }  // namespace
 
-std::string scheme_label(const Snapshot& s) {
+std::string scheme_label(std::string_view key, double flip_alpha,
+                         const SchemeParameters& parameters) {
   const auto& schemes = scheme_choices();
-  const auto it = std::find_if(schemes.begin(), schemes.end(),
-                               [&](const auto& c) { return c.key == s.scheme; });
-  if (it == schemes.end()) return render::scheme_label(s.scheme);
+  const auto it =
+      std::find_if(schemes.begin(), schemes.end(), [&](const auto& c) { return c.key == key; });
+  if (it == schemes.end()) return render::scheme_label(key);
   // FLIP's blend α (eq 3), XPIC's m, PolyPIC's modes, ASFLIP's α and β (sim/scheme_label.hpp).
-  return with_scheme_parameter(render::scheme_label(s.scheme), it->value, s.flip_alpha,
-                               s.scheme_parameters);
+  return with_scheme_parameter(render::scheme_label(key), it->value, flip_alpha, parameters);
+}
+
+std::string scheme_label(const Snapshot& s) {
+  return scheme_label(s.scheme, s.flip_alpha, s.scheme_parameters);
 }
 
 std::vector<Rect> figure_scene_rects(Renderer& r, int width, int height, int panes,

@@ -5,11 +5,13 @@
 // scales (render/auto_scale.hpp) and legend; only the layout around them is its own.
 #pragma once
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "render/auto_scale.hpp"
 #include "render/figure_style.hpp"
 #include "render/renderer.hpp"
+#include "sim/scheme_label.hpp"
 
 namespace apiclab::render {
 
@@ -27,7 +29,10 @@ std::vector<Rect> figure_scene_rects(Renderer& r, int width, int height, int pan
 float draw_pane_scene(Renderer& r, const Snapshot& s, const View& view, Rect rect,
                       const SceneStyle& style);
 
-// "APIC", "FLIP α=0.95", "PIC".
-std::string scheme_label(const Snapshot& s);
+// "APIC", "FLIP(α=0.95)", "XPIC(3)": a registry key's label with its scheme's parameter
+// (sim/scheme_label.hpp); a key outside the registry as render::scheme_label(key) gives it.
+std::string scheme_label(std::string_view key, double flip_alpha,
+                         const SchemeParameters& parameters);
+std::string scheme_label(const Snapshot& s);  // of the snapshot's scheme and parameters
 
 }  // namespace apiclab::render

@@ -1,5 +1,6 @@
 #include "app/figures/chart_style.hpp"
 
+#include "render/figure.hpp"
 #include "render/palette.hpp"
 
 namespace apiclab::figures {
@@ -11,8 +12,7 @@ SchemeStyle style_of(const std::string& key) {
 SchemeStyle style_of(const std::string& key, const SchemeParameters& parameters,
                      double flip_alpha) {
   SchemeStyle s = style_of(key);
-  for (const auto& c : scheme_choices())
-    if (c.key == key) s.label = with_scheme_parameter(s.label, c.value, flip_alpha, parameters);
+  s.label = render::scheme_label(key, flip_alpha, parameters);
   return s;
 }
 
