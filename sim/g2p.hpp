@@ -72,7 +72,12 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
     reduction(max                                          \
               : max_move) if (parallel_worthwhile())
   for (std::ptrdiff_t c = 0; c < chunks; ++c) {
-    ParticleSums own;
+    ChunkTerms<T, D, chunk> terms;
+    // APIC-like schemes with an isotropic D_p: C's columns; the linear kernel's D_p and PolyPIC's
+    // modes: each particle's terms.
+    if constexpr (is_affine(S) && K::type != KernelType::linear) terms.isotropic_k = k_inertia;
+    terms.extras = (is_affine(S) && K::type == KernelType::linear) ||
+                   (S == Scheme::polypic && polypic_extra > 0);
     const std::ptrdiff_t end = std::min(n, (c + 1) * chunk);
     for (std::ptrdiff_t q = c * chunk; q < end; ++q) {
       Stencil<T, D, K> st;
@@ -222,32 +227,37 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
       }
       p_.x[q] = x;
       if (!std::isfinite(x.sum() + p_.v[q].sum())) bad = true;
-      if (sums) {  // the row's sums at the new state, as particle_sums() adds them
-        ParticleSums::Affine affine;
-        const T m = p_.mass[q];
-        if constexpr (is_affine(S)) {
+      if (sums) {  // the row's terms at the new state, as particle_sums() adds them
+        const int j = int(q - c * chunk);
+        terms.set(j, x, p_.v[q]);
+        if constexpr (is_affine(S) && K::type != KernelType::linear) terms.set_C(j, p_.C[q]);
+        if (terms.extras) {
+          const T m = p_.mass[q];
+          const Mat<T, D> C = is_affine(S) ? p_.C[q] : Mat<T, D>::Zero();
+          T modes_kinetic = 0;  // PolyPIC's higher modes (sim/transfer_polypic.hpp)
+          if constexpr (S == Scheme::polypic) {
+            if (polypic_extra > 0) {
+              Stencil<T, D, QuadraticKernel> at_x;
+              at_x.compute(x, grid_);
+              modes_kinetic =
+                  T(0.5) * m *
+                  polypic::modes_energy_density<T, D>(at_x, grid_.inv_dx, p_.modes, std::size_t(q));
+            }
+          }
           if constexpr (K::type == KernelType::linear) {
             Stencil<T, D, LinearKernel> at_x;
             at_x.compute(x, grid_);
-            affine = ParticleSums::affine_of<T, D>(m, p_.C[q], Mat<T, D>(at_x.inertia()));
-          } else {
-            affine = ParticleSums::affine_isotropic<T, D>(m, p_.C[q], k_inertia);
+            terms.set_affine(j, m, C, Mat<T, D>(at_x.inertia()), modes_kinetic);
+          } else {  // PolyPIC's higher modes; its C is in the columns
+            terms.extra_kinetic[j] = modes_kinetic;
+            for (int a = 0; a < terms.moments; ++a) terms.affine_moment[a][j] = T(0);
           }
         }
-        double modes_kinetic = 0;  // PolyPIC's higher modes (sim/transfer_polypic.hpp)
-        if constexpr (S == Scheme::polypic) {
-          if (polypic_extra > 0) {
-            Stencil<T, D, QuadraticKernel> at_x;
-            at_x.compute(x, grid_);
-            modes_kinetic = 0.5 * double(m) *
-                            double(polypic::modes_energy_density<T, D>(at_x, grid_.inv_dx, p_.modes,
-                                                                       std::size_t(q)));
-          }
-        }
-        own.add_particle<T, D>(m, x, p_.v[q], gravity, affine, modes_kinetic);
       }
     }
-    if (sums) chunk_sums_[std::size_t(c)] = own;
+    if (sums)
+      chunk_sums_[std::size_t(c)] =
+          terms.sum(&p_.mass[std::size_t(c * chunk)], int(end - c * chunk), gravity);
   }
   if (sums) {
     *sums = ParticleSums{};

@@ -1,12 +1,15 @@
 // The diagnostics row's sums over particles: kinetic energy with the affine term, the
 // gravitational potential, linear and angular momentum (docs/architecture.md, Diagnostics CSV).
 // measure() sums them in a pass of its own (the readable oracle, sim/mpm_measure.hpp); a step
-// asked for its row sums them inside G2P instead (sim/g2p.hpp), where x, v and C are in
-// registers: in fixed chunks of particles, the chunks' sums added in chunk order, so that the
+// asked for its row takes them from G2P instead (sim/g2p.hpp): G2P stores each particle's new
+// state in a chunk's columns (ChunkTerms), and ChunkTerms::sum adds the chunk in double, several
+// particles per vector. The chunks are fixed and their sums added in chunk order, so that the
 // row does not depend on the thread count.
 #pragma once
 #include <array>
+#include <cstring>
 
+#include "lanes.hpp"
 #include "math.hpp"
 
 namespace apiclab {
@@ -26,43 +29,135 @@ struct alignas(64) ParticleSums {
       L[a] += o.L[a];
     }
   }
+};
 
-  // A particle's affine terms (Jiang et al. 2017, Sec 5.3): ½ m tr(C D_p Cᵀ) and m (Bᵀ : ε) with
-  // B = C D_p; zero for a scheme without C.
-  struct Affine {
-    double kinetic = 0;
-    Eigen::Vector3d moment = Eigen::Vector3d::Zero();
-  };
-  // With D_p = k Δx² I (quadratic, cubic).
-  template <class T, int D>
-  static Affine affine_isotropic(T m, const Mat<T, D>& C, T k) {
-    return {0.5 * double(m) * double(k * C.squaredNorm()),
-            double(m) * permutation_contract<T, D>(Mat<T, D>(k * C.transpose()))};
+// A chunk of G2P's particles as columns, in T: x and v at the new state; C, where D_p =
+// k Δx² I (quadratic, cubic); else (the multilinear kernel's D_p, PolyPIC's higher modes) each
+// particle's ½ m tr(C D_p Cᵀ) (+ modes) and m (Bᵀ : ε), B = C D_p (Jiang et al. 2017, Sec 5.3).
+// sum() adds them in double, P particles per vector. Why: added one particle at a time in G2P,
+// the sums' chains of dependent double adds and the conversions cost 14 % of a 2D float step
+// (Intel Xeon, AVX-512; 16 % on the AMD EPYC), and forming C's terms there another 2 %.
+template <class T, int D, int N>
+struct ChunkTerms {
+  // Doubles per vector: one AVX2 register; 8 (one AVX-512 register) measured slower.
+  static constexpr int P = 4;
+  static_assert(N % P == 0);
+  static constexpr int moments = D == 2 ? 1 : 3;  // 2D: only the z component
+  alignas(64) T x[D][N], v[D][N];
+  alignas(64) T c[D * D][N];  // C(a, b) in column a + D b
+  alignas(64) T extra_kinetic[N], affine_moment[moments][N];
+  T isotropic_k = 0;    // k Δx² where the C columns are set, else 0
+  bool extras = false;  // whether extra_kinetic and affine_moment are set (else not read)
+
+  void set(int j, const Vec<T, D>& xj, const Vec<T, D>& vj) {
+    for (int a = 0; a < D; ++a) {
+      x[a][j] = xj[a];
+      v[a][j] = vj[a];
+    }
+  }
+  void set_C(int j, const Mat<T, D>& C) {
+    for (int e = 0; e < D * D; ++e) c[e][j] = C.data()[e];
   }
   // With any D_p (the multilinear kernel's diagonal one, Sec 5.9).
-  template <class T, int D>
-  static Affine affine_of(T m, const Mat<T, D>& C, const Mat<T, D>& Dp) {
+  void set_affine(int j, T m, const Mat<T, D>& C, const Mat<T, D>& Dp, T modes_kinetic) {
     const Mat<T, D> CD = C * Dp;
-    return {0.5 * double(m) * double((CD * C.transpose()).trace()),
-            double(m) * permutation_contract<T, D>(Mat<T, D>(CD.transpose()))};
+    extra_kinetic[j] = T(0.5) * m * (CD * C.transpose()).trace() + modes_kinetic;
+    set_moment(j, m, Mat<T, D>(CD.transpose()));
   }
 
-  // One particle's share: its products in T, the sums in double, added in the order
-  // MpmSimulation::particle_sums adds them (½ m |v|², affine, modes; x × m v + affine moment), so
-  // that the two differ only by the round-off of each particle's terms.
-  template <class T, int D>
-  void add_particle(T m, const Vec<T, D>& x, const Vec<T, D>& v, const std::array<double, 3>& g,
-                    const Affine& affine, double modes_kinetic) {
-    const double md = double(m);
-    kinetic += 0.5 * md * double(v.squaredNorm());
-    kinetic += affine.kinetic;
-    kinetic += modes_kinetic;
-    const Vec<T, D> mv = m * v;
-    for (int a = 0; a < D; ++a) p[a] += double(mv[a]);
-    const Eigen::Vector3d moment = cross_moment<T, D>(x, mv) + affine.moment;
-    for (int a = 0; a < D; ++a) gravity -= md * g[a] * double(x[a]);
+  // The chunk's first `count` particles, masses from `mass`, gravity g.
+  ParticleSums sum(const T* mass, int count, const std::array<double, 3>& g) {
+    using V = typename SimdVector<double, P>::type;
+    for (int j = count; j < (count + P - 1) / P * P; ++j) {  // the last vector's unused lanes
+      for (int a = 0; a < D; ++a) x[a][j] = v[a][j] = T(0);
+      if (isotropic_k != T(0))
+        for (int e = 0; e < D * D; ++e) c[e][j] = T(0);
+      if (extras) {
+        extra_kinetic[j] = T(0);
+        for (int a = 0; a < moments; ++a) affine_moment[a][j] = T(0);
+      }
+    }
+    auto load = [](const T* from) {
+      if constexpr (sizeof(T) == sizeof(double)) {
+        V out;
+        std::memcpy(&out, from, sizeof out);
+        return out;
+      } else {
+        typename SimdVector<T, P>::type in;
+        std::memcpy(&in, from, sizeof in);
+        return __builtin_convertvector(in, V);
+      }
+    };
+    V kinetic{}, gravity{}, p[D] = {}, L[moments] = {};
+    for (int j = 0; j < count; j += P) {
+      T tail[P] = {};  // the masses of a last, partial vector (mass[] ends at count)
+      if (j + P > count)
+        for (int l = 0; l < count - j; ++l) tail[l] = mass[j + l];
+      const V m = load(j + P <= count ? mass + j : tail);
+      V xs[D], mv[D], v2{};
+      for (int a = 0; a < D; ++a) {
+        xs[a] = load(&x[a][j]);
+        const V va = load(&v[a][j]);
+        v2 += va * va;
+        mv[a] = m * va;
+        p[a] += mv[a];
+        gravity -= g[a] * m * xs[a];
+      }
+      kinetic += 0.5 * m * v2;
+      if constexpr (D == 2) {
+        L[0] += xs[0] * mv[1] - xs[1] * mv[0];
+      } else {
+        for (int a = 0; a < 3; ++a)
+          L[a] += xs[(a + 1) % 3] * mv[(a + 2) % 3] - xs[(a + 2) % 3] * mv[(a + 1) % 3];
+      }
+      if (isotropic_k != T(0)) {  // m k |C|² and m k (C_ba − C_ab) (ε_abγ), Sec 5.3
+        const double k = double(isotropic_k);
+        V c2{};
+        for (int e = 0; e < D * D; ++e) {
+          const V ce = load(&c[e][j]);
+          c2 += ce * ce;
+        }
+        kinetic += (0.5 * k) * m * c2;
+        const V mk = k * m;
+        auto skew = [&](int a, int b) {
+          return mk * (load(&c[b + D * a][j]) - load(&c[a + D * b][j]));
+        };
+        if constexpr (D == 2) {
+          L[0] += skew(0, 1);
+        } else {
+          L[0] += skew(1, 2);
+          L[1] += skew(2, 0);
+          L[2] += skew(0, 1);
+        }
+      }
+      if (extras) {
+        kinetic += load(&extra_kinetic[j]);
+        for (int a = 0; a < moments; ++a) L[a] += load(&affine_moment[a][j]);
+      }
+    }
+    auto total = [](const V& lanes) {
+      double s = 0;
+      for (int l = 0; l < P; ++l) s += lanes[l];
+      return s;
+    };
+    ParticleSums s;
+    s.kinetic = total(kinetic);
+    s.gravity = total(gravity);
+    for (int a = 0; a < D; ++a) s.p[a] = total(p[a]);
     // In 2D only L_z: the oracle adds exact zeros to L_x and L_y, which leaves them 0.
-    for (int a = D == 2 ? 2 : 0; a < 3; ++a) L[a] += moment[a];
+    for (int a = 0; a < moments; ++a) s.L[D == 2 ? 2 : a] = total(L[a]);
+    return s;
+  }
+
+ private:
+  void set_moment(int j, T m, const Mat<T, D>& A) {  // m (A : ε), Sec 5.3
+    if constexpr (D == 2) {
+      affine_moment[0][j] = m * (A(0, 1) - A(1, 0));
+    } else {
+      affine_moment[0][j] = m * (A(1, 2) - A(2, 1));
+      affine_moment[1][j] = m * (A(2, 0) - A(0, 2));
+      affine_moment[2][j] = m * (A(0, 1) - A(1, 0));
+    }
   }
 };
 
