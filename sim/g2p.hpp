@@ -48,6 +48,12 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
   // The gather reads the first 2D lanes of each node: one register per node in 2D double on
   // AVX2 instead of two.
   using Lanes = typename Grid<T, D>::GatherLanes;
+  // At λ = 0 a scheme that does not read Σ w vⁿ (all but FLIP and ASFLIP) gathers ṽ alone, in
+  // fewer registers where D lanes take fewer than 2D (3D double on AVX2: one instead of two).
+  // Only there: the same gather through the generic path cost 4 % in 2D float (native).
+  constexpr bool narrow_exists = lane_parts<T>(D) < Lanes::parts;
+  using NewLanes = std::conditional_t<narrow_exists, apiclab::Lanes<T, D>, Lanes>;
+  const bool narrow = narrow_exists && S != Scheme::flip && S != Scheme::asflip && lambda == T(0);
   const auto* packed = grid_.accumulator.data();
   pack_velocities();
   // Lanes of ṽ × vⁿ: c_a = ṽ_{a+1} vⁿ_{a+2} − ṽ_{a+2} vⁿ_{a+1} in 3D, c_0 = ṽ_0 vⁿ_1 − ṽ_1 vⁿ_0 in
@@ -79,6 +85,10 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
     terms.extras = (is_affine(S) && K::type == KernelType::linear) ||
                    (S == Scheme::polypic && polypic_extra > 0);
     const std::ptrdiff_t end = std::min(n, (c + 1) * chunk);
+    // The chunk's own largest move and finiteness, in registers: the reduction's variables live
+    // on the stack, and max_move updated per particle was a chain through memory (perf annotate).
+    T chunk_move = 0;
+    bool chunk_bad = false;
     for (std::ptrdiff_t q = c * chunk; q < end; ++q) {
       Stencil<T, D, K> st;
       st.compute(p_.x[std::size_t(q)], grid_);
@@ -89,14 +99,16 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
       T wr[W];
       for (int i = 0; i < W; ++i) wr[i] = wx[i] * st.r[0][i];
       Lanes vsum{}, grad_cols[D] = {}, b_cols[D] = {}, twist{};
-      auto gather = [&](auto moving_nodes) {  // Σ w (ṽ × vⁿ) only for λ > 0
+      // Σ w (ṽ × vⁿ) only for λ > 0, into the given sums (of lane type L).
+      auto gather = [&](auto moving_nodes, auto& vsum, auto& grad_cols, auto& b_cols, auto& twist) {
+        using L = std::remove_reference_t<decltype(vsum)>;
         // Forced inline: GCC 12 keeps this row body out of line on x86-64-v3 in 3D double, and
         // the sums it adds to, taken by reference, then go through memory at every row.
         st.for_each_row([&](const typename Stencil<T, D, K>::Row& row)
                             __attribute__((always_inline)) {
-                              Lanes s0{}, s1{}, g0{}, t0{};
+                              L s0{}, s1{}, g0{}, t0{};
                               for (int i = 0; i < W; ++i) {
-                                const Lanes node = Lanes::prefix_of(packed[st.off[0][i] + row.off]);
+                                const L node = L::prefix_of(packed[st.off[0][i] + row.off]);
                                 s0 += wx[i] * node;
                                 s1 += wr[i] * node;
                                 g0 += st.dw[0][i] * node;
@@ -113,21 +125,38 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
                               }
                             });
       };
-      if (lambda != T(0))
-        gather(std::true_type{});
-      else
-        gather(std::false_type{});
       // u_i = λ vⁿ_i + (1 − λ) ṽ_i (eq 30): ū = Σ w u, ∇u = Σ u ∇wᵀ.
       Vec<T, D> vpic, vold_p, ubar;
       Mat<T, D> Bsum, gradu, gradv;
-      for (int a = 0; a < D; ++a) {
-        vpic[a] = vsum[a];
-        vold_p[a] = vsum[D + a];
-        ubar[a] = lambda * vsum[D + a] + (T(1) - lambda) * vsum[a];
-        for (int c = 0; c < D; ++c) {
-          gradv(a, c) = grad_cols[c][a];
-          gradu(a, c) = lambda * grad_cols[c][D + a] + (T(1) - lambda) * grad_cols[c][a];
-          Bsum(a, c) = b_cols[c][a];
+      if constexpr (narrow_exists) {
+        if (narrow) {  // λ = 0: u = ṽ, and Σ w vⁿ is not read
+          NewLanes nsum{}, ngrad[D] = {}, nb[D] = {}, nturn{};
+          gather(std::false_type{}, nsum, ngrad, nb, nturn);
+          for (int a = 0; a < D; ++a) {
+            vpic[a] = nsum[a];
+            for (int c = 0; c < D; ++c) {
+              gradv(a, c) = ngrad[c][a];
+              Bsum(a, c) = nb[c][a];
+            }
+          }
+          vold_p = ubar = vpic;
+          gradu = gradv;
+        }
+      }
+      if (!narrow) {
+        if (lambda != T(0))
+          gather(std::true_type{}, vsum, grad_cols, b_cols, twist);
+        else
+          gather(std::false_type{}, vsum, grad_cols, b_cols, twist);
+        for (int a = 0; a < D; ++a) {
+          vpic[a] = vsum[a];
+          vold_p[a] = vsum[D + a];
+          ubar[a] = lambda * vsum[D + a] + (T(1) - lambda) * vsum[a];
+          for (int c = 0; c < D; ++c) {
+            gradv(a, c) = grad_cols[c][a];
+            gradu(a, c) = lambda * grad_cols[c][D + a] + (T(1) - lambda) * grad_cols[c][a];
+            Bsum(a, c) = b_cols[c][a];
+          }
         }
       }
       // Velocity and affine matrix per scheme (sim/transfer_schemes.hpp).
@@ -215,7 +244,7 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
         if (beta != T(0) && std::log(std::max(p_.F[q].determinant(), T(1e-15))) >= T(-1e-3))
           move += (dt * beta * alpha) * flip_difference;
       Vec<T, D> x = p_.x[q] + move;
-      max_move = std::max(max_move, double(move.cwiseAbs().maxCoeff()));
+      chunk_move = std::max(chunk_move, move.cwiseAbs().maxCoeff());
       for (int a = 0; a < D; ++a) {
         if (grid_.periodic[a]) {
           const T L = hi[a] - lo[a];
@@ -226,7 +255,7 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
         }
       }
       p_.x[q] = x;
-      if (!std::isfinite(x.sum() + p_.v[q].sum())) bad = true;
+      if (!std::isfinite(x.sum() + p_.v[q].sum())) chunk_bad = true;
       if (sums) {  // the row's terms at the new state, as particle_sums() adds them
         const int j = int(q - c * chunk);
         terms.set(j, x, p_.v[q]);
@@ -255,6 +284,8 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
         }
       }
     }
+    max_move = std::max(max_move, double(chunk_move));
+    bad = bad || chunk_bad;
     if (sums)
       chunk_sums_[std::size_t(c)] =
           terms.sum(&p_.mass[std::size_t(c * chunk)], int(end - c * chunk), gravity);

@@ -39,6 +39,18 @@ APICLAB_SIMD_VECTOR(double, std::int64_t, 4)
 APICLAB_SIMD_VECTOR(double, std::int64_t, 8)
 #undef APICLAB_SIMD_VECTOR
 
+// Lanes<T, used>'s lanes per register and registers.
+template <class T>
+constexpr int lanes_per_part(int used, int register_bytes = simd_register_bytes) {
+  return std::min({8, register_bytes / int(sizeof(T)), int(std::bit_ceil(unsigned(used)))});
+}
+// Lanes<T, used>::parts, without naming the type (Lanes of two floats has no vector type).
+template <class T>
+constexpr int lane_parts(int used, int register_bytes = simd_register_bytes) {
+  return (used + lanes_per_part<T>(used, register_bytes) - 1) /
+         lanes_per_part<T>(used, register_bytes);
+}
+
 // At least `used` values as `parts` registers of `per_part` lanes each, no wider than needed
 // (G2P's 4 lanes of a 2D double node are one 256-bit register also on AVX-512, where a 512-bit
 // one costs two). Lane i lives in part i / per_part, and the parts are contiguous, so the first
@@ -46,8 +58,7 @@ APICLAB_SIMD_VECTOR(double, std::int64_t, 8)
 // so that tests can check every layout on any machine.
 template <class T, int used, int register_bytes = simd_register_bytes>
 struct Lanes {
-  static constexpr int per_part =
-      std::min({8, register_bytes / int(sizeof(T)), int(std::bit_ceil(unsigned(used)))});
+  static constexpr int per_part = lanes_per_part<T>(used, register_bytes);
   static constexpr int parts = (used + per_part - 1) / per_part;
   static constexpr int count = parts * per_part;
   using Part = typename SimdVector<T, per_part>::type;
