@@ -262,7 +262,6 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
         if constexpr (is_affine(S) && K::type != KernelType::linear) terms.set_C(j, p_.C[q]);
         if (terms.extras) {
           const T m = p_.mass[q];
-          const Mat<T, D> C = is_affine(S) ? p_.C[q] : Mat<T, D>::Zero();
           T modes_kinetic = 0;  // PolyPIC's higher modes (sim/transfer_polypic.hpp)
           if constexpr (S == Scheme::polypic) {
             if (polypic_extra > 0) {
@@ -276,7 +275,7 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
           if constexpr (K::type == KernelType::linear) {
             Stencil<T, D, LinearKernel> at_x;
             at_x.compute(x, grid_);
-            terms.set_affine(j, m, C, Mat<T, D>(at_x.inertia()), modes_kinetic);
+            terms.set_affine(j, m, p_.C[q], Mat<T, D>(at_x.inertia()), modes_kinetic);
           } else {  // PolyPIC's higher modes; its C is in the columns
             terms.extra_kinetic[j] = modes_kinetic;
             for (int a = 0; a < terms.moments; ++a) terms.affine_moment[a][j] = T(0);

@@ -62,7 +62,9 @@ struct ChunkTerms {
   void set_affine(int j, T m, const Mat<T, D>& C, const Mat<T, D>& Dp, T modes_kinetic) {
     const Mat<T, D> CD = C * Dp;
     extra_kinetic[j] = T(0.5) * m * (CD * C.transpose()).trace() + modes_kinetic;
-    set_moment(j, m, Mat<T, D>(CD.transpose()));
+    const Eigen::Vector3d moment =
+        double(m) * permutation_contract<T, D>(Mat<T, D>(CD.transpose()));
+    for (int a = 0; a < moments; ++a) affine_moment[a][j] = T(moment[D == 2 ? 2 : a]);
   }
 
   // The chunk's first `count` particles, masses from `mass`, gravity g.
@@ -147,17 +149,6 @@ struct ChunkTerms {
     // In 2D only L_z: the oracle adds exact zeros to L_x and L_y, which leaves them 0.
     for (int a = 0; a < moments; ++a) s.L[D == 2 ? 2 : a] = total(L[a]);
     return s;
-  }
-
- private:
-  void set_moment(int j, T m, const Mat<T, D>& A) {  // m (A : ε), Sec 5.3
-    if constexpr (D == 2) {
-      affine_moment[0][j] = m * (A(0, 1) - A(1, 0));
-    } else {
-      affine_moment[0][j] = m * (A(1, 2) - A(2, 1));
-      affine_moment[1][j] = m * (A(2, 0) - A(0, 2));
-      affine_moment[2][j] = m * (A(0, 1) - A(1, 0));
-    }
   }
 };
 
