@@ -6,6 +6,7 @@
 
 #include "kernel_dispatch.hpp"
 #include "mpm.hpp"
+#include "stencil_batch.hpp"
 #include "transfer_polypic.hpp"
 #include "transfer_schemes.hpp"
 
@@ -89,9 +90,14 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
     // on the stack, and max_move updated per particle was a chain through memory (perf annotate).
     T chunk_move = 0;
     bool chunk_bad = false;
+    StencilBatch<T, D, K> batch;  // x^n's stencils, read before this loop moves the particles
     for (std::ptrdiff_t q = c * chunk; q < end; ++q) {
+      const int lane = int((q - c * chunk) % batch.L);
+      if (lane == 0)
+        batch.compute(&p_.x[std::size_t(q)], int(std::min<std::ptrdiff_t>(batch.L, end - q)),
+                      grid_);
       Stencil<T, D, K> st;
-      st.compute(p_.x[std::size_t(q)], grid_);
+      batch.get(lane, st);
       // Gather row by row (see Stencil::for_each_row) on nodes packed as [ṽ (D), vⁿ (D), pad],
       // whole vectors at a time: lanes 0..D−1 give the sums over ṽ, lanes D..2D−1 over vⁿ.
       constexpr int W = K::width;

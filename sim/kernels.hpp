@@ -7,14 +7,31 @@
 
 namespace apiclab {
 
+// floor(x) as an int. The default is std::floor; TruncatingFloor gives the same value for
+// |x| < 2³¹ through a conversion, which GCC vectorises across particles (it keeps std::floor
+// scalar unless FP operations may be assumed not to trap) (sim/stencil_batch.hpp).
+struct StdFloor {
+  template <class T>
+  int operator()(T x) const {
+    return int(std::floor(x));
+  }
+};
+struct TruncatingFloor {
+  template <class T>
+  int operator()(T x) const {
+    const int t = int(x);
+    return t - int(T(t) > x);
+  }
+};
+
 enum class KernelType { linear, quadratic, cubic };
 
 struct LinearKernel {
   static constexpr int width = 2;
   static constexpr KernelType type = KernelType::linear;
-  template <class T>
-  static int weights(T x, T* w, T* dw) {
-    int base = int(std::floor(x));
+  template <class T, class Floor = StdFloor>
+  static int weights(T x, T* w, T* dw, Floor floor = {}) {
+    int base = floor(x);
     T f = x - T(base);
     w[0] = T(1) - f;
     w[1] = f;
@@ -27,9 +44,9 @@ struct LinearKernel {
 struct QuadraticKernel {
   static constexpr int width = 3;
   static constexpr KernelType type = KernelType::quadratic;
-  template <class T>
-  static int weights(T x, T* w, T* dw) {
-    int base = int(std::floor(x - T(0.5)));
+  template <class T, class Floor = StdFloor>
+  static int weights(T x, T* w, T* dw, Floor floor = {}) {
+    int base = floor(x - T(0.5));
     T f = x - T(base);  // in [0.5, 1.5)
     T a = T(1.5) - f, b = f - T(1), c = f - T(0.5);
     w[0] = T(0.5) * a * a;
@@ -45,9 +62,9 @@ struct QuadraticKernel {
 struct CubicKernel {
   static constexpr int width = 4;
   static constexpr KernelType type = KernelType::cubic;
-  template <class T>
-  static int weights(T x, T* w, T* dw) {
-    int base = int(std::floor(x)) - 1;
+  template <class T, class Floor = StdFloor>
+  static int weights(T x, T* w, T* dw, Floor floor = {}) {
+    int base = floor(x) - 1;
     T f = x - T(base);  // in [1, 2)
     T a = T(2) - f, t1 = f - T(1), t2 = T(2) - f, d = f - T(1);
     w[0] = a * a * a / T(6);

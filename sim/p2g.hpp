@@ -4,6 +4,7 @@
 
 #include "kernel_dispatch.hpp"
 #include "mpm.hpp"
+#include "stencil_batch.hpp"
 #include "stress_lanes.hpp"
 #include "transfer_polypic.hpp"
 
@@ -98,9 +99,13 @@ void MpmSimulation<T, D>::p2g_impl() {
   const T inv_k = mls_forces ? T(1) / inertia_scale() : T(0);
   blocks_.for_each_block_coloured(
       [&](std::uint32_t begin, std::uint32_t end) {
+        StencilBatch<T, D, K> batch;
         for (std::uint32_t q = begin; q < end; ++q) {
+          const int lane = int((q - begin) % batch.L);
+          if (lane == 0)
+            batch.compute(&p_.x[q], int(std::min<std::uint32_t>(batch.L, end - q)), grid_);
           Stencil<T, D, K> st;
-          st.compute(p_.x[q], grid_);
+          batch.get(lane, st);
           if (keep) cache[q] = st;
           const T m = p_.mass[q];
           const Vec<T, D> mv = m * p_.v[q];
