@@ -114,4 +114,20 @@ inline SceneDesc disk_symplectic(const std::string& scheme, std::vector<std::str
 inline double norm3(const Eigen::Vector3d& a) { return a.norm(); }
 inline Eigen::Vector3d to3(const std::array<double, 3>& a) { return {a[0], a[1], a[2]}; }
 
+// A grid over the box [lo, lo + 1] per axis, every wall slip or every axis periodic, the whole
+// domain stored (for stencil tests).
+template <class T, int D>
+Grid<T, D> unit_box_grid(bool periodic, double dx, const std::array<double, 3>& lo = {0, 0, 0}) {
+  SceneDesc s;
+  s.dim = D;
+  s.domain.min = {lo[0], lo[1], lo[2]};
+  s.domain.max = {lo[0] + 1, lo[1] + 1, D == 3 ? lo[2] + 1 : 0.0};
+  s.domain.dx = dx;
+  s.domain.walls.fill(periodic ? BoundaryCondition::periodic : BoundaryCondition::slip);
+  Grid<T, D> g;
+  g.init(s);
+  g.store_whole_domain();
+  return g;
+}
+
 }  // namespace apiclab::test

@@ -10,22 +10,14 @@
 #include "sim/grid.hpp"
 #include "sim/kernels.hpp"
 #include "sim/stencil.hpp"
+#include "test_helpers.hpp"
 
 namespace apiclab {
 namespace {
 
 template <int D>
 Grid<double, D> make_grid(bool periodic, double dx) {
-  SceneDesc s;
-  s.dim = D;
-  s.domain.min = {0, 0, 0};
-  s.domain.max = {1, 1, D == 3 ? 1.0 : 0.0};
-  s.domain.dx = dx;
-  s.domain.walls.fill(periodic ? BoundaryCondition::periodic : BoundaryCondition::slip);
-  Grid<double, D> g;
-  g.init(s);
-  g.store_whole_domain();
-  return g;
+  return test::unit_box_grid<double, D>(periodic, dx);
 }
 
 template <int D, class K>

@@ -15,6 +15,7 @@
 
 #include "sim/grid.hpp"
 #include "sim/stencil_batch.hpp"
+#include "test_helpers.hpp"
 
 namespace apiclab {
 namespace {
@@ -23,16 +24,7 @@ constexpr double kMin[3] = {-0.5, 0.25, 0};
 
 template <class T, int D>
 Grid<T, D> batch_grid(bool periodic, double dx) {
-  SceneDesc s;
-  s.dim = D;
-  s.domain.min = {kMin[0], kMin[1], kMin[2]};
-  s.domain.max = {kMin[0] + 1, kMin[1] + 1, D == 3 ? 1.0 : 0.0};
-  s.domain.dx = dx;
-  s.domain.walls.fill(periodic ? BoundaryCondition::periodic : BoundaryCondition::slip);
-  Grid<T, D> g;
-  g.init(s);
-  g.store_whole_domain();
-  return g;
+  return test::unit_box_grid<T, D>(periodic, dx, {kMin[0], kMin[1], kMin[2]});
 }
 
 // Random positions in the domain, then positions exactly on nodes and on half-nodes (the
