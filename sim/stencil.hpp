@@ -17,15 +17,28 @@ struct Stencil {
 
   void compute(const Vec<T, D>& x, const GridGeometry<T, D>& g) {
     for (int a = 0; a < D; ++a) {
-      T xg = (x[a] - g.origin[a]) * g.inv_dx;
-      int base = K::weights(xg, w[a], dw[a]);
-      for (int k = 0; k < W; ++k) {
-        dw[a][k] *= g.inv_dx;
-        r[a][k] = (T(base + k) - xg) * g.dx;
-        int idx = g.periodic[a] ? g.wrap(base + k, a) : base + k;
-        off[a][k] = std::size_t(idx - g.lo[a]) * g.stride[a];
-      }
+      const int base = axis(x[a], g.origin[a], g.inv_dx, g.dx, w[a], dw[a], r[a]);
+      for (int k = 0; k < W; ++k) off[a][k] = offset(base + k, a, g);
     }
+  }
+
+  // Along one axis (grid origin, 1/Δx, Δx), for the W nodes from the returned base: w, dw
+  // (1/length) and x_i − x_p at the coordinate x (shared with StencilBatch, whose lanes take
+  // the vectorisable floor; the grid's values passed by value, which its vector loop needs).
+  template <class Floor = StdFloor>
+  static int axis(T x, T origin, T inv_dx, T dx, T* w, T* dw, T* r, Floor floor = {}) {
+    const T xg = (x - origin) * inv_dx;
+    const int base = K::weights(xg, w, dw, floor);
+    for (int k = 0; k < W; ++k) {
+      dw[k] *= inv_dx;
+      r[k] = (T(base + k) - xg) * dx;
+    }
+    return base;
+  }
+  // Stored-node index contribution of domain node `node` along axis a (wrapped, re-based × stride).
+  static std::size_t offset(int node, int a, const GridGeometry<T, D>& g) {
+    const int idx = g.periodic[a] ? g.wrap(node, a) : node;
+    return std::size_t(idx - g.lo[a]) * g.stride[a];
   }
 
   // f(node, w_ip, ∇w_ip, x_i − x_p) for every node of the stencil.

@@ -25,29 +25,29 @@ struct StencilBatch {
 
   // Particles x[0..count) (count ≤ L); lanes past count repeat the last particle.
   void compute(const Vec<T, D>* x, int count, const GridGeometry<T, D>& g) {
+    using One = Stencil<T, D, K>;
     for (int a = 0; a < D; ++a) {
-      T xg[L];
-      for (int l = 0; l < L; ++l) xg[l] = x[l < count ? l : count - 1][a];
+      T xa[L];
+      for (int l = 0; l < L; ++l) xa[l] = x[l < count ? l : count - 1][a];
       const T origin = g.origin[a], inv_dx = g.inv_dx, dx = g.dx;
+      // Off a periodic axis, One::offset without its branch, in 64 bits as the lanes need.
       const std::int64_t lo = g.lo[a], stride = std::int64_t(g.stride[a]);
       std::int32_t base[L];
       for (int l = 0; l < L; ++l) {
-        const T xl = (xg[l] - origin) * inv_dx;
-        T wl[W], dwl[W];
-        const int b = K::weights(xl, wl, dwl, TruncatingFloor{});
+        T wl[W], dwl[W], rl[W];
+        const int b = One::axis(xa[l], origin, inv_dx, dx, wl, dwl, rl, TruncatingFloor{});
         base[l] = b;
 #pragma GCC unroll 4
         for (int k = 0; k < W; ++k) {
           w[a][k][l] = wl[k];
-          dw[a][k][l] = dwl[k] * inv_dx;
-          r[a][k][l] = (T(b + k) - xl) * dx;
+          dw[a][k][l] = dwl[k];
+          r[a][k][l] = rl[k];
           off[a][k][l] = (std::int64_t(b + k) - lo) * stride;
         }
       }
       if (g.periodic[a])  // rare: the wrap's modulo stays scalar
         for (int l = 0; l < L; ++l)
-          for (int k = 0; k < W; ++k)
-            off[a][k][l] = (std::int64_t(g.wrap(base[l] + k, a)) - lo) * stride;
+          for (int k = 0; k < W; ++k) off[a][k][l] = std::int64_t(One::offset(base[l] + k, a, g));
     }
   }
 
