@@ -2,9 +2,9 @@
 // gravitational potential, linear and angular momentum (docs/architecture.md, Diagnostics CSV).
 // measure() sums them in a pass of its own (the readable oracle, sim/mpm_measure.hpp); a step
 // asked for its row takes them from G2P instead (sim/g2p.hpp): G2P stores each particle's new
-// state in a chunk's columns (ChunkTerms), and ChunkTerms::sum adds the chunk in double, several
-// particles per vector. The chunks are fixed and their sums added in chunk order, so that the
-// row does not depend on the thread count.
+// state in a chunk's columns (ChunkTerms), and ChunkTerms::sum forms each particle's terms in T,
+// several particles per vector, and adds them in double. The chunks are fixed and their sums added
+// in chunk order, so that the row does not depend on the thread count.
 #pragma once
 #include <array>
 #include <cstring>
@@ -34,14 +34,20 @@ struct alignas(64) ParticleSums {
 // A chunk of G2P's particles as columns, in T: x and v at the new state; C, where D_p =
 // k Δx² I (quadratic, cubic); else (the multilinear kernel's D_p, PolyPIC's higher modes) each
 // particle's ½ m tr(C D_p Cᵀ) (+ modes) and m (Bᵀ : ε), B = C D_p (Jiang et al. 2017, Sec 5.3).
-// sum() adds them in double, P particles per vector. Why: added one particle at a time in G2P,
-// the sums' chains of dependent double adds and the conversions cost 14 % of a 2D float step
-// (Intel Xeon, AVX-512; 16 % on the AMD EPYC), and forming C's terms there another 2 %.
+// sum() forms each particle's terms in T, as measure()'s oracle does, P particles per vector,
+// and adds them in double. Why: added one particle at a time in G2P, the sums' chains of
+// dependent double adds and the conversions cost 14 % of a 2D float step (Intel Xeon, AVX-512;
+// 16 % on the AMD EPYC); formed in double from every converted column, 6.5 % (native) and 11 %
+// (x86-64-v3); formed in T, 5.5 % and 9 % (medians of three, Intel Xeon, 2026-11-24).
 template <class T, int D, int N>
 struct ChunkTerms {
-  // Doubles per vector: one AVX2 register; 8 (one AVX-512 register) measured slower.
-  static constexpr int P = 4;
-  static_assert(N % P == 0);
+  // Particles per vector of terms: 8 float or 4 double, one AVX2 register. With 16 floats (one
+  // AVX-512 register) the row cost 10 % of a 2D float step instead of 5.5 %: the step's other
+  // loops use no AVX-512 register, and this one alone lowers the core's clock. Their double
+  // values are added 4 at a time: the same order, so the same row, in every build.
+  static constexpr int P = 32 / int(sizeof(T));
+  static constexpr int Q = 4;
+  static_assert(N % P == 0 && P % Q == 0);
   static constexpr int moments = D == 2 ? 1 : 3;  // 2D: only the z component
   alignas(64) T x[D][N], v[D][N];
   alignas(64) T c[D * D][N];  // C(a, b) in column a + D b
@@ -67,10 +73,15 @@ struct ChunkTerms {
     for (int a = 0; a < moments; ++a) affine_moment[a][j] = T(moment[D == 2 ? 2 : a]);
   }
 
-  // The chunk's first `count` particles, masses from `mass`, gravity g.
+  // The chunk's first `count` particles, masses from `mass`, gravity g. Per particle in T, as
+  // measure() forms them: ½ m (|v|² + k |C|²) (+ the extra kinetic terms), m v, m x (gravity
+  // −g·Σ m x is formed in double at the end), x × m v + m k (C_ba − C_ab) ε_abγ (+ the extra
+  // moments).
   ParticleSums sum(const T* mass, int count, const std::array<double, 3>& g) {
-    using V = typename SimdVector<double, P>::type;
-    for (int j = count; j < (count + P - 1) / P * P; ++j) {  // the last vector's unused lanes
+    using VT = typename SimdVector<T, P>::type;
+    using VD = typename SimdVector<double, Q>::type;
+    const int padded = (count + P - 1) / P * P;
+    for (int j = count; j < padded; ++j) {  // the last vector's unused lanes
       for (int a = 0; a < D; ++a) x[a][j] = v[a][j] = T(0);
       if (isotropic_k != T(0))
         for (int e = 0; e < D * D; ++e) c[e][j] = T(0);
@@ -80,74 +91,83 @@ struct ChunkTerms {
       }
     }
     auto load = [](const T* from) {
-      if constexpr (sizeof(T) == sizeof(double)) {
-        V out;
-        std::memcpy(&out, from, sizeof out);
-        return out;
-      } else {
-        typename SimdVector<T, P>::type in;
-        std::memcpy(&in, from, sizeof in);
-        return __builtin_convertvector(in, V);
+      VT out;
+      std::memcpy(&out, from, sizeof out);
+      return out;
+    };
+    // P terms into Q double lanes, Q at a time in lane order. Lane by lane, which GCC 12 turns
+    // into one conversion per Q lanes; __builtin_convertvector took three instructions for 4.
+    auto add = [](VD& sum, const VT& terms) {
+      for (int k = 0; k < P; k += Q) {
+        VD part;
+        for (int l = 0; l < Q; ++l) part[l] = double(terms[k + l]);
+        sum += part;
       }
     };
-    V kinetic{}, gravity{}, p[D] = {}, L[moments] = {};
-    for (int j = 0; j < count; j += P) {
+    const T k = isotropic_k;
+    VD kinetic{}, mx[D] = {}, p[D] = {}, L[moments] = {};
+    for (int j = 0; j < padded; j += P) {
       T tail[P] = {};  // the masses of a last, partial vector (mass[] ends at count)
       if (j + P > count)
         for (int l = 0; l < count - j; ++l) tail[l] = mass[j + l];
-      const V m = load(j + P <= count ? mass + j : tail);
-      V xs[D], mv[D], v2{};
+      const VT m = load(j + P <= count ? mass + j : tail);
+      VT xs[D], mv[D], v2{};
       for (int a = 0; a < D; ++a) {
         xs[a] = load(&x[a][j]);
-        const V va = load(&v[a][j]);
+        const VT va = load(&v[a][j]);
         v2 += va * va;
         mv[a] = m * va;
-        p[a] += mv[a];
-        gravity -= g[a] * m * xs[a];
+        add(p[a], mv[a]);
+        add(mx[a], m * xs[a]);
       }
-      kinetic += 0.5 * m * v2;
+      VT moment[moments];
       if constexpr (D == 2) {
-        L[0] += xs[0] * mv[1] - xs[1] * mv[0];
+        moment[0] = xs[0] * mv[1] - xs[1] * mv[0];
       } else {
         for (int a = 0; a < 3; ++a)
-          L[a] += xs[(a + 1) % 3] * mv[(a + 2) % 3] - xs[(a + 2) % 3] * mv[(a + 1) % 3];
+          moment[a] = xs[(a + 1) % 3] * mv[(a + 2) % 3] - xs[(a + 2) % 3] * mv[(a + 1) % 3];
       }
-      if (isotropic_k != T(0)) {  // m k |C|² and m k (C_ba − C_ab) (ε_abγ), Sec 5.3
-        const double k = double(isotropic_k);
-        V c2{};
+      VT kin = v2;
+      if (k != T(0)) {  // m k |C|² and m k (C_ba − C_ab) ε_abγ, Sec 5.3
+        VT c2{};
         for (int e = 0; e < D * D; ++e) {
-          const V ce = load(&c[e][j]);
+          const VT ce = load(&c[e][j]);
           c2 += ce * ce;
         }
-        kinetic += (0.5 * k) * m * c2;
-        const V mk = k * m;
+        kin += k * c2;
+        const VT mk = k * m;
         auto skew = [&](int a, int b) {
           return mk * (load(&c[b + D * a][j]) - load(&c[a + D * b][j]));
         };
         if constexpr (D == 2) {
-          L[0] += skew(0, 1);
+          moment[0] += skew(0, 1);
         } else {
-          L[0] += skew(1, 2);
-          L[1] += skew(2, 0);
-          L[2] += skew(0, 1);
+          moment[0] += skew(1, 2);
+          moment[1] += skew(2, 0);
+          moment[2] += skew(0, 1);
         }
       }
+      kin *= T(0.5) * m;
       if (extras) {
-        kinetic += load(&extra_kinetic[j]);
-        for (int a = 0; a < moments; ++a) L[a] += load(&affine_moment[a][j]);
+        kin += load(&extra_kinetic[j]);
+        for (int a = 0; a < moments; ++a) moment[a] += load(&affine_moment[a][j]);
       }
+      add(kinetic, kin);
+      for (int a = 0; a < moments; ++a) add(L[a], moment[a]);
     }
-    auto total = [](const V& lanes) {
+    auto total = [](const VD& lanes) {
       double s = 0;
-      for (int l = 0; l < P; ++l) s += lanes[l];
+      for (int l = 0; l < Q; ++l) s += lanes[l];
       return s;
     };
     ParticleSums s;
     s.kinetic = total(kinetic);
-    s.gravity = total(gravity);
-    for (int a = 0; a < D; ++a) s.p[a] = total(p[a]);
+    for (int a = 0; a < D; ++a) {
+      s.gravity -= g[std::size_t(a)] * total(mx[a]);
+      s.p[std::size_t(a)] = total(p[a]);
+    }
     // In 2D only L_z: the oracle adds exact zeros to L_x and L_y, which leaves them 0.
-    for (int a = 0; a < moments; ++a) s.L[D == 2 ? 2 : a] = total(L[a]);
+    for (int a = 0; a < moments; ++a) s.L[D == 2 ? 2 : std::size_t(a)] = total(L[a]);
     return s;
   }
 };
