@@ -13,13 +13,12 @@
 
 namespace apiclab {
 
-// Lanes per group: the widest register in 3D; in 2D, where a particle's arithmetic is too short
-// to pay for moving its F into 512-bit lanes, at most 256 bits (2D double on AVX-512 ran at 0.87
-// of the scalar pass with 8 lanes, 1.2× faster with 4 on AVX2; bench, one run, interleaved).
+// Lanes per group: one register (simd_register_bytes, 256 bits also on AVX-512). In 2D a
+// particle's arithmetic is too short to pay for moving its F into 512-bit lanes (2D double on
+// AVX-512 ran at 0.87 of the scalar pass with 8 lanes, 1.2× faster with 4 on AVX2; bench, one
+// run, interleaved); in 3D 512-bit lanes gained nothing once every other loop used 256 bits.
 template <class T, int D>
-inline constexpr int stress_lane_count = std::min(8, (D == 3 ? simd_register_bytes
-                                                             : std::min(simd_register_bytes, 32)) /
-                                                         int(sizeof(T)));
+inline constexpr int stress_lane_count = std::min(8, simd_register_bytes / int(sizeof(T)));
 
 template <class T, int D>
 struct StressLanes {
