@@ -46,11 +46,11 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
     lo[a] = T(scene_.domain.min[a]);
     hi[a] = T(scene_.domain.max[a]);
   }
-  // The gather reads the first 2D lanes of each node: one register per node in 2D double on
-  // AVX2 instead of two.
+  // The gather reads the first 2D lanes of each node: one register per node in 2D double
+  // (256-bit lanes, sim/lanes.hpp) instead of two.
   using Lanes = typename Grid<T, D>::GatherLanes;
   // At λ = 0 a scheme that does not read Σ w vⁿ (all but FLIP and ASFLIP) gathers ṽ alone, in
-  // fewer registers where D lanes take fewer than 2D (3D double on AVX2: one instead of two).
+  // fewer registers where D lanes take fewer than 2D (3D double: one instead of two).
   // Only there: the same gather through the generic path cost 4 % in 2D float (native).
   constexpr bool narrow_exists = lane_parts<T>(D) < Lanes::parts;
   using NewLanes = std::conditional_t<narrow_exists, apiclab::Lanes<T, D>, Lanes>;
