@@ -459,6 +459,30 @@ TEST(EolAdvection, AffineMaterialCoordinatesAreAdvectedExactly) {
   check_affine_advection<3>();
 }
 
+// A y that is NaN or ±∞ (a state blowing up within a step; fuzz_scene found one) takes an edge
+// cell without converting a non-finite value to int; +∞ takes the top cell, as a finite y above
+// the grid does. The weights carry the NaN on for the blow-up check.
+TEST(EolGrid, NonFinitePositionsTakeAnEdgeCell) {
+  EulerianGrid<double, 2> g;
+  g.resize({5, 7});
+  g.dx = 0.5;
+  const double inf = std::numeric_limits<double>::infinity();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  auto cell = [&](double y0, double y1) {
+    std::array<int, 2> c;
+    std::array<double, 2> t;
+    g.cell_at(Vec<double, 2>(y0, y1), c, t);
+    return c;
+  };
+  EXPECT_EQ(cell(inf, -inf), (std::array<int, 2>{3, 0}));
+  EXPECT_EQ(cell(1e300, 1e30), (std::array<int, 2>{3, 5}));
+  EXPECT_EQ(cell(nan, 1.2), (std::array<int, 2>{0, 2}));
+  EXPECT_EQ(cell(-1e300, nan), (std::array<int, 2>{0, 0}));
+  const auto cw = g.cell_weights(Vec<double, 2>(nan, 0.3));
+  for (const std::size_t k : cw.index) EXPECT_LT(k, g.size());
+  EXPECT_TRUE(std::isnan(cw.weight[0]));
+}
+
 // The mass of eq 6 with J̄ = det ∇X: a ball's lumped mass matches ρ times its area (volume)
 // within the smoothed surface's second-order error.
 TEST(EolGrid, LumpedMassMatchesTheRestShape) {

@@ -85,10 +85,15 @@ struct EulerianGrid {
     return G;
   }
   // The cell holding y (its lower corner c, clamped to the grid) and y's fraction t across it.
+  // The clamp comes before the conversion to int: a state blowing up within a step (fuzz_scene
+  // found one) gives NaN or ±∞ here, whose conversion is undefined; such a y takes an edge cell,
+  // t carries the NaN on, and the step's blow-up check reports it.
   void cell_at(const Vec<T, D>& at, std::array<int, D>& c, std::array<T, D>& t) const {
     for (int a = 0; a < D; ++a) {
       const T u = (at[a] - origin[a]) / dx;
-      c[a] = std::clamp(int(std::floor(u)), 0, std::max(n[a] - 2, 0));
+      const T lower = std::floor(u);
+      const int top = std::max(n[a] - 2, 0);
+      c[a] = lower >= T(top) ? top : lower > T(0) ? int(lower) : 0;
       t[a] = u - T(c[a]);
     }
   }
