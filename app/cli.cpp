@@ -209,6 +209,26 @@ void ensure_writable_file(const std::string& file) {
   if (!f) throw UsageError("cannot write output file '" + file + "'");
 }
 
+std::string format_duration(double seconds) {
+  char text[64];
+  // The bounds are where the rounded value would roll over into the next unit.
+  if (!(seconds < 1e300)) return "unbounded";
+  if (seconds < 59.95) {
+    std::snprintf(text, sizeof text, "%.1fs", std::max(seconds, 0.0));
+  } else if (seconds < 3599.5) {
+    const long s = std::lround(seconds);
+    std::snprintf(text, sizeof text, "%ldm%02lds", s / 60, s % 60);
+  } else if (seconds < 48 * 3600 - 30) {
+    const long m = std::lround(seconds / 60);
+    std::snprintf(text, sizeof text, "%ldh%02ldm", m / 60, m % 60);
+  } else if (seconds < 365.25 * 86400) {
+    std::snprintf(text, sizeof text, "%.1f days", seconds / 86400);
+  } else {
+    std::snprintf(text, sizeof text, "%.3g years", seconds / (365.25 * 86400));
+  }
+  return text;
+}
+
 Progress::Progress(std::string label, double total, bool quiet)
     : label_(std::move(label)),
       total_(total),
@@ -225,10 +245,11 @@ void Progress::update(double done, const std::string& extra) {
   // A fixed step may end past the total (the step at or just past time.end): 100 % at most.
   double elapsed = t - start_, frac = total_ > 0 ? std::min(done / total_, 1.0) : 1;
   double eta = frac > 0 ? elapsed * (1 - frac) / frac : 0;
-  std::fprintf(stderr,
-               terminal_ ? "\r%s %5.1f%% %s elapsed %.1fs ETA %.1fs   "
-                         : "%s %5.1f%% %s elapsed %.1fs ETA %.1fs\n",
-               label_.c_str(), 100 * frac, extra.c_str(), elapsed, eta);
+  std::fprintf(
+      stderr,
+      terminal_ ? "\r%s %5.1f%% %s elapsed %s ETA %s   " : "%s %5.1f%% %s elapsed %s ETA %s\n",
+      label_.c_str(), 100 * frac, extra.c_str(), format_duration(elapsed).c_str(),
+      frac > 0 ? format_duration(eta).c_str() : "unknown");
   std::fflush(stderr);
 }
 

@@ -63,6 +63,10 @@ void ensure_writable_dir(const std::string& dir);
 // Checks that `file` can be created (its directory is created); throws UsageError.
 void ensure_writable_file(const std::string& file);
 
+// A duration as a person reads it: "12.3s", "4m05s", "3h20m", "2.5 days", "3.1e+143 years"
+// (a stiff scene's dt can make the ETA a 150-digit number of seconds).
+std::string format_duration(double seconds);
+
 // Progress with ETA on stderr: on a terminal one line rewritten in place a few times a second;
 // otherwise plain lines every few seconds, without \r or escape codes.
 class Progress {

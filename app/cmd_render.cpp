@@ -77,8 +77,7 @@ int render(const RenderOptions& o) {
   DiagnosticsRow first = sim->measure();
   first.dt = 0;
   write_diagnostics_row(csv, first);
-  Progress progress(scene.name + " [" + run_label(scene) + ", " +
-                        std::to_string(particle_count(*sim)) + " particles]",
+  Progress progress(scene.name + " [" + run_label(scene) + ", " + sim->model_size() + "]",
                     times.frames + 1, o.run.quiet);
   int computing = 1;  // the frame being computed, for the solver's progress
   show_solver_progress(*sim, progress, computing, times.frames);
@@ -149,7 +148,7 @@ int compare(const RenderOptions& o) {
     FrameIndex dump_times;
   };
   std::vector<Pane> panes;
-  std::size_t particles = 0;
+  std::string sizes;  // each pane's model size, once (MPM panes share their particles)
   for (const PaneSpec& spec : specs) {
     SceneDesc scene = session.scene;
     scene.solver.method = spec.method;
@@ -169,7 +168,8 @@ int compare(const RenderOptions& o) {
       p.dump = std::make_unique<ParticleDump>(dir, formats);
       p.dump_times = FrameIndex(dir);
     }
-    particles = std::max(particles, particle_count(*p.sim));
+    if (const std::string size = p.sim->model_size(); sizes.find(size) == std::string::npos)
+      sizes += (sizes.empty() ? "" : ", ") + size;
     panes.push_back(std::move(p));
   }
   const SceneDesc& scene = session.scene;
@@ -181,8 +181,7 @@ int compare(const RenderOptions& o) {
   FrameIndex frame_times(o.out, keys);  // panes step in lockstep: one time per frame
   std::string labels;
   for (const Pane& p : panes) labels += (labels.empty() ? "" : ",") + p.label;
-  Progress progress(scene.name + " [" + labels + ", " + std::to_string(particles) + " particles]",
-                    times.frames + 1, o.run.quiet);
+  Progress progress(scene.name + " [" + labels + ", " + sizes + "]", times.frames + 1, o.run.quiet);
   int computing = 1;
   std::vector<Simulation*> sims;
   for (Pane& p : panes) {

@@ -58,8 +58,7 @@ int run(const RunCommandOptions& command) {
   write_diagnostics_row(out, first);
   RunSummary summary(first, sim->total_mass(), DriftRule::domain_extent(scene));
   std::string label = scene.name + " [" + run_label(scene) + ", " +
-                      std::string(key_of(scene.solver.integrator)) + ", " +
-                      std::to_string(particle_count(*sim)) + " particles]";
+                      std::string(key_of(scene.solver.integrator)) + ", " + sim->model_size() + "]";
   Progress progress(label, scene.time.end, o.quiet);
   progress.update(0, "starting");
   // A long implicit step reports its Newton iterations, so the line never goes quiet.

@@ -61,6 +61,7 @@ class MpmSimulation final : public Simulation, public TransferControls {
   void on_solver_iteration(SolverIterationObserver observer) override {
     on_solver_iteration_ = std::move(observer);
   }
+  std::string model_size() const override { return std::to_string(p_.size()) + " particles"; }
   TransferControls* transfers() override { return this; }
   const TransferControls* transfers() const override { return this; }
 

@@ -27,6 +27,8 @@ class Simulation {
   virtual const SceneDesc& scene() const = 0;
   virtual double time() const = 0;
   virtual long steps() const = 0;
+  // What a step works on, for progress lines and titles: "25344 particles", "4096 grid nodes".
+  virtual std::string model_size() const = 0;
 
   // Takes one step with the scene's time-step rule, never past t_limit (steps land exactly on
   // frame times with the Sec 6.7 sliver rule). Returns the step's diagnostics row, or the

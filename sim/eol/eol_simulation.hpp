@@ -72,6 +72,11 @@ class EolSimulation final : public Simulation {
   const SceneDesc& scene() const override { return scene_; }
   double time() const override { return time_; }
   long steps() const override { return steps_; }
+  std::string model_size() const override {
+    std::size_t nodes = 0;
+    for (const auto& o : objects_) nodes += o.grid.size();
+    return std::to_string(nodes) + " grid nodes";
+  }
   std::optional<Failure> step(double t_limit, DiagnosticsRow* row) override;
   void step_fixed(double dt) override;
   DiagnosticsRow measure() const override;
