@@ -4,6 +4,7 @@
 #include <cmath>
 #include <type_traits>
 
+#include "deformation_update.hpp"
 #include "kernel_dispatch.hpp"
 #include "mpm.hpp"
 #include "stencil_batch.hpp"
@@ -134,6 +135,10 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
       // u_i = λ vⁿ_i + (1 − λ) ṽ_i (eq 30): ū = Σ w u, ∇u = Σ u ∇wᵀ.
       Vec<T, D> vpic, vold_p, ubar;
       Mat<T, D> Bsum, gradu, gradv;
+      // In 3D at λ = 0, ∇u's columns as the gather's lanes for the deformation update.
+      using GradColumn = std::conditional_t<D == 3, apiclab::Lanes<T, 3>, Vec<T, D>>;
+      GradColumn gradu_lanes[D];
+      bool have_gradu_lanes = false;
       if constexpr (narrow_exists) {
         if (narrow) {  // λ = 0: u = ṽ, and Σ w vⁿ is not read
           NewLanes nsum{}, ngrad[D] = {}, nb[D] = {}, nturn{};
@@ -147,6 +152,10 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
           }
           vold_p = ubar = vpic;
           gradu = gradv;
+          if constexpr (D == 3) {
+            for (int c = 0; c < D; ++c) gradu_lanes[c] = GradColumn::prefix_of(ngrad[c]);
+            have_gradu_lanes = true;
+          }
         }
       }
       if (!narrow) {
@@ -157,11 +166,25 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
         for (int a = 0; a < D; ++a) {
           vpic[a] = vsum[a];
           vold_p[a] = vsum[D + a];
-          ubar[a] = lambda * vsum[D + a] + (T(1) - lambda) * vsum[a];
           for (int c = 0; c < D; ++c) {
             gradv(a, c) = grad_cols[c][a];
-            gradu(a, c) = lambda * grad_cols[c][D + a] + (T(1) - lambda) * grad_cols[c][a];
             Bsum(a, c) = b_cols[c][a];
+          }
+        }
+        // λ = 0 on its own branch: u = ṽ, and the vⁿ lanes of ∇u (the upper half of a 3D float
+        // group) are neither extracted nor blended.
+        if (lambda == T(0)) {
+          ubar = vpic;
+          gradu = gradv;
+          if constexpr (D == 3) {
+            for (int c = 0; c < D; ++c) gradu_lanes[c] = GradColumn::prefix_of(grad_cols[c]);
+            have_gradu_lanes = true;
+          }
+        } else {
+          for (int a = 0; a < D; ++a) {
+            ubar[a] = lambda * vsum[D + a] + (T(1) - lambda) * vsum[a];
+            for (int c = 0; c < D; ++c)
+              gradu(a, c) = lambda * grad_cols[c][D + a] + (T(1) - lambda) * grad_cols[c][a];
           }
         }
       }
@@ -231,16 +254,25 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
       }
       // MLS-MPM (Hu et al. 2018): the new C is the velocity gradient, F^{n+1} = (I + Δt C) F.
       if constexpr (S == Scheme::mls) gradu = p_.C[q];
-      const Mat<T, D> F0 = p_.F[q];
-      // Δt ∇u before the stores: Δt is the parallel region's shared variable, which a store to
-      // F may alias, so reading it inside the loop reloaded it at every entry (perf annotate).
-      const Mat<T, D> dt_gradu = dt * gradu;
-      for (int b = 0; b < D; ++b)
-        for (int a = 0; a < D; ++a) {
-          T s = F0(a, b);
-          for (int k = 0; k < D; ++k) s += dt_gradu(a, k) * F0(k, b);
-          p_.F[q](a, b) = s;
-        }
+      if constexpr (D == 3) {  // sim/deformation_update.hpp
+        if (S == Scheme::mls || !have_gradu_lanes)
+          for (int c = 0; c < D; ++c)
+            gradu_lanes[c] = GradColumn::of(gradu(0, c), gradu(1, c), gradu(2, c));
+        for (int c = 0; c < D; ++c) gradu_lanes[c] = dt * gradu_lanes[c];
+        update_deformation_3d(p_.F[q].data(), gradu_lanes);
+      } else {
+        const Mat<T, D> F0 = p_.F[q];
+        // Δt ∇u before the stores: Δt is the parallel region's shared variable, which a store
+        // to F may alias, so reading it inside the loop reloaded it at every entry (perf
+        // annotate).
+        const Mat<T, D> dt_gradu = dt * gradu;
+        for (int b = 0; b < D; ++b)
+          for (int a = 0; a < D; ++a) {
+            T s = F0(a, b);
+            for (int k = 0; k < D; ++k) s += dt_gradu(a, k) * F0(k, b);
+            p_.F[q](a, b) = s;
+          }
+      }
       // Particle update: positions on the moved grid (eq 39), F by eq 40 (above).
       Vec<T, D> move = dt * ubar;
       // ASFLIP (Fei et al. 2021): separating particles also move by β α (v_p^n − v_old);
