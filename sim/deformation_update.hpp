@@ -14,36 +14,48 @@ namespace apiclab {
 template <class T>
 inline void update_deformation_3d(T* F, const Lanes<T, 3> g[3]) {
   using L = Lanes<T, 3>;
-  static_assert(L::parts == 1 && L::per_part == 4, "one register of four lanes per column");
-  using V = typename L::Part;
-  // The columns as four-lane loads inside the 9 scalars: columns 0 and 1 carry the next
-  // column's first entry in lane 3 (unused); column 2 is loaded from F + 5 and moved down a lane.
-  V c0, c1, c2;
-  std::memcpy(&c0, F, sizeof(V));
-  std::memcpy(&c1, F + 3, sizeof(V));
-  std::memcpy(&c2, F + 5, sizeof(V));
+  if constexpr (L::parts != 1 || L::per_part != 4) {
+    // Registers narrower than four lanes (an SSE-only build: the fuzzers', double in two
+    // parts): the scalar loop.
+    T f[9];
+    std::memcpy(f, F, sizeof f);
+    for (int b = 0; b < 3; ++b)
+      for (int a = 0; a < 3; ++a) {
+        T s = f[3 * b + a];
+        for (int k = 0; k < 3; ++k) s += g[k][a] * f[3 * b + k];
+        F[3 * b + a] = s;
+      }
+  } else {
+    using V = typename L::Part;
+    // The columns as four-lane loads inside the 9 scalars: columns 0 and 1 carry the next
+    // column's first entry in lane 3 (unused); column 2 is loaded from F + 5 and moved down a lane.
+    V c0, c1, c2;
+    std::memcpy(&c0, F, sizeof(V));
+    std::memcpy(&c1, F + 3, sizeof(V));
+    std::memcpy(&c2, F + 5, sizeof(V));
 #if defined(__clang__)
-  c2 = __builtin_shufflevector(c2, c2, 1, 2, 3, 3);
+    c2 = __builtin_shufflevector(c2, c2, 1, 2, 3, 3);
 #else
-  using Mask = typename SimdVector<T, 4>::index;
-  c2 = __builtin_shuffle(c2, Mask{1, 2, 3, 3});
+    using Mask = typename SimdVector<T, 4>::index;
+    c2 = __builtin_shuffle(c2, Mask{1, 2, 3, 3});
 #endif
-  T f[9];
-  std::memcpy(f, F, sizeof f);
-  const V g0 = g[0].part[0], g1 = g[1].part[0], g2 = g[2].part[0];
-  const V out0 = ((c0 + g0 * f[0]) + g1 * f[1]) + g2 * f[2];
-  const V out1 = ((c1 + g0 * f[3]) + g1 * f[4]) + g2 * f[5];
-  const V out2 = ((c2 + g0 * f[6]) + g1 * f[7]) + g2 * f[8];
-  // Stores in order, each over the last one's unused lane: F_0 (+ junk in F(0,1)), F_1 (+ junk
-  // in F(0,2)), then (F(2,1), F_2) at F + 5.
+    T f[9];
+    std::memcpy(f, F, sizeof f);
+    const V g0 = g[0].part[0], g1 = g[1].part[0], g2 = g[2].part[0];
+    const V out0 = ((c0 + g0 * f[0]) + g1 * f[1]) + g2 * f[2];
+    const V out1 = ((c1 + g0 * f[3]) + g1 * f[4]) + g2 * f[5];
+    const V out2 = ((c2 + g0 * f[6]) + g1 * f[7]) + g2 * f[8];
+    // Stores in order, each over the last one's unused lane: F_0 (+ junk in F(0,1)), F_1 (+ junk
+    // in F(0,2)), then (F(2,1), F_2) at F + 5.
 #if defined(__clang__)
-  const V tail = __builtin_shufflevector(out1, out2, 2, 4, 5, 6);
+    const V tail = __builtin_shufflevector(out1, out2, 2, 4, 5, 6);
 #else
-  const V tail = __builtin_shuffle(out1, out2, Mask{2, 4, 5, 6});
+    const V tail = __builtin_shuffle(out1, out2, Mask{2, 4, 5, 6});
 #endif
-  std::memcpy(F, &out0, sizeof(V));
-  std::memcpy(F + 3, &out1, sizeof(V));
-  std::memcpy(F + 5, &tail, sizeof(V));
+    std::memcpy(F, &out0, sizeof(V));
+    std::memcpy(F + 3, &out1, sizeof(V));
+    std::memcpy(F + 5, &tail, sizeof(V));
+  }
 }
 
 }  // namespace apiclab
