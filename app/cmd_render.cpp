@@ -148,7 +148,7 @@ int compare(const RenderOptions& o) {
     FrameIndex dump_times;
   };
   std::vector<Pane> panes;
-  std::string sizes;  // each pane's model size, once (MPM panes share their particles)
+  std::vector<std::string> sizes;  // each pane's model size, once (MPM panes share particles)
   for (const PaneSpec& spec : specs) {
     SceneDesc scene = session.scene;
     scene.solver.method = spec.method;
@@ -168,8 +168,9 @@ int compare(const RenderOptions& o) {
       p.dump = std::make_unique<ParticleDump>(dir, formats);
       p.dump_times = FrameIndex(dir);
     }
-    if (const std::string size = p.sim->model_size(); sizes.find(size) == std::string::npos)
-      sizes += (sizes.empty() ? "" : ", ") + size;
+    if (std::string size = p.sim->model_size();
+        std::find(sizes.begin(), sizes.end(), size) == sizes.end())
+      sizes.push_back(std::move(size));
     panes.push_back(std::move(p));
   }
   const SceneDesc& scene = session.scene;
@@ -181,7 +182,9 @@ int compare(const RenderOptions& o) {
   FrameIndex frame_times(o.out, keys);  // panes step in lockstep: one time per frame
   std::string labels;
   for (const Pane& p : panes) labels += (labels.empty() ? "" : ",") + p.label;
-  Progress progress(scene.name + " [" + labels + ", " + sizes + "]", times.frames + 1, o.run.quiet);
+  std::string label = scene.name + " [" + labels;
+  for (const std::string& size : sizes) label += ", " + size;
+  Progress progress(label + "]", times.frames + 1, o.run.quiet);
   int computing = 1;
   std::vector<Simulation*> sims;
   for (Pane& p : panes) {
