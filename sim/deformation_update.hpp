@@ -10,10 +10,11 @@
 
 namespace apiclab {
 
-// F: 9 scalars, column-major (Eigen's Matrix3); g: the columns of Δt ∇u in lanes 0..2.
-template <class T>
-inline void update_deformation_3d(T* F, const Lanes<T, 3> g[3]) {
-  using L = Lanes<T, 3>;
+// F: 9 scalars, column-major (Eigen's Matrix3); g: the columns of Δt ∇u in lanes 0..2. The
+// register width is a parameter so that tests check both forms on any machine.
+template <class T, int register_bytes>
+inline void update_deformation_3d(T* F, const Lanes<T, 3, register_bytes> g[3]) {
+  using L = Lanes<T, 3, register_bytes>;
   if constexpr (L::parts != 1 || L::per_part != 4) {
     // Registers narrower than four lanes (an SSE-only build: the fuzzers', double in two
     // parts): the scalar loop.
@@ -33,12 +34,7 @@ inline void update_deformation_3d(T* F, const Lanes<T, 3> g[3]) {
     std::memcpy(&c0, F, sizeof(V));
     std::memcpy(&c1, F + 3, sizeof(V));
     std::memcpy(&c2, F + 5, sizeof(V));
-#if defined(__clang__)
-    c2 = __builtin_shufflevector(c2, c2, 1, 2, 3, 3);
-#else
-    using Mask = typename SimdVector<T, 4>::index;
-    c2 = __builtin_shuffle(c2, Mask{1, 2, 3, 3});
-#endif
+    c2 = shuffle_lanes<1, 2, 3, 3>(c2);
     T f[9];
     std::memcpy(f, F, sizeof f);
     const V g0 = g[0].part[0], g1 = g[1].part[0], g2 = g[2].part[0];
@@ -47,11 +43,7 @@ inline void update_deformation_3d(T* F, const Lanes<T, 3> g[3]) {
     const V out2 = ((c2 + g0 * f[6]) + g1 * f[7]) + g2 * f[8];
     // Stores in order, each over the last one's unused lane: F_0 (+ junk in F(0,1)), F_1 (+ junk
     // in F(0,2)), then (F(2,1), F_2) at F + 5.
-#if defined(__clang__)
-    const V tail = __builtin_shufflevector(out1, out2, 2, 4, 5, 6);
-#else
-    const V tail = __builtin_shuffle(out1, out2, Mask{2, 4, 5, 6});
-#endif
+    const V tail = shuffle_lanes<2, 4, 5, 6>(out1, out2);
     std::memcpy(F, &out0, sizeof(V));
     std::memcpy(F + 3, &out1, sizeof(V));
     std::memcpy(F + 5, &tail, sizeof(V));

@@ -47,6 +47,30 @@ TEST(Lanes, EveryLayoutKeepsLaneOrder) {
     check();
 }
 
+// shuffle_lanes: indices below P take a's lanes, from P on b's, in both compilers' builtins.
+TEST(Lanes, ShufflePicksFromBothRegisters) {
+  using F4 = SimdVector<float, 4>::type;
+  using D4 = SimdVector<double, 4>::type;
+  const F4 fa{1, 2, 3, 4}, fb{5, 6, 7, 8};
+  const F4 f = shuffle_lanes<2, 4, 5, 6>(fa, fb);
+  const D4 da{1, 2, 3, 4}, db{5, 6, 7, 8};
+  const D4 d = shuffle_lanes<1, 2, 4, 7>(da, db);
+  const D4 one = shuffle_lanes<3, 1, 2, 2>(da);  // from one register
+  const float f_want[4] = {3, 5, 6, 7};
+  const double d_want[4] = {2, 3, 5, 8}, one_want[4] = {4, 2, 3, 3};
+  for (int i = 0; i < 4; ++i) {
+    EXPECT_EQ(f[i], f_want[i]) << "lane " << i;
+    EXPECT_EQ(d[i], d_want[i]) << "lane " << i;
+    EXPECT_EQ(one[i], one_want[i]) << "lane " << i;
+  }
+  // front3 of a one-register, four-lane group (the layouts above have eight or several parts).
+  const Lanes<float, 4, 16> g = Lanes<float, 4, 16>::of(10, 20, 30, 40);
+  const Lanes<float, 4, 16> front = g.front3<3, 0, 2>();
+  EXPECT_EQ(front[0], 40.f);
+  EXPECT_EQ(front[1], 10.f);
+  EXPECT_EQ(front[2], 30.f);
+}
+
 // The parts fit the build's registers: double on an AVX2 build is two 4-lane parts, not one
 // 8-lane vector that the compiler would split through the stack.
 TEST(Lanes, PartsFitTheTargetRegisters) {
