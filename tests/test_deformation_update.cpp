@@ -50,8 +50,8 @@ void check_update() {
         // The lane form's sums, contracted to FMAs, give the fused chain's bits; the scalar loop
         // (four lanes not in one register) is contracted as the compiler chooses, so within
         // round-off.
-        constexpr bool lane_form = Lanes<T, 3, bytes>::parts == 1;
 #if defined(__FMA__)
+        constexpr bool lane_form = Lanes<T, 3, bytes>::parts == 1;
         if (lane_form)
           EXPECT_EQ(got, fused) << "F(" << a << ", " << b << ")";
         else
