@@ -34,7 +34,7 @@ inline void update_deformation_3d(T* F, const Lanes<T, 3, register_bytes> g[3]) 
     std::memcpy(&c0, F, sizeof(V));
     std::memcpy(&c1, F + 3, sizeof(V));
     std::memcpy(&c2, F + 5, sizeof(V));
-    c2 = shuffle_lanes<1, 2, 3, 3>(c2);
+    c2 = shuffle_lanes<1, 2, 3, 3>(c2, c2);
     T f[9];
     std::memcpy(f, F, sizeof f);
     const V g0 = g[0].part[0], g1 = g[1].part[0], g2 = g[2].part[0];

@@ -40,8 +40,9 @@ APICLAB_SIMD_VECTOR(double, std::int64_t, 4)
 APICLAB_SIMD_VECTOR(double, std::int64_t, 8)
 #undef APICLAB_SIMD_VECTOR
 
-// Lanes picked from two registers of P lanes by index (0..P−1 from a, P..2P−1 from b), one
-// index per result lane, or from one register: the one spelling of GCC's and Clang's builtins.
+// Lanes picked from two registers of P lanes by index (0..P−1 from a, P..2P−1 from b; a and b
+// the same register to pick from one), one index per result lane: the one spelling of GCC's and
+// Clang's builtins.
 template <int... idx, class V>
 inline V shuffle_lanes(V a, V b) {
 #if defined(__clang__)
@@ -49,15 +50,6 @@ inline V shuffle_lanes(V a, V b) {
 #else
   using Index = decltype(a < b);  // the signed integer vector of V's shape
   return __builtin_shuffle(a, b, Index{idx...});
-#endif
-}
-template <int... idx, class V>
-inline V shuffle_lanes(V a) {
-#if defined(__clang__)
-  return __builtin_shufflevector(a, a, idx...);
-#else
-  using Index = decltype(a < a);
-  return __builtin_shuffle(a, Index{idx...});
 #endif
 }
 

@@ -55,7 +55,7 @@ TEST(Lanes, ShufflePicksFromBothRegisters) {
   const F4 f = shuffle_lanes<2, 4, 5, 6>(fa, fb);
   const D4 da{1, 2, 3, 4}, db{5, 6, 7, 8};
   const D4 d = shuffle_lanes<1, 2, 4, 7>(da, db);
-  const D4 one = shuffle_lanes<3, 1, 2, 2>(da);  // from one register
+  const D4 one = shuffle_lanes<3, 1, 2, 2>(da, da);  // from one register
   const float f_want[4] = {3, 5, 6, 7};
   const double d_want[4] = {2, 3, 5, 8}, one_want[4] = {4, 2, 3, 3};
   for (int i = 0; i < 4; ++i) {
