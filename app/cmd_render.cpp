@@ -153,9 +153,11 @@ int compare(const RenderOptions& o) {
     SceneDesc scene = session.scene;
     scene.solver.method = spec.method;
     scene.solver.scheme = spec.scheme;
-    Pane p{spec.key, spec.method == "mpm" ? run_label(scene) : spec.key,
-           make_simulation(scene, precision_of(o.run)),
-           open_csv(o.out + "/" + spec.key + ".csv", scene, o)};
+    Pane p;
+    p.key = spec.key;
+    p.label = spec.method == "mpm" ? run_label(scene) : spec.key;
+    p.sim = make_simulation(scene, precision_of(o.run));
+    p.csv = open_csv(o.out + "/" + spec.key + ".csv", scene, o);
     DiagnosticsRow first = p.sim->measure();
     first.dt = 0;
     write_diagnostics_row(p.csv, first);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "render/snapshot_stats.hpp"
 
@@ -83,11 +84,11 @@ SceneStyle resolve_scene_style(const FigureStyle& style, const std::vector<const
 }
 
 float nice_ceil(float v) {
-  if (!(v > 0)) return 0;
+  if (!(v > 0) || !std::isfinite(v)) return 0;
   const float e = std::pow(10.0f, std::floor(std::log10(v)));
   for (float m : {1.0f, 1.2f, 1.5f, 2.0f, 2.5f, 3.0f, 4.0f, 5.0f, 6.0f, 8.0f, 10.0f})
-    if (m * e >= v * 0.9999f) return m * e;
-  return 10 * e;
+    if (m * e >= v * 0.9999f) return std::min(m * e, std::numeric_limits<float>::max());
+  return std::numeric_limits<float>::max();
 }
 
 float nice_floor(float v) {

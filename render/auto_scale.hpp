@@ -43,7 +43,7 @@ SceneStyle resolve_scene_style(const FigureStyle& style, const std::vector<const
                                Rect scene_rect, const ScaleState& state);
 
 // The smallest of 1, 1.2, 1.5, 2, 2.5, 3, 4, 5, 6, 8 (x 10^k) not below v: scales end on
-// round numbers (0 for v <= 0).
+// round numbers (0 for v <= 0 and for inf or NaN; FLT_MAX where the round number overflows).
 float nice_ceil(float v);
 // The largest of 1, 2, 5 (x 10^k) not above v (0 for v <= 0).
 float nice_floor(float v);

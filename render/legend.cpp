@@ -42,16 +42,26 @@ float draw_color_bar(Renderer& r, float x, float y, float f, float height, float
   r.line({x, y + bar_h}, {x + bar_w, y + bar_h}, 1, kFrame);
   r.line({x, y}, {x, y + bar_h}, 1, kFrame);
   r.line({x + bar_w, y}, {x + bar_w, y + bar_h}, 1, kFrame);
-  const float step = nice_floor(top / 3.5f);
-  for (float v = 0; step > 0 && v <= top * 1.0001f; v += step) {
+  for (const float v : color_bar_ticks(top)) {
     const float ty = std::round(y + bar_h * (1 - v / top)) + 0.5f;
     r.line({x + bar_w, ty}, {x + bar_w + 0.3f * f, ty}, 1, kFrame);
-    r.text(format_g(std::round(v / step) * step), x + bar_w + 0.45f * f, ty + 0.35f * f, f, kText);
+    r.text(format_g(v), x + bar_w + 0.45f * f, ty + 0.35f * f, f, kText);
   }
   return y + bar_h;
 }
 
 }  // namespace
+
+std::vector<float> color_bar_ticks(float top) {
+  std::vector<float> ticks;
+  const float step = std::isfinite(top) ? nice_floor(top / 3.5f) : 0;
+  if (!(step > 0)) return ticks;
+  // Counted, not summed: a float sum of steps stalls or overflows near FLT_MAX (the GUI soak
+  // hung here on a top of inf). top / step is below 8 for every step nice_floor gives.
+  const int last = int(std::min(top / step * 1.0001f, 8.0f));
+  for (int k = 0; k <= last; ++k) ticks.push_back(float(k) * step);
+  return ticks;
+}
 
 std::string legend_title(ColorMode m) {
   switch (m) {

@@ -3,6 +3,7 @@
 // reference arrow of a round speed at the panes' arrow scale.
 #pragma once
 #include <string>
+#include <vector>
 
 #include "render/renderer.hpp"
 
@@ -10,6 +11,10 @@ namespace apiclab::render {
 
 // "speed |v| [m/s]", "noise |v − v_PIC| [m/s]", "material", "object".
 std::string legend_title(ColorMode mode);
+
+// The colour bar's tick values: 0 and round steps up to `top`; none unless `top` is finite and
+// positive.
+std::vector<float> color_bar_ticks(float top);
 
 // The legend's width in pixels for text of `font` pixels and padding `pad`.
 float legend_width(Renderer& r, float font, float pad, ColorMode color, bool vectors,

@@ -263,11 +263,20 @@ void Renderer::add_collider(const ColliderDesc& c, const Box3& box, int dim, flo
     // The wall, and hatches on its solid side like an engineering drawing.
     const Vec3 a = poly[0], b = poly[1], t = normalize(b - a);
     scene_lines_.push_back({a, b, kCollider, 1.6f * line_px, 0, 0});
-    const float px = 1 / std::max(pixels_per_unit, 1e-12f);
-    const float spacing = 7 * px * std::max(line_px, 1.0f), depth = 5 * px * line_px;
+    const float px = 1 / std::max(pixels_per_unit, 1e-12f), wall = length(b - a);
+    // 7 pixels apart, but at most kMaxHatches along the wall: zoomed in far, a wall is millions
+    // of pixels long and a float sum of 7-pixel steps stops moving before its end.
+    constexpr int kMaxHatches = 4096;
+    const float spacing = std::max(7 * px * std::max(line_px, 1.0f), wall / kMaxHatches);
+    const float depth = 5 * px * line_px;
     const Vec3 slant = normalize(t - n) * (depth * 1.4142f);
-    for (float u = 0.5f * spacing; u < length(b - a); u += spacing)
+    const int hatches =
+        spacing > 0 ? int(std::ceil(std::clamp(wall / spacing - 0.5f, 0.0f, float(kMaxHatches))))
+                    : 0;  // every u = (k + 1/2) spacing below the wall's length
+    for (int k = 0; k < hatches; ++k) {
+      const float u = (float(k) + 0.5f) * spacing;
       scene_lines_.push_back({a + t * u, a + t * u + slant, kCollider, 0.8f * line_px, 0, 0});
+    }
     return;
   }
   // 3D: the plane's polygon inside the domain, translucent, with its outline.

@@ -13,7 +13,8 @@ float sampled_quantile(std::size_t n, Value value, float q) {
   const std::size_t stride = std::max<std::size_t>(1, n / kQuantileSamples);
   std::vector<float> samples;
   samples.reserve(n / stride + 1);
-  for (std::size_t i = 0; i < n; i += stride) samples.push_back(value(i));
+  for (std::size_t i = 0; i < n; i += stride)  // inf and NaN (a blow-up) would set no scale
+    if (const float v = value(i); std::isfinite(v)) samples.push_back(v);
   return quantile_of(samples, q);
 }
 

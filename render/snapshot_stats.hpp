@@ -27,7 +27,8 @@ inline float particle_speed(const Snapshot& s, std::size_t i) {
 float quantile_of(std::vector<float>& values, float q);
 
 // The q-quantile of |v_p| and of the noise field over at most kQuantileSamples particles
-// (every n/kQuantileSamples-th one: steady from frame to frame). Noise: 0 when absent.
+// (every n/kQuantileSamples-th one: steady from frame to frame), of the finite values only.
+// Noise: 0 when absent.
 inline constexpr std::size_t kQuantileSamples = 50000;
 float speed_quantile(const Snapshot& s, float q);
 float noise_quantile(const Snapshot& s, float q);

@@ -4,6 +4,9 @@
 #include <gtest/gtest.h>
 #include <imgui.h>
 
+#include <cmath>
+#include <limits>
+
 #include "app/gui/plot.hpp"
 
 namespace {
@@ -102,6 +105,86 @@ TEST(PlotTicks, AtLeastTwoTicksAndShortLabels) {
   for (double v : t) EXPECT_LE(tick_label(v, t[1] - t[0]).size(), 4u) << tick_label(v, t[1] - t[0]);
   EXPECT_EQ(tick_label(0.25, 0.25), "0.25");
   EXPECT_EQ(tick_label(2, 1), "2");
+}
+
+// The GUI soak hung the window on a colour bar whose top was inf (render/legend.cpp): a float
+// sum of tick steps that never passes the end. Axis ticks had the same loop: a range a few ulp
+// wide (1e16 … 1e16 + 4, step 1 below the ulp of 2) never advanced, an infinite range recursed
+// without end. Now every range gives a bounded, finite list.
+TEST(PlotTicks, AnyRangeGivesFewFiniteTicks) {
+  using apiclab::gui::log_ticks;
+  using apiclab::gui::nice_ticks;
+  const double inf = std::numeric_limits<double>::infinity(), nan = std::nan("");
+  const double big = std::numeric_limits<double>::max(), tiny = 5e-324;
+  for (auto [lo, hi] : {std::pair{1e16, 1e16 + 4},
+                        {-big, big},
+                        {-inf, inf},
+                        {0.0, inf},
+                        {nan, 1.0},
+                        {1.0, nan},
+                        {1.0, 1.0},
+                        {2.0, 1.0},
+                        {tiny, 3 * tiny},
+                        {1e300, 1e300 * (1 + 1e-15)}})
+    for (int target : {1, 4, 1000}) {
+      const std::vector<double> t = nice_ticks(lo, hi, target);
+      EXPECT_LE(t.size(), 64u) << lo << " … " << hi;
+      for (double v : t) EXPECT_TRUE(std::isfinite(v) && v >= lo - 1e-9 * std::abs(lo)) << v;
+    }
+  EXPECT_EQ(nice_ticks(1e16, 1e16 + 4, 4).front(), 1e16);
+  EXPECT_GE(nice_ticks(1e16, 1e16 + 4, 4).size(), 2u);
+  for (auto [lo, hi] : {std::pair{0.0, 1.0}, {tiny, 1.0}, {1e-300, inf}, {nan, 1.0}, {-1.0, 1.0}})
+    EXPECT_LE(log_ticks(lo, hi).size(), 700u) << lo << " … " << hi;
+  EXPECT_TRUE(log_ticks(0.0, 1.0).empty());
+}
+
+// Whole plots of values at double's ends (a run that blew up: energies of 1e308 of both signs,
+// a drift of a denormal on a log axis, inf and NaN among them) draw in bounded time with every
+// vertex finite.
+TEST(PlotTicks, ExtremeSeriesDrawFiniteVertices) {
+  ImGui::CreateContext();
+  ImGuiIO& io = ImGui::GetIO();
+  io.IniFilename = nullptr;
+  unsigned char* pixels = nullptr;
+  int w = 0, h = 0;
+  io.Fonts->GetTexDataAsRGBA32(&pixels, &w, &h);
+  io.DisplaySize = ImVec2(800, 600);
+  io.DeltaTime = 1 / 60.0f;
+  const double big = std::numeric_limits<double>::max();
+  const std::vector<std::vector<double>> ys = {
+      {-big, big, 1, std::numeric_limits<double>::infinity(), std::nan("")},
+      {5e-324, 1e-320, 1e-310},
+      {1e16, 1e16 + 2, 1e16 + 4}};
+  const std::vector<double> x = {0, 1, 2, 3, 4};
+  for (const std::vector<double>& y : ys)
+    for (bool log_y : {false, true}) {
+      PlotSeries s;
+      s.label = "extreme";
+      s.color = IM_COL32(200, 0, 0, 255);
+      s.count = y.size();
+      s.x = [&x](std::size_t i) { return x[i]; };
+      s.y = [&y](std::size_t i) { return y[i]; };
+      PlotOptions o;
+      o.log_y = log_y;
+      o.minor_log_grid = true;
+      ImGui::NewFrame();
+      ImGui::SetNextWindowPos(ImVec2(0, 0));
+      ImGui::SetNextWindowSize(ImVec2(420, 260));
+      ImGui::Begin("extreme");
+      apiclab::gui::plot("p", ImVec2(400, 240), o, {s});
+      const ImDrawList* dl = ImGui::GetWindowDrawList();
+      int not_finite = 0;
+      for (int i = 0; i < dl->VtxBuffer.Size; ++i) {
+        not_finite +=
+            !std::isfinite(dl->VtxBuffer[i].pos.x) || !std::isfinite(dl->VtxBuffer[i].pos.y);
+      }
+      const int vertices = dl->VtxBuffer.Size;
+      ImGui::End();
+      ImGui::EndFrame();
+      EXPECT_LT(vertices, 100000) << "log_y " << log_y << ", first " << y[0];
+      EXPECT_EQ(not_finite, 0) << "of " << vertices << ", log_y " << log_y << ", first " << y[0];
+    }
+  ImGui::DestroyContext();
 }
 
 // Scatter picking (pick_points, the sweep viewer's charts): the marker under the mouse is

@@ -8,12 +8,14 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <limits>
 #include <memory>
 #include <string>
 
 #include "render/auto_scale.hpp"
 #include "render/context.hpp"
 #include "render/figure.hpp"
+#include "render/legend.hpp"
 #include "render/palette.hpp"
 #include "render/scene_geometry.hpp"
 #include "render/target.hpp"
@@ -368,6 +370,50 @@ TEST(AutoScale, GrowsOrHoldsTheFirstFrame) {
   EXPECT_EQ(shared.speed, initial);
 }
 
+// The GUI soak hung the window (every pane blown up at once, so the scales came from them):
+// speeds of inf made the speed scale inf, and the colour bar's float sum of tick steps never
+// passed it. Non-finite speeds now set no scale, a scale never overflows to inf, and the colour
+// bar's ticks are few and finite for any top.
+TEST(AutoScale, NonFiniteSpeedsSetNoScaleAndTicksStayBounded) {
+  const float inf = std::numeric_limits<float>::infinity(), big = std::numeric_limits<float>::max();
+  Snapshot blown = synthetic::scene_2d();
+  for (float& v : blown.velocities) v = inf;
+  ScaleState s;
+  update_scales(s, {&blown});
+  EXPECT_EQ(s.speed, 0) << "inf speeds set a scale";
+  EXPECT_EQ(color_top(s, ColorMode::speed), 1.0f);
+  Snapshot half = synthetic::scene_2d();
+  ScaleState finite_only, reference;
+  update_scales(reference, {&half});
+  for (std::size_t i = 0; i < half.velocities.size(); i += 4) half.velocities[i] = std::nan("");
+  update_scales(finite_only, {&half});
+  EXPECT_GT(finite_only.speed, 0);
+  EXPECT_LE(finite_only.speed, reference.speed) << "NaN entered the quantile";
+  Snapshot huge = synthetic::scene_2d();
+  for (float& v : huge.velocities) v = 3e38f;  // |v| overflows float: inf, left out
+  ScaleState h;
+  update_scales(h, {&huge});
+  EXPECT_EQ(h.speed, 0);
+  EXPECT_EQ(nice_ceil(3.3e38f), big) << "a round number above FLT_MAX is inf";
+  EXPECT_EQ(nice_ceil(inf), 0);
+  for (float top : {1.0f, 0.3f, 2.5f, 7.0f, 1e9f, 3e38f, big, inf, -inf, std::nanf(""), 0.0f, -1.0f,
+                    1e-45f, 1e-38f}) {
+    const std::vector<float> t = color_bar_ticks(top);
+    EXPECT_LE(t.size(), 9u) << top;
+    for (std::size_t k = 0; k < t.size(); ++k) {
+      EXPECT_TRUE(std::isfinite(t[k]) && t[k] <= top * 1.0001f) << top << ": " << t[k];
+      if (k > 0) {
+        EXPECT_FLOAT_EQ(t[k] - t[k - 1], t[1] - t[0]) << top;
+      }
+    }
+    if (std::isfinite(top) && top >= 1e-38f) {
+      EXPECT_GE(t.size(), 2u) << top;
+    }
+  }
+  EXPECT_EQ(color_bar_ticks(1.0f), (std::vector<float>{0, 0.2f, 0.4f, 0.6f, 0.8f, 1.0f}));
+  EXPECT_TRUE(color_bar_ticks(inf).empty());
+}
+
 // Issue 11 (`compare --color noise` went 1, 8e-16, 1.2e-15, 0.4 over a run): a real run's
 // scales, as render and compare hold them across frames, never shrink, are shared by the panes,
 // and APIC's velocity noise on a rigid rotation (round-off: APIC transfers rigid motion exactly)
@@ -382,8 +428,9 @@ TEST(AutoScale, RealRunScalesNeverShrinkAndRoundOffNoiseStaysOnTheFloor) {
   ScaleState shared, apic_only;
   float speed = 0, noise = 0;
   for (int f = 0; f <= 6; ++f) {
-    if (f > 0)
+    if (f > 0) {
       for (auto* sim : {apic.get(), noisy.get()}) ASSERT_FALSE(sim->advance_to(f / 24.0));
+    }
     auto a = apic->snapshot(), b = noisy->snapshot();
     apic->transfers()->fill_velocity_noise(*a);
     noisy->transfers()->fill_velocity_noise(*b);

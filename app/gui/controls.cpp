@@ -4,6 +4,7 @@
 // validation an edit passes before it reaches the solver.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 
@@ -189,9 +190,9 @@ void playback_section(ViewerState& st, const Published& pub, SimWorker& worker) 
     st.realtime = false, worker.set_realtime(false);
   const double t = pub.panes.empty() ? 0 : pub.panes[0].snapshot->time;
   const double end = pub.scene ? pub.scene->time.end : 0;
-  ImGui::ProgressBar(
-      end > 0 ? float(t / end) : 0, ImVec2(-1, 0),
-      (std::to_string(t).substr(0, 7) + " / " + std::to_string(end).substr(0, 7) + " s").c_str());
+  char progress[64];  // %g: a time of 1e+30 (a fixed step that large) reads as such, not "1000000"
+  std::snprintf(progress, sizeof progress, "%.6g / %.6g s", t, end);
+  ImGui::ProgressBar(end > 0 ? float(std::min(t / end, 1.0)) : 0, ImVec2(-1, 0), progress);
   ImGui::Text("%s sim s / wall s", human(pub.sim_seconds_per_wall_second, "").c_str());
   ImGui::Text("%s particle-steps/s", human(pub.particle_steps_per_second, "").c_str());
   // Wrapped: a slow frame's long numbers must not run past a narrow panel.

@@ -32,12 +32,15 @@ std::string fit_text(const std::string& text, float width) {
 // A readable range around the data: padded, never empty (a constant series sits mid-plot).
 Range pad(Range r, bool log) {
   if (!r.valid()) return log ? Range{1e-16, 1} : Range{0, 1};
-  if (log) {
+  if (log) {  // decades inside double's normal range: a denormal's padding would reach 0
     double lo = std::log10(r.lo), hi = std::log10(r.hi);
     if (hi - lo < 1) lo = (lo + hi) / 2 - 0.5, hi = lo + 1;
-    return {std::pow(10.0, lo - 0.05 * (hi - lo)), std::pow(10.0, hi + 0.05 * (hi - lo))};
+    const double margin = 0.05 * (hi - lo);
+    return {std::pow(10.0, std::max(lo - margin, -300.0)),
+            std::pow(10.0, std::min(hi + margin, 300.0))};
   }
   if (r.lo == 0 && r.hi == 0) return {-1, 1};  // all zero (round-off momenta): a plain 0 line
+  r.lo = std::clamp(r.lo, -1e300, 1e300), r.hi = std::clamp(r.hi, -1e300, 1e300);  // finite span
   double span = r.hi - r.lo;
   if (span <= 1e-12 * std::max(std::abs(r.lo), std::abs(r.hi)) || span == 0) {
     const double half = std::max(std::abs(r.lo) * 1e-3, 1e-12);
@@ -50,7 +53,7 @@ Range pad(Range r, bool log) {
 
 std::vector<double> nice_ticks(double lo, double hi, int target) {
   std::vector<double> out;
-  if (!(hi > lo) || target < 1) return out;
+  if (!(hi > lo) || !std::isfinite(hi - lo) || target < 1 || target > 64) return out;
   const double raw = (hi - lo) / target, mag = std::pow(10.0, std::floor(std::log10(raw)));
   double step = mag;
   for (double m : {1.0, 2.0, 2.5, 5.0, 10.0})
@@ -58,8 +61,15 @@ std::vector<double> nice_ticks(double lo, double hi, int target) {
       step = m * mag;
       break;
     }
-  for (double v = std::ceil(lo / step) * step; v <= hi + step * 1e-9; v += step)
+  // Counted from the first multiple of the step, not summed: where the step is below the
+  // values' spacing (hi and lo a few ulp apart) a sum never moves (found by the GUI soak's
+  // sibling hang in the colour bar). At most target + 1 ticks.
+  const double first = std::ceil(lo / step);
+  const int count = int(std::min(std::floor((hi + step * 1e-9) / step) - first + 1, 64.0));
+  for (int k = 0; k < count; ++k) {
+    const double v = (first + k) * step;
     out.push_back(std::abs(v) < step * 1e-9 ? 0.0 : v);
+  }
   // A lone tick (0.04 … 1.25 with step 1) neither shows the scale nor the step its label needs.
   if (out.size() < 2) return nice_ticks(lo, hi, 2 * target + 1);
   return out;
@@ -67,6 +77,7 @@ std::vector<double> nice_ticks(double lo, double hi, int target) {
 
 std::vector<double> log_ticks(double lo, double hi) {
   std::vector<double> out;
+  if (!(lo > 0) || !(hi >= lo) || !std::isfinite(hi)) return out;
   const int a = int(std::ceil(std::log10(lo) - 1e-9)), b = int(std::floor(std::log10(hi) + 1e-9));
   const int every = std::max(1, (b - a + 1) / 6);  // at most ~6 labelled decades
   for (int e = a; e <= b; ++e)
@@ -213,8 +224,14 @@ PlotPick plot(const char* id, ImVec2 size, const PlotOptions& o,
     ImGui::PopID();
     return pick;
   }
-  auto sx = [&](double x) { return float(a.x + (fx(x) - xlo) / (xhi - xlo) * (b.x - a.x)); };
-  auto sy = [&](double y) { return float(b.y - (fy(y) - ylo) / (yhi - ylo) * (b.y - a.y)); };
+  // Pixels, held within a screen's reach of the box: a value far outside the range (1e308 on
+  // an axis the range clamps to 1e300) would overflow to inf, and ImGui's lines to NaN.
+  auto sx = [&](double x) {
+    return float(std::clamp(a.x + (fx(x) - xlo) / (xhi - xlo) * (b.x - a.x), a.x - 1e6, b.x + 1e6));
+  };
+  auto sy = [&](double y) {
+    return float(std::clamp(b.y - (fy(y) - ylo) / (yhi - ylo) * (b.y - a.y), a.y - 1e6, b.y + 1e6));
+  };
 
   dl->AddRectFilled(a, b, IM_COL32(255, 255, 255, 255));
   // Text never runs into the next plot: cut to the room it has, with "...".
@@ -223,10 +240,10 @@ PlotPick plot(const char* id, ImVec2 size, const PlotOptions& o,
   dl->AddText(ImVec2(o.interactive ? p0.x + 4 : (a.x + b.x - title_w) / 2, p0.y + 2), kText,
               title.c_str());
   // Minor grid lines of log axes: 2..9 times each decade.
-  auto minor = [&](double lo, double hi, auto&& draw) {
-    for (double d = std::pow(10.0, std::floor(std::log10(lo))); d <= hi; d *= 10)
+  auto minor = [&](double lo, double hi, auto&& draw) {  // lo > 0 (pad's log range)
+    for (int e = int(std::floor(std::log10(lo))); e <= int(std::ceil(std::log10(hi))); ++e)
       for (int m = 2; m <= 9; ++m)
-        if (m * d >= lo && m * d <= hi) draw(m * d);
+        if (const double v = m * std::pow(10.0, e); v >= lo && v <= hi) draw(v);
   };
   constexpr ImU32 kMinor = IM_COL32(240, 240, 240, 255);
   if (o.log_y && o.minor_log_grid)

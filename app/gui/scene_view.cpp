@@ -22,7 +22,6 @@ render::Rect scene_rect(render::Rect pane) {
 bool inside(render::Rect r, ImVec2 p) {
   return p.x >= r.x && p.y >= r.y && p.x < r.x + r.w && p.y < r.y + r.h;
 }
-ImU32 to_u32(render::Rgba8 c) { return IM_COL32(c.r, c.g, c.b, c.a); }
 
 // The scales follow the panes' snapshots (render/auto_scale.hpp, the PNGs' rules); they are
 // updated once per new snapshot, not once per displayed frame.
@@ -204,18 +203,23 @@ std::vector<render::Rect> draw_scene_panes(render::Renderer& r, ViewerState& st,
     dl->AddRectFilled(ImVec2(t0.x + 10, t0.y + 8), ImVec2(t0.x + 20, t0.y + 18), pane_color(k), 2);
     // Right-aligned details, dropping the least important when the pane is narrow.
     const float room = sr.w - 48 - ImGui::CalcTextSize(pane_label(p).c_str()).x;
-    char buf[160];
+    char buf[160], brief[80];
     std::snprintf(buf, sizeof buf, "t = %.4g s   step %ld", s.time, s.step);
+    std::snprintf(brief, sizeof brief, "t = %.4g s", s.time);
     std::string info = s.kernel + " / " + s.integrator + "   " + buf;
     ImU32 info_color = IM_COL32(100, 100, 100, 255);
     if (p.failure) {  // frozen: said once, in the title strip, never over the domain
       std::snprintf(buf, sizeof buf, "blew up at step %ld, t = %.4g s", p.failure->step,
                     p.failure->t);
+      std::snprintf(brief, sizeof brief, "blew up at step %ld", p.failure->step);
       info = std::string(buf) + ": " + p.failure->quantity;
       info_color = IM_COL32(200, 30, 30, 255);
     }
-    if (ImGui::CalcTextSize(info.c_str()).x > room) info = buf;
-    const float info_x = t1.x - 10 - ImGui::CalcTextSize(info.c_str()).x;
+    // The longest form that fits beside the label (four narrow panes: the shortest); the label
+    // gives way before the chip is covered.
+    for (const char* shorter : {buf, brief})
+      if (ImGui::CalcTextSize(info.c_str()).x > room) info = shorter;
+    const float info_x = std::max(t0.x + 28, t1.x - 10 - ImGui::CalcTextSize(info.c_str()).x);
     dl->AddText(ImVec2(info_x, t0.y + 5), info_color, info.c_str());
     // A long label (a sweep run's differences) is cut where the details begin.
     dl->PushClipRect(t0, ImVec2(std::max(t0.x + 28, info_x - 12), t1.y), true);

@@ -100,8 +100,11 @@ void load_scene_file(ViewerState& st, SimWorker& worker, const std::string& path
     st.scene_loaded = true;
     st.load_error.clear();
     st.notice.clear();
-    if (st.panes.empty())
-      st.panes.push_back({st.scene.solver.scheme, st.scene.solver.flip_alpha, {}, {}});
+    if (st.panes.empty()) {
+      PaneConfig pane;
+      pane.scheme = st.scene.solver.scheme, pane.flip_alpha = st.scene.solver.flip_alpha;
+      st.panes.push_back(pane);
+    }
     for (auto& p : st.panes)  // --schemes panes take the scene's (or --flip-alpha's) blend
       if (p.flip_alpha < 0) p.flip_alpha = st.scene.solver.flip_alpha;
     restart(st, worker);
@@ -189,7 +192,9 @@ int run_viewer(const ViewerOptions& opt) {
     st.max_memory_gb = opt.max_memory_gb;
     for (auto& key : opt.schemes) {  // checked by the command line (app/cmd_gui.cpp)
       const PaneSpec spec = parse_panes(key).front();
-      st.panes.push_back({spec.scheme, -1.0, {}, {}, spec.method});
+      PaneConfig pane;
+      pane.scheme = spec.scheme, pane.flip_alpha = -1.0, pane.method = spec.method;
+      st.panes.push_back(pane);
     }
     std::error_code ec;
     for (auto& e : std::filesystem::directory_iterator(scenes_directory(), ec))
