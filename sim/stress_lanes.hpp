@@ -6,6 +6,7 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "lanes.hpp"
@@ -97,7 +98,7 @@ struct StressLanes {
         }
         V ratio = c_norm2 / (d * d * x_norm2);
         ratio = scaled ? ratio : splat(T(1));
-        V root;
+        V root = ratio;  // (initialised: GCC cannot see the loop write every lane)
         for (int l = 0; l < count; ++l) root[l] = std::sqrt(std::sqrt(ratio[l]));
         gamma = scaled ? root : gamma;
       }
@@ -146,13 +147,14 @@ struct StressLanes {
   // The same in 2D, where R is closed-form (rotation_2d): c, s = (F00 + F11, F10 − F01) / n.
   static void fixed_corotated_2d(const Mat<T, 2>* F, const T* mu, const T* lambda, const T* volume,
                                  Mat<T, 2>* stress_out, T* psi_out) {
-    V f[4], vmu, vlambda, vvolume;
-    for (int l = 0; l < count; ++l) {
-      for (int k = 0; k < 4; ++k) f[k][l] = F[l].data()[k];
-      vmu[l] = mu[l];
-      vlambda[l] = lambda[l];
-      vvolume[l] = volume[l];
-    }
+    static_assert(sizeof(Mat<T, 2>) == 4 * sizeof(T));  // the F of `count` particles: 4 registers
+    // Register by register, spelled out: as a loop of copies GCC (x86-64-v3's generic tuning)
+    // staged F on the stack in 16-byte halves and stalled reloading it whole (2D double −9 %).
+    const T* f_in = F[0].data();
+    V f[4] = {load(f_in), load(f_in + count), load(f_in + 2 * count), load(f_in + 3 * count)};
+    V vmu = load(mu), vlambda = load(lambda), vvolume = load(volume);
+    transpose_per_128_bits<true>(f);  // one register per entry, particles in lane order
+    vmu = to_lane_order(vmu), vlambda = to_lane_order(vlambda), vvolume = to_lane_order(vvolume);
     const V a = f[0] + f[3], b = f[1] - f[2], n2 = a * a + b * b;
     V inverse_n;
     for (int l = 0; l < count; ++l) inverse_n[l] = T(1) / std::sqrt(n2[l]);  // vectorised
@@ -171,10 +173,65 @@ struct StressLanes {
     V out[4];
     for (int i = 0; i < 2; ++i)
       for (int j = 0; j < 2; ++j) out[i + 2 * j] = -vvolume * (p[i] * f[j] + p[i + 2] * f[j + 2]);
-    for (int l = 0; l < count; ++l) {
-      for (int k = 0; k < 4; ++k) stress_out[l].data()[k] = out[k][l];
-      psi_out[l] = psi[l];
+    transpose_per_128_bits<false>(out);  // back to one matrix after another
+    T* s_out = stress_out[0].data();
+    store(s_out, out[0]), store(s_out + count, out[1]);
+    store(s_out + 2 * count, out[2]), store(s_out + 3 * count, out[3]);
+    store(psi_out, from_lane_order(psi));
+  }
+
+ private:
+  static V load(const T* p) {
+    V v;
+    std::memcpy(&v, p, sizeof v);
+    return v;
+  }
+  static void store(T* p, V v) { std::memcpy(p, &v, sizeof v); }
+  // Four registers holding `count` particles' 2×2 matrices one after another become one register
+  // per entry, and back: a 4×4 transpose within each 128-bit half, whose shuffles (unpack,
+  // move-half) are single instructions on SSE, AVX2 and AVX-512 alike; lane by lane the 2D
+  // stress pass spent a third of its time inserting and extracting, and general cross-half
+  // permutes cost three instructions each on AVX2. With 8 lanes a half holds entry k of every
+  // other particle, so the lanes carry particles in lane_order = 0, 2, 4, 6, 1, 3, 5, 7.
+  // (4 and 8 lanes: a transpose, its own inverse; 2 lanes: `to_entries` says which way.)
+  template <bool to_entries>
+  static void transpose_per_128_bits(V (&r)[4]) {
+    if constexpr (count == 8) {
+      const V t0 = shuffle_lanes<0, 8, 1, 9, 4, 12, 5, 13>(r[0], r[1]);  // unpack low
+      const V t1 = shuffle_lanes<2, 10, 3, 11, 6, 14, 7, 15>(r[0], r[1]);
+      const V t2 = shuffle_lanes<0, 8, 1, 9, 4, 12, 5, 13>(r[2], r[3]);
+      const V t3 = shuffle_lanes<2, 10, 3, 11, 6, 14, 7, 15>(r[2], r[3]);
+      r[0] = shuffle_lanes<0, 1, 8, 9, 4, 5, 12, 13>(t0, t2);  // low pairs of both
+      r[1] = shuffle_lanes<2, 3, 10, 11, 6, 7, 14, 15>(t0, t2);
+      r[2] = shuffle_lanes<0, 1, 8, 9, 4, 5, 12, 13>(t1, t3);
+      r[3] = shuffle_lanes<2, 3, 10, 11, 6, 7, 14, 15>(t1, t3);
+    } else if constexpr (count == 4) {  // 4 doubles (AVX2) or 4 floats (SSE)
+      const V t0 = shuffle_lanes<0, 4, 2, 6>(r[0], r[1]),
+              t1 = shuffle_lanes<1, 5, 3, 7>(r[0], r[1]);
+      const V t2 = shuffle_lanes<0, 4, 2, 6>(r[2], r[3]),
+              t3 = shuffle_lanes<1, 5, 3, 7>(r[2], r[3]);
+      r[0] = shuffle_lanes<0, 1, 4, 5>(t0, t2);
+      r[1] = shuffle_lanes<0, 1, 4, 5>(t1, t3);
+      r[2] = shuffle_lanes<2, 3, 6, 7>(t0, t2);
+      r[3] = shuffle_lanes<2, 3, 6, 7>(t1, t3);
+    } else if constexpr (to_entries) {  // two doubles (no AVX): matrix l in registers 2l, 2l + 1
+      const V a = shuffle_lanes<0, 2>(r[0], r[2]), b = shuffle_lanes<1, 3>(r[0], r[2]);
+      const V c = shuffle_lanes<0, 2>(r[1], r[3]), d = shuffle_lanes<1, 3>(r[1], r[3]);
+      r[0] = a, r[1] = b, r[2] = c, r[3] = d;
+    } else {
+      const V a = shuffle_lanes<0, 2>(r[0], r[1]), b = shuffle_lanes<0, 2>(r[2], r[3]);
+      const V c = shuffle_lanes<1, 3>(r[0], r[1]), d = shuffle_lanes<1, 3>(r[2], r[3]);
+      r[0] = a, r[1] = b, r[2] = c, r[3] = d;
     }
+  }
+  // A per-particle register (μ, λ, V, Ψ) into the transposed lanes' particle order, and back.
+  static V to_lane_order(V v) {
+    if constexpr (count == 8) return shuffle_lanes<0, 2, 4, 6, 1, 3, 5, 7>(v, v);
+    return v;
+  }
+  static V from_lane_order(V v) {
+    if constexpr (count == 8) return shuffle_lanes<0, 4, 1, 5, 2, 6, 3, 7>(v, v);
+    return v;
   }
 };
 
