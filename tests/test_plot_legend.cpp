@@ -19,9 +19,8 @@ struct Box {
   bool holds(ImVec2 p) const { return p.x > x0 && p.x < x1 && p.y > y0 && p.y < y1; }
 };
 
-// Draws the series in a plot and returns how many curve vertices (full-alpha, the curves'
-// colours, drawn before the legend) fall inside the legend box; -1 when no legend was found.
-long covered_vertices(const std::vector<PlotSeries>& series, PlotOptions o) {
+// A headless ImGui context (its font atlas built, no renderer) of an 800 × 600 display.
+ImGuiIO& start_headless_imgui() {
   ImGui::CreateContext();
   ImGuiIO& io = ImGui::GetIO();
   io.IniFilename = nullptr;  // no imgui.ini in the working directory
@@ -30,6 +29,13 @@ long covered_vertices(const std::vector<PlotSeries>& series, PlotOptions o) {
   io.Fonts->GetTexDataAsRGBA32(&pixels, &w, &h);
   io.DisplaySize = ImVec2(800, 600);
   io.DeltaTime = 1 / 60.0f;
+  return io;
+}
+
+// Draws the series in a plot and returns how many curve vertices (full-alpha, the curves'
+// colours, drawn before the legend) fall inside the legend box; -1 when no legend was found.
+long covered_vertices(const std::vector<PlotSeries>& series, PlotOptions o) {
+  start_headless_imgui();
   ImGui::NewFrame();
   ImGui::SetNextWindowPos(ImVec2(0, 0));
   ImGui::SetNextWindowSize(ImVec2(420, 260));
@@ -142,14 +148,7 @@ TEST(PlotTicks, AnyRangeGivesFewFiniteTicks) {
 // a drift of a denormal on a log axis, inf and NaN among them) draw in bounded time with every
 // vertex finite.
 TEST(PlotTicks, ExtremeSeriesDrawFiniteVertices) {
-  ImGui::CreateContext();
-  ImGuiIO& io = ImGui::GetIO();
-  io.IniFilename = nullptr;
-  unsigned char* pixels = nullptr;
-  int w = 0, h = 0;
-  io.Fonts->GetTexDataAsRGBA32(&pixels, &w, &h);
-  io.DisplaySize = ImVec2(800, 600);
-  io.DeltaTime = 1 / 60.0f;
+  start_headless_imgui();
   const double big = std::numeric_limits<double>::max();
   const std::vector<std::vector<double>> ys = {
       {-big, big, 1, std::numeric_limits<double>::infinity(), std::nan("")},
@@ -191,14 +190,7 @@ TEST(PlotTicks, ExtremeSeriesDrawFiniteVertices) {
 // picked, with its series and index; a press on it is a click; far from every marker nothing is.
 // Headless ImGui over a few frames, the mouse placed at a marker's centre as drawn.
 TEST(PlotPick, HoverPicksTheNearestMarkerAndAPressClicksIt) {
-  ImGui::CreateContext();
-  ImGuiIO& io = ImGui::GetIO();
-  io.IniFilename = nullptr;
-  unsigned char* pixels = nullptr;
-  int w = 0, h = 0;
-  io.Fonts->GetTexDataAsRGBA32(&pixels, &w, &h);
-  io.DisplaySize = ImVec2(800, 600);
-  io.DeltaTime = 1 / 60.0f;
+  ImGuiIO& io = start_headless_imgui();
   const std::vector<double> xa = {1, 2, 3}, ya = {1, 4, 9}, xb = {1.5, 2.5}, yb = {8, 2};
   auto points = [](const char* label, ImU32 color, const std::vector<double>& x,
                    const std::vector<double>& y) {
