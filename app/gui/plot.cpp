@@ -200,7 +200,9 @@ PlotPick plot(const char* id, ImVec2 size, const PlotOptions& o,
   if (legend && box_h > 0 && legend_h + 8 < 0.6f * box_h && yr.valid()) {
     const double f = (legend_h + 8) / box_h, grow = f / (1 - f);
     if (o.log_y)
-      yr.hi = std::pow(10.0, std::log10(yr.hi) + grow * (std::log10(yr.hi) - std::log10(yr.lo)));
+      yr.hi = std::pow(10.0,
+                       std::min(std::log10(yr.hi) + grow * (std::log10(yr.hi) - std::log10(yr.lo)),
+                                300.0));  // as pad's: a finite decade
     else
       yr.hi += grow * (yr.hi - yr.lo);
   }
