@@ -30,11 +30,9 @@ inline void update_deformation_3d(T* F, const Lanes<T, 3, register_bytes> g[3]) 
     using V = typename L::Part;
     // The columns as four-lane loads inside the 9 scalars: columns 0 and 1 carry the next
     // column's first entry in lane 3 (unused); column 2 is loaded from F + 5 and moved down a lane.
-    V c0, c1, c2;
-    std::memcpy(&c0, F, sizeof(V));
-    std::memcpy(&c1, F + 3, sizeof(V));
-    std::memcpy(&c2, F + 5, sizeof(V));
-    c2 = shuffle_lanes<1, 2, 3, 3>(c2, c2);
+    const V c0 = load_register<V>(F), c1 = load_register<V>(F + 3),
+            c2_at5 = load_register<V>(F + 5);
+    const V c2 = shuffle_lanes<1, 2, 3, 3>(c2_at5, c2_at5);
     T f[9];
     std::memcpy(f, F, sizeof f);
     const V g0 = g[0].part[0], g1 = g[1].part[0], g2 = g[2].part[0];
@@ -44,9 +42,9 @@ inline void update_deformation_3d(T* F, const Lanes<T, 3, register_bytes> g[3]) 
     // Stores in order, each over the last one's unused lane: F_0 (+ junk in F(0,1)), F_1 (+ junk
     // in F(0,2)), then (F(2,1), F_2) at F + 5.
     const V tail = shuffle_lanes<2, 4, 5, 6>(out1, out2);
-    std::memcpy(F, &out0, sizeof(V));
-    std::memcpy(F + 3, &out1, sizeof(V));
-    std::memcpy(F + 5, &tail, sizeof(V));
+    store_register(F, out0);
+    store_register(F + 3, out1);
+    store_register(F + 5, tail);
   }
 }
 

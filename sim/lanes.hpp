@@ -53,6 +53,20 @@ inline V shuffle_lanes(V a, V b) {
 #endif
 }
 
+// One register of lanes read from, or written to, consecutive scalars (memcpy: no alignment
+// asked). One call per register: a copy of several registers at once GCC may stage on the stack
+// in 16-byte pieces, whose whole-register reloads then stall store forwarding.
+template <class V, class T>
+inline V load_register(const T* p) {
+  V v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
+template <class V, class T>
+inline void store_register(T* p, const V& v) {
+  std::memcpy(p, &v, sizeof v);
+}
+
 // Lanes<T, used>'s lanes per register and registers.
 template <class T>
 constexpr int lanes_per_part(int used, int register_bytes = simd_register_bytes) {

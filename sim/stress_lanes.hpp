@@ -6,7 +6,6 @@
 #pragma once
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <limits>
 
 #include "lanes.hpp"
@@ -151,8 +150,10 @@ struct StressLanes {
     // Register by register, spelled out: as a loop of copies GCC (x86-64-v3's generic tuning)
     // staged F on the stack in 16-byte halves and stalled reloading it whole (2D double −9 %).
     const T* f_in = F[0].data();
-    V f[4] = {load(f_in), load(f_in + count), load(f_in + 2 * count), load(f_in + 3 * count)};
-    V vmu = load(mu), vlambda = load(lambda), vvolume = load(volume);
+    V f[4] = {load_register<V>(f_in), load_register<V>(f_in + count),
+              load_register<V>(f_in + 2 * count), load_register<V>(f_in + 3 * count)};
+    V vmu = load_register<V>(mu), vlambda = load_register<V>(lambda);
+    V vvolume = load_register<V>(volume);
     transpose_per_128_bits<true>(f);  // one register per entry, particles in lane order
     vmu = to_lane_order(vmu), vlambda = to_lane_order(vlambda), vvolume = to_lane_order(vvolume);
     const V a = f[0] + f[3], b = f[1] - f[2], n2 = a * a + b * b;
@@ -175,18 +176,12 @@ struct StressLanes {
       for (int j = 0; j < 2; ++j) out[i + 2 * j] = -vvolume * (p[i] * f[j] + p[i + 2] * f[j + 2]);
     transpose_per_128_bits<false>(out);  // back to one matrix after another
     T* s_out = stress_out[0].data();
-    store(s_out, out[0]), store(s_out + count, out[1]);
-    store(s_out + 2 * count, out[2]), store(s_out + 3 * count, out[3]);
-    store(psi_out, from_lane_order(psi));
+    store_register(s_out, out[0]), store_register(s_out + count, out[1]);
+    store_register(s_out + 2 * count, out[2]), store_register(s_out + 3 * count, out[3]);
+    store_register(psi_out, from_lane_order(psi));
   }
 
  private:
-  static V load(const T* p) {
-    V v;
-    std::memcpy(&v, p, sizeof v);
-    return v;
-  }
-  static void store(T* p, V v) { std::memcpy(p, &v, sizeof v); }
   // Four registers holding `count` particles' 2×2 matrices one after another become one register
   // per entry, and back: a 4×4 transpose within each 128-bit half, whose shuffles (unpack,
   // move-half) are single instructions on SSE, AVX2 and AVX-512 alike; lane by lane the 2D
