@@ -29,6 +29,10 @@ std::string fit_text(const std::string& text, float width) {
   return cut + "...";
 }
 
+// Axis ends stay within ±1e300 (log axes: decades −300 … 300), so that padding, spans and the
+// legend's room never overflow to inf or underflow to 0.
+constexpr double kMaxDecade = 300, kMaxMagnitude = 1e300;
+
 // A readable range around the data: padded, never empty (a constant series sits mid-plot).
 Range pad(Range r, bool log) {
   if (!r.valid()) return log ? Range{1e-16, 1} : Range{0, 1};
@@ -36,11 +40,12 @@ Range pad(Range r, bool log) {
     double lo = std::log10(r.lo), hi = std::log10(r.hi);
     if (hi - lo < 1) lo = (lo + hi) / 2 - 0.5, hi = lo + 1;
     const double margin = 0.05 * (hi - lo);
-    return {std::pow(10.0, std::max(lo - margin, -300.0)),
-            std::pow(10.0, std::min(hi + margin, 300.0))};
+    return {std::pow(10.0, std::max(lo - margin, -kMaxDecade)),
+            std::pow(10.0, std::min(hi + margin, kMaxDecade))};
   }
   if (r.lo == 0 && r.hi == 0) return {-1, 1};  // all zero (round-off momenta): a plain 0 line
-  r.lo = std::clamp(r.lo, -1e300, 1e300), r.hi = std::clamp(r.hi, -1e300, 1e300);  // finite span
+  r.lo = std::clamp(r.lo, -kMaxMagnitude, kMaxMagnitude);
+  r.hi = std::clamp(r.hi, -kMaxMagnitude, kMaxMagnitude);
   double span = r.hi - r.lo;
   if (span <= 1e-12 * std::max(std::abs(r.lo), std::abs(r.hi)) || span == 0) {
     const double half = std::max(std::abs(r.lo) * 1e-3, 1e-12);
@@ -200,9 +205,9 @@ PlotPick plot(const char* id, ImVec2 size, const PlotOptions& o,
   if (legend && box_h > 0 && legend_h + 8 < 0.6f * box_h && yr.valid()) {
     const double f = (legend_h + 8) / box_h, grow = f / (1 - f);
     if (o.log_y)
-      yr.hi = std::pow(10.0,
-                       std::min(std::log10(yr.hi) + grow * (std::log10(yr.hi) - std::log10(yr.lo)),
-                                300.0));  // as pad's: a finite decade
+      yr.hi = std::pow(
+          10.0,
+          std::min(std::log10(yr.hi) + grow * (std::log10(yr.hi) - std::log10(yr.lo)), kMaxDecade));
     else
       yr.hi += grow * (yr.hi - yr.lo);
   }
