@@ -53,6 +53,25 @@ inline V shuffle_lanes(V a, V b) {
 #endif
 }
 
+// A register from its two halves, and one half of a register (GCC 12 and Clang both have
+// __builtin_shufflevector, which may change the lane count; __builtin_shuffle may not).
+template <class V, class Half>
+inline V join_halves(Half low, Half high) {
+  static_assert(2 * sizeof(Half) == sizeof(V));
+  if constexpr (sizeof(Half) / sizeof(low[0]) == 4)
+    return __builtin_shufflevector(low, high, 0, 1, 2, 3, 4, 5, 6, 7);
+  else
+    return __builtin_shufflevector(low, high, 0, 1, 2, 3);
+}
+template <int g, class Half, class V>
+inline Half half_of(V v) {
+  static_assert(2 * sizeof(Half) == sizeof(V) && (g == 0 || g == 1));
+  if constexpr (sizeof(Half) / sizeof(v[0]) == 4)
+    return __builtin_shufflevector(v, v, 4 * g, 4 * g + 1, 4 * g + 2, 4 * g + 3);
+  else
+    return __builtin_shufflevector(v, v, 2 * g, 2 * g + 1);
+}
+
 // One register of lanes read from, or written to, consecutive scalars (memcpy: no alignment
 // asked). One call per register: a copy of several registers at once GCC may stage on the stack
 // in 16-byte pieces, whose whole-register reloads then stall store forwarding.

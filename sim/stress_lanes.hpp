@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "lanes.hpp"
 #include "math.hpp"
@@ -63,14 +64,11 @@ struct StressLanes {
   // steps, as polar_newton_3d): the caller computes those particles with the scalar path.
   static unsigned fixed_corotated(const Mat<T, 3>* F, const T* mu, const T* lambda, const T* volume,
                                   Mat<T, 3>* stress_out, T* psi_out) {
+    static_assert(sizeof(Mat<T, 3>) == 9 * sizeof(T));  // `count` matrices, 9 scalars apart
     M3 f;
-    V vmu, vlambda, vvolume;
-    for (int l = 0; l < count; ++l) {
-      for (int k = 0; k < 9; ++k) f.m[k][l] = F[l].data()[k];
-      vmu[l] = mu[l];
-      vlambda[l] = lambda[l];
-      vvolume[l] = volume[l];
-    }
+    load_3x3(F[0].data(), f.m);
+    const V vmu = load_register<V>(mu), vlambda = load_register<V>(lambda);
+    const V vvolume = load_register<V>(volume);
     V f_norm2 = V{};
     for (int k = 0; k < 9; ++k) f_norm2 += f.m[k] * f.m[k];
     const V J = det(f);
@@ -134,12 +132,11 @@ struct StressLanes {
       for (int j = 0; j < 3; ++j)
         s.m[i + 3 * j] =
             -vvolume * (p.m[i] * f.m[j] + p.m[i + 3] * f.m[j + 3] + p.m[i + 6] * f.m[j + 6]);
+    store_3x3(s.m, stress_out[0].data());
+    store_register(psi_out, psi);
     unsigned failed_bits = 0;
-    for (int l = 0; l < count; ++l) {
-      for (int k = 0; k < 9; ++k) stress_out[l].data()[k] = s.m[k][l];
-      psi_out[l] = psi[l];
+    for (int l = 0; l < count; ++l)
       if (failed[l]) failed_bits |= 1u << l;
-    }
     return failed_bits;
   }
 
@@ -182,15 +179,55 @@ struct StressLanes {
   }
 
  private:
-  // Four registers holding `count` particles' 2×2 matrices one after another become one register
-  // per entry, and back: a 4×4 transpose within each 128-bit half, whose shuffles (unpack,
-  // move-half) are single instructions on SSE, AVX2 and AVX-512 alike; lane by lane the 2D
-  // stress pass spent a third of its time inserting and extracting, and general cross-half
-  // permutes cost three instructions each on AVX2. With 8 lanes a half holds entry k of every
-  // other particle, so the lanes carry particles in lane_order = 0, 2, 4, 6, 1, 3, 5, 7.
-  // (4 and 8 lanes: a transpose, its own inverse; 2 lanes: `to_entries` says which way.)
-  template <bool to_entries>
-  static void transpose_per_128_bits(V (&r)[4]) {
+  // 128-bit halves of a register: `per_half` scalars each.
+  static constexpr int per_half = 16 / int(sizeof(T));
+  static constexpr int halves = count / per_half;
+  using Half = typename SimdVector<T, per_half>::type;
+
+  // The 9 entries of `count` consecutive 3×3 matrices (9 scalars apart) as one register per entry
+  // with matrix l in lane l, and back. Lane by lane these moves were a quarter of the 3D stress
+  // pass. Entries e … e + per_half − 1 come as per_half registers, register j holding in half g
+  // those entries of matrix j + g·per_half (one 128-bit load or store each, no cross-half
+  // shuffle); a transpose within each half then gives one register per entry. Entry 8 is left over.
+  static void load_3x3(const T* m, V (&out)[9]) {
+    for (int e = 0; e + per_half <= 8; e += per_half) {
+      V r[per_half];
+      for (int j = 0; j < per_half; ++j) {
+        if constexpr (halves == 1)
+          r[j] = load_register<V>(m + 9 * j + e);
+        else
+          r[j] = join_halves<V>(load_register<Half>(m + 9 * j + e),
+                                load_register<Half>(m + 9 * (j + per_half) + e));
+      }
+      transpose_within_halves(r);
+      for (int k = 0; k < per_half; ++k) out[e + k] = r[k];
+    }
+    out[8] = entry_8(m, std::make_index_sequence<count>{});
+  }
+  static void store_3x3(const V (&in)[9], T* m) {
+    for (int e = 0; e + per_half <= 8; e += per_half) {
+      V r[per_half];
+      for (int k = 0; k < per_half; ++k) r[k] = in[e + k];
+      transpose_within_halves(r);
+      for (int j = 0; j < per_half; ++j) {
+        if constexpr (halves == 1) {
+          store_register(m + 9 * j + e, r[j]);
+        } else {
+          store_register(m + 9 * j + e, half_of<0, Half>(r[j]));
+          store_register(m + 9 * (j + per_half) + e, half_of<1, Half>(r[j]));
+        }
+      }
+    }
+    for (int l = 0; l < count; ++l) m[9 * l + 8] = in[8][l];
+  }
+  template <std::size_t... l>
+  static V entry_8(const T* m, std::index_sequence<l...>) {
+    return V{m[9 * l + 8]...};
+  }
+  // Lane g·per_half + i of register k becomes lane g·per_half + k of register i: a per_half ×
+  // per_half transpose within each 128-bit half (unpacks and half moves, one instruction each on
+  // SSE, AVX2 and AVX-512); its own inverse.
+  static void transpose_within_halves(V (&r)[per_half]) {
     if constexpr (count == 8) {
       const V t0 = shuffle_lanes<0, 8, 1, 9, 4, 12, 5, 13>(r[0], r[1]);  // unpack low
       const V t1 = shuffle_lanes<2, 10, 3, 11, 6, 14, 7, 15>(r[0], r[1]);
@@ -200,7 +237,38 @@ struct StressLanes {
       r[1] = shuffle_lanes<2, 3, 10, 11, 6, 7, 14, 15>(t0, t2);
       r[2] = shuffle_lanes<0, 1, 8, 9, 4, 5, 12, 13>(t1, t3);
       r[3] = shuffle_lanes<2, 3, 10, 11, 6, 7, 14, 15>(t1, t3);
-    } else if constexpr (count == 4) {  // 4 doubles (AVX2) or 4 floats (SSE)
+    } else if constexpr (count == 4 && per_half == 4) {  // 4 floats (SSE)
+      const V t0 = shuffle_lanes<0, 4, 2, 6>(r[0], r[1]),
+              t1 = shuffle_lanes<1, 5, 3, 7>(r[0], r[1]);
+      const V t2 = shuffle_lanes<0, 4, 2, 6>(r[2], r[3]),
+              t3 = shuffle_lanes<1, 5, 3, 7>(r[2], r[3]);
+      r[0] = shuffle_lanes<0, 1, 4, 5>(t0, t2);
+      r[1] = shuffle_lanes<0, 1, 4, 5>(t1, t3);
+      r[2] = shuffle_lanes<2, 3, 6, 7>(t0, t2);
+      r[3] = shuffle_lanes<2, 3, 6, 7>(t1, t3);
+    } else if constexpr (count == 4) {  // 4 doubles (AVX): unpack low and high
+      const V low = shuffle_lanes<0, 4, 2, 6>(r[0], r[1]);
+      r[1] = shuffle_lanes<1, 5, 3, 7>(r[0], r[1]);
+      r[0] = low;
+    } else {  // 2 doubles (SSE)
+      const V low = shuffle_lanes<0, 2>(r[0], r[1]);
+      r[1] = shuffle_lanes<1, 3>(r[0], r[1]);
+      r[0] = low;
+    }
+  }
+
+  // Four registers holding `count` particles' 2×2 matrices one after another become one register
+  // per entry, and back: a 4×4 transpose within each 128-bit half, whose shuffles (unpack,
+  // move-half) are single instructions on SSE, AVX2 and AVX-512 alike; lane by lane the 2D
+  // stress pass spent a third of its time inserting and extracting, and general cross-half
+  // permutes cost three instructions each on AVX2. With 8 lanes a half holds entry k of every
+  // other particle, so the lanes carry particles in lane_order = 0, 2, 4, 6, 1, 3, 5, 7.
+  // (4 and 8 lanes: a transpose, its own inverse; 2 lanes: `to_entries` says which way.)
+  template <bool to_entries>
+  static void transpose_per_128_bits(V (&r)[4]) {
+    if constexpr (per_half == 4) {  // 8 floats (AVX) or 4 (SSE)
+      transpose_within_halves(r);
+    } else if constexpr (count == 4) {  // 4 doubles (AVX): a whole 4 × 4 transpose
       const V t0 = shuffle_lanes<0, 4, 2, 6>(r[0], r[1]),
               t1 = shuffle_lanes<1, 5, 3, 7>(r[0], r[1]);
       const V t2 = shuffle_lanes<0, 4, 2, 6>(r[2], r[3]),
