@@ -111,26 +111,26 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
         using L = std::remove_reference_t<decltype(vsum)>;
         // Forced inline: GCC 12 keeps this row body out of line on x86-64-v3 in 3D double, and
         // the sums it adds to, taken by reference, then go through memory at every row.
-        st.for_each_row([&](const typename Stencil<T, D, K>::Row& row)
-                            __attribute__((always_inline)) {
-                              L s0{}, s1{}, g0{}, t0{};
-                              for (int i = 0; i < W; ++i) {
-                                const L node = L::prefix_of(packed[st.off[0][i] + row.off]);
-                                s0 += wx[i] * node;
-                                s1 += wr[i] * node;
-                                g0 += st.dw[0][i] * node;
-                                if constexpr (decltype(moving_nodes)::value)
-                                  t0 += wx[i] * cross(node);
-                              }
-                              vsum += row.w * s0;
-                              if constexpr (decltype(moving_nodes)::value) twist += row.w * t0;
-                              grad_cols[0] += row.w * g0;
-                              b_cols[0] += row.w * s1;
-                              for (int ax = 1; ax < D; ++ax) {
-                                grad_cols[ax] += row.dw[ax] * s0;
-                                b_cols[ax] += (row.w * row.r[ax]) * s0;
-                              }
-                            });
+        batch.for_each_row(
+            lane,
+            st, [&](const typename StencilBatch<T, D, K>::Row& row) __attribute__((always_inline)) {
+              L s0{}, s1{}, g0{}, t0{};
+              for (int i = 0; i < W; ++i) {
+                const L node = L::prefix_of(packed[st.off[0][i] + row.off]);
+                s0 += wx[i] * node;
+                s1 += wr[i] * node;
+                g0 += st.dw[0][i] * node;
+                if constexpr (decltype(moving_nodes)::value) t0 += wx[i] * cross(node);
+              }
+              vsum += row.w * s0;
+              if constexpr (decltype(moving_nodes)::value) twist += row.w * t0;
+              grad_cols[0] += row.w * g0;
+              b_cols[0] += row.w * s1;
+              for (int ax = 1; ax < D; ++ax) {
+                grad_cols[ax] += row.dw[ax] * s0;
+                b_cols[ax] += row.wr(ax) * s0;
+              }
+            });
       };
       // u_i = λ vⁿ_i + (1 − λ) ṽ_i (eq 30): ū = Σ w u, ∇u = Σ u ∇wᵀ.
       Vec<T, D> vpic, vold_p, ubar;

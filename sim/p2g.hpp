@@ -143,10 +143,10 @@ void MpmSimulation<T, D>::p2g_impl() {
           for (int i = 0; i < W; ++i)
             per_x[i] = st.w[0][i] * (mass_mom + st.r[0][i] * affine_lanes[0]) +
                        st.dw[0][i] * stress_lanes[0];
-          st.for_each_row([&](const typename Stencil<T, D, K>::Row& row) {
+          batch.for_each_row(lane, st, [&](const typename StencilBatch<T, D, K>::Row& row) {
             Lanes per_row{};
             for (int ax = 1; ax < D; ++ax) {
-              if constexpr (affine) per_row += (row.w * row.r[ax]) * affine_lanes[ax];
+              if constexpr (affine) per_row += row.wr(ax) * affine_lanes[ax];
               if constexpr (with_forces) per_row += row.dw[ax] * stress_lanes[ax];
             }
             const T rw = row.w;

@@ -75,6 +75,7 @@ struct Stencil {
     std::size_t off;
     T w;
     Vec<T, D> dw, r;
+    T wr(int a) const { return w * r[a]; }  // row.w (x_i − x_p)_a, as StencilBatch::Row has it
   };
   // Forced inline (with the row bodies in g2p.hpp): GCC 12 otherwise keeps it out of line on
   // x86-64-v3 in 3D double, and the caller's sums then go through memory at every row.

@@ -5,7 +5,8 @@
 // by what one rounding of x / Δx moves them: GCC fuses (x − origin) · (1/Δx) into the next add
 // (FMA) in one path and not always in the other: G2P's batch in mpm_3d.cpp and a per-particle
 // compute differed by one ulp of x/Δx on torus-drop's Δx = 0.4/70 (compiled in this test, the
-// two agree exactly). On a grid with Δx = 1/32 that product is exact.
+// two agree exactly). On a grid with Δx = 1/32 that product is exact. The batch's rows (3D: row
+// products formed across lanes) equal its own stencil's rows exactly.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -80,6 +81,22 @@ void check_batch(bool periodic, double dx) {
           EXPECT_NEAR(got.r[a][k] / g.dx, one.r[a][k] / g.dx, df + 4 * eps) << xp.transpose();
         }
       }
+      // The rows P2G and G2P read from the batch are those of the batch's own stencil (`got`),
+      // bit for bit: the same products in the same order (what keeps their results unchanged).
+      std::vector<typename Stencil<T, D, K>::Row> expected;
+      got.for_each_row([&](const auto& row) { expected.push_back(row); });
+      std::size_t r = 0;
+      batch.for_each_row(l, got, [&](const auto& row) {
+        ASSERT_LT(r, expected.size());
+        const auto& e = expected[r++];
+        EXPECT_EQ(row.off, e.off);
+        EXPECT_EQ(row.w, e.w);
+        for (int a = 0; a < D; ++a) {
+          EXPECT_EQ(row.dw[a], e.dw[a]) << "row " << r - 1 << " axis " << a;
+          EXPECT_EQ(row.wr(a), e.wr(a)) << "row " << r - 1 << " axis " << a;
+        }
+      });
+      EXPECT_EQ(r, expected.size());
       ++checked;
     }
   }
