@@ -224,6 +224,16 @@ struct StressLanes {
   static V entry_8(const T* m, std::index_sequence<l...>) {
     return V{m[9 * l + 8]...};
   }
+  // Four registers of 4 lanes, transposed (4 doubles: the middle shuffles cross the halves).
+  static void transpose_4x4(V (&r)[4]) {
+    static_assert(count == 4);
+    const V t0 = shuffle_lanes<0, 4, 2, 6>(r[0], r[1]), t1 = shuffle_lanes<1, 5, 3, 7>(r[0], r[1]);
+    const V t2 = shuffle_lanes<0, 4, 2, 6>(r[2], r[3]), t3 = shuffle_lanes<1, 5, 3, 7>(r[2], r[3]);
+    r[0] = shuffle_lanes<0, 1, 4, 5>(t0, t2);
+    r[1] = shuffle_lanes<0, 1, 4, 5>(t1, t3);
+    r[2] = shuffle_lanes<2, 3, 6, 7>(t0, t2);
+    r[3] = shuffle_lanes<2, 3, 6, 7>(t1, t3);
+  }
   // Lane g·per_half + i of register k becomes lane g·per_half + k of register i: a per_half ×
   // per_half transpose within each 128-bit half (unpacks and half moves, one instruction each on
   // SSE, AVX2 and AVX-512); its own inverse.
@@ -237,15 +247,8 @@ struct StressLanes {
       r[1] = shuffle_lanes<2, 3, 10, 11, 6, 7, 14, 15>(t0, t2);
       r[2] = shuffle_lanes<0, 1, 8, 9, 4, 5, 12, 13>(t1, t3);
       r[3] = shuffle_lanes<2, 3, 10, 11, 6, 7, 14, 15>(t1, t3);
-    } else if constexpr (count == 4 && per_half == 4) {  // 4 floats (SSE)
-      const V t0 = shuffle_lanes<0, 4, 2, 6>(r[0], r[1]),
-              t1 = shuffle_lanes<1, 5, 3, 7>(r[0], r[1]);
-      const V t2 = shuffle_lanes<0, 4, 2, 6>(r[2], r[3]),
-              t3 = shuffle_lanes<1, 5, 3, 7>(r[2], r[3]);
-      r[0] = shuffle_lanes<0, 1, 4, 5>(t0, t2);
-      r[1] = shuffle_lanes<0, 1, 4, 5>(t1, t3);
-      r[2] = shuffle_lanes<2, 3, 6, 7>(t0, t2);
-      r[3] = shuffle_lanes<2, 3, 6, 7>(t1, t3);
+    } else if constexpr (count == 4 && per_half == 4) {  // 4 floats (SSE): one half
+      transpose_4x4(r);
     } else if constexpr (count == 4) {  // 4 doubles (AVX): unpack low and high
       const V low = shuffle_lanes<0, 4, 2, 6>(r[0], r[1]);
       r[1] = shuffle_lanes<1, 5, 3, 7>(r[0], r[1]);
@@ -266,17 +269,10 @@ struct StressLanes {
   // (4 and 8 lanes: a transpose, its own inverse; 2 lanes: `to_entries` says which way.)
   template <bool to_entries>
   static void transpose_per_128_bits(V (&r)[4]) {
-    if constexpr (per_half == 4) {  // 8 floats (AVX) or 4 (SSE)
+    if constexpr (count == 8) {  // 8 floats (AVX)
       transpose_within_halves(r);
-    } else if constexpr (count == 4) {  // 4 doubles (AVX): a whole 4 × 4 transpose
-      const V t0 = shuffle_lanes<0, 4, 2, 6>(r[0], r[1]),
-              t1 = shuffle_lanes<1, 5, 3, 7>(r[0], r[1]);
-      const V t2 = shuffle_lanes<0, 4, 2, 6>(r[2], r[3]),
-              t3 = shuffle_lanes<1, 5, 3, 7>(r[2], r[3]);
-      r[0] = shuffle_lanes<0, 1, 4, 5>(t0, t2);
-      r[1] = shuffle_lanes<0, 1, 4, 5>(t1, t3);
-      r[2] = shuffle_lanes<2, 3, 6, 7>(t0, t2);
-      r[3] = shuffle_lanes<2, 3, 6, 7>(t1, t3);
+    } else if constexpr (count == 4) {  // 4 floats (SSE) or 4 doubles (AVX)
+      transpose_4x4(r);
     } else if constexpr (to_entries) {  // two doubles (no AVX): matrix l in registers 2l, 2l + 1
       const V a = shuffle_lanes<0, 2>(r[0], r[2]), b = shuffle_lanes<1, 3>(r[0], r[2]);
       const V c = shuffle_lanes<0, 2>(r[1], r[3]), d = shuffle_lanes<1, 3>(r[1], r[3]);
