@@ -66,7 +66,7 @@ struct StressLanes {
                                   Mat<T, 3>* stress_out, T* psi_out) {
     static_assert(sizeof(Mat<T, 3>) == 9 * sizeof(T));  // `count` matrices, 9 scalars apart
     M3 f;
-    load_3x3(F[0].data(), f.m);
+    load_matrices(F[0].data(), f.m);
     const V vmu = load_register<V>(mu), vlambda = load_register<V>(lambda);
     const V vvolume = load_register<V>(volume);
     V f_norm2 = V{};
@@ -132,7 +132,7 @@ struct StressLanes {
       for (int j = 0; j < 3; ++j)
         s.m[i + 3 * j] =
             -vvolume * (p.m[i] * f.m[j] + p.m[i + 3] * f.m[j + 3] + p.m[i + 6] * f.m[j + 6]);
-    store_3x3(s.m, stress_out[0].data());
+    store_matrices(s.m, stress_out[0].data());
     store_register(psi_out, psi);
     unsigned failed_bits = 0;
     for (int l = 0; l < count; ++l)
@@ -143,16 +143,11 @@ struct StressLanes {
   // The same in 2D, where R is closed-form (rotation_2d): c, s = (F00 + F11, F10 − F01) / n.
   static void fixed_corotated_2d(const Mat<T, 2>* F, const T* mu, const T* lambda, const T* volume,
                                  Mat<T, 2>* stress_out, T* psi_out) {
-    static_assert(sizeof(Mat<T, 2>) == 4 * sizeof(T));  // the F of `count` particles: 4 registers
-    // Register by register, spelled out: as a loop of copies GCC (x86-64-v3's generic tuning)
-    // staged F on the stack in 16-byte halves and stalled reloading it whole (2D double −9 %).
-    const T* f_in = F[0].data();
-    V f[4] = {load_register<V>(f_in), load_register<V>(f_in + count),
-              load_register<V>(f_in + 2 * count), load_register<V>(f_in + 3 * count)};
-    V vmu = load_register<V>(mu), vlambda = load_register<V>(lambda);
-    V vvolume = load_register<V>(volume);
-    transpose_per_128_bits<true>(f);  // one register per entry, particles in lane order
-    vmu = to_lane_order(vmu), vlambda = to_lane_order(vlambda), vvolume = to_lane_order(vvolume);
+    static_assert(sizeof(Mat<T, 2>) == 4 * sizeof(T));  // `count` matrices, 4 scalars apart
+    V f[4];
+    load_matrices(F[0].data(), f);
+    const V vmu = load_register<V>(mu), vlambda = load_register<V>(lambda);
+    const V vvolume = load_register<V>(volume);
     const V a = f[0] + f[3], b = f[1] - f[2], n2 = a * a + b * b;
     V inverse_n;
     for (int l = 0; l < count; ++l) inverse_n[l] = T(1) / std::sqrt(n2[l]);  // vectorised
@@ -171,11 +166,8 @@ struct StressLanes {
     V out[4];
     for (int i = 0; i < 2; ++i)
       for (int j = 0; j < 2; ++j) out[i + 2 * j] = -vvolume * (p[i] * f[j] + p[i + 2] * f[j + 2]);
-    transpose_per_128_bits<false>(out);  // back to one matrix after another
-    T* s_out = stress_out[0].data();
-    store_register(s_out, out[0]), store_register(s_out + count, out[1]);
-    store_register(s_out + 2 * count, out[2]), store_register(s_out + 3 * count, out[3]);
-    store_register(psi_out, from_lane_order(psi));
+    store_matrices(out, stress_out[0].data());
+    store_register(psi_out, psi);
   }
 
  private:
@@ -184,55 +176,52 @@ struct StressLanes {
   static constexpr int halves = count / per_half;
   using Half = typename SimdVector<T, per_half>::type;
 
-  // The 9 entries of `count` consecutive 3×3 matrices (9 scalars apart) as one register per entry
-  // with matrix l in lane l, and back. Lane by lane these moves were a quarter of the 3D stress
-  // pass. Entries e … e + per_half − 1 come as per_half registers, register j holding in half g
-  // those entries of matrix j + g·per_half (one 128-bit load or store each, no cross-half
-  // shuffle); a transpose within each half then gives one register per entry. Entry 8 is left over.
-  static void load_3x3(const T* m, V (&out)[9]) {
-    for (int e = 0; e + per_half <= 8; e += per_half) {
+  // The n entries of `count` consecutive matrices (n scalars apart: 2×2 or 3×3) as one register
+  // per entry with matrix l in lane l, and back. Lane by lane these moves were a third of the 2D
+  // and a quarter of the 3D stress pass. Entries e … e + per_half − 1 come as per_half registers,
+  // register j holding in half g those entries of matrix j + g·per_half (one 128-bit load or
+  // store each, no cross-half shuffle); a transpose within each half then gives one register per
+  // entry. What is left of n (3D: entry 8) goes lane by lane.
+  template <int n>
+  static void load_matrices(const T* m, V (&out)[n]) {
+    constexpr int whole = n / per_half * per_half;
+    for (int e = 0; e < whole; e += per_half) {
       V r[per_half];
       for (int j = 0; j < per_half; ++j) {
         if constexpr (halves == 1)
-          r[j] = load_register<V>(m + 9 * j + e);
+          r[j] = load_register<V>(m + n * j + e);
         else
-          r[j] = join_halves<V>(load_register<Half>(m + 9 * j + e),
-                                load_register<Half>(m + 9 * (j + per_half) + e));
+          r[j] = join_halves<V>(load_register<Half>(m + n * j + e),
+                                load_register<Half>(m + n * (j + per_half) + e));
       }
       transpose_within_halves(r);
       for (int k = 0; k < per_half; ++k) out[e + k] = r[k];
     }
-    out[8] = entry_8(m, std::make_index_sequence<count>{});
+    for (int e = whole; e < n; ++e)
+      out[e] = entry_of_each(m + e, n, std::make_index_sequence<count>{});
   }
-  static void store_3x3(const V (&in)[9], T* m) {
-    for (int e = 0; e + per_half <= 8; e += per_half) {
+  template <int n>
+  static void store_matrices(const V (&in)[n], T* m) {
+    constexpr int whole = n / per_half * per_half;
+    for (int e = 0; e < whole; e += per_half) {
       V r[per_half];
       for (int k = 0; k < per_half; ++k) r[k] = in[e + k];
       transpose_within_halves(r);
       for (int j = 0; j < per_half; ++j) {
         if constexpr (halves == 1) {
-          store_register(m + 9 * j + e, r[j]);
+          store_register(m + n * j + e, r[j]);
         } else {
-          store_register(m + 9 * j + e, half_of<0, Half>(r[j]));
-          store_register(m + 9 * (j + per_half) + e, half_of<1, Half>(r[j]));
+          store_register(m + n * j + e, half_of<0, Half>(r[j]));
+          store_register(m + n * (j + per_half) + e, half_of<1, Half>(r[j]));
         }
       }
     }
-    for (int l = 0; l < count; ++l) m[9 * l + 8] = in[8][l];
+    for (int e = whole; e < n; ++e)
+      for (int l = 0; l < count; ++l) m[n * l + e] = in[e][l];
   }
   template <std::size_t... l>
-  static V entry_8(const T* m, std::index_sequence<l...>) {
-    return V{m[9 * l + 8]...};
-  }
-  // Four registers of 4 lanes, transposed (4 doubles: the middle shuffles cross the halves).
-  static void transpose_4x4(V (&r)[4]) {
-    static_assert(count == 4);
-    const V t0 = shuffle_lanes<0, 4, 2, 6>(r[0], r[1]), t1 = shuffle_lanes<1, 5, 3, 7>(r[0], r[1]);
-    const V t2 = shuffle_lanes<0, 4, 2, 6>(r[2], r[3]), t3 = shuffle_lanes<1, 5, 3, 7>(r[2], r[3]);
-    r[0] = shuffle_lanes<0, 1, 4, 5>(t0, t2);
-    r[1] = shuffle_lanes<0, 1, 4, 5>(t1, t3);
-    r[2] = shuffle_lanes<2, 3, 6, 7>(t0, t2);
-    r[3] = shuffle_lanes<2, 3, 6, 7>(t1, t3);
+  static V entry_of_each(const T* m, int n, std::index_sequence<l...>) {
+    return V{m[n * int(l)]...};
   }
   // Lane g·per_half + i of register k becomes lane g·per_half + k of register i: a per_half ×
   // per_half transpose within each 128-bit half (unpacks and half moves, one instruction each on
@@ -248,7 +237,14 @@ struct StressLanes {
       r[2] = shuffle_lanes<0, 1, 8, 9, 4, 5, 12, 13>(t1, t3);
       r[3] = shuffle_lanes<2, 3, 10, 11, 6, 7, 14, 15>(t1, t3);
     } else if constexpr (count == 4 && per_half == 4) {  // 4 floats (SSE): one half
-      transpose_4x4(r);
+      const V t0 = shuffle_lanes<0, 4, 2, 6>(r[0], r[1]),
+              t1 = shuffle_lanes<1, 5, 3, 7>(r[0], r[1]);
+      const V t2 = shuffle_lanes<0, 4, 2, 6>(r[2], r[3]),
+              t3 = shuffle_lanes<1, 5, 3, 7>(r[2], r[3]);
+      r[0] = shuffle_lanes<0, 1, 4, 5>(t0, t2);
+      r[1] = shuffle_lanes<0, 1, 4, 5>(t1, t3);
+      r[2] = shuffle_lanes<2, 3, 6, 7>(t0, t2);
+      r[3] = shuffle_lanes<2, 3, 6, 7>(t1, t3);
     } else if constexpr (count == 4) {  // 4 doubles (AVX): unpack low and high
       const V low = shuffle_lanes<0, 4, 2, 6>(r[0], r[1]);
       r[1] = shuffle_lanes<1, 5, 3, 7>(r[0], r[1]);
@@ -258,39 +254,6 @@ struct StressLanes {
       r[1] = shuffle_lanes<1, 3>(r[0], r[1]);
       r[0] = low;
     }
-  }
-
-  // Four registers holding `count` particles' 2×2 matrices one after another become one register
-  // per entry, and back: a 4×4 transpose within each 128-bit half, whose shuffles (unpack,
-  // move-half) are single instructions on SSE, AVX2 and AVX-512 alike; lane by lane the 2D
-  // stress pass spent a third of its time inserting and extracting, and general cross-half
-  // permutes cost three instructions each on AVX2. With 8 lanes a half holds entry k of every
-  // other particle, so the lanes carry particles in lane_order = 0, 2, 4, 6, 1, 3, 5, 7.
-  // (4 and 8 lanes: a transpose, its own inverse; 2 lanes: `to_entries` says which way.)
-  template <bool to_entries>
-  static void transpose_per_128_bits(V (&r)[4]) {
-    if constexpr (count == 8) {  // 8 floats (AVX)
-      transpose_within_halves(r);
-    } else if constexpr (count == 4) {  // 4 floats (SSE) or 4 doubles (AVX)
-      transpose_4x4(r);
-    } else if constexpr (to_entries) {  // two doubles (no AVX): matrix l in registers 2l, 2l + 1
-      const V a = shuffle_lanes<0, 2>(r[0], r[2]), b = shuffle_lanes<1, 3>(r[0], r[2]);
-      const V c = shuffle_lanes<0, 2>(r[1], r[3]), d = shuffle_lanes<1, 3>(r[1], r[3]);
-      r[0] = a, r[1] = b, r[2] = c, r[3] = d;
-    } else {
-      const V a = shuffle_lanes<0, 2>(r[0], r[1]), b = shuffle_lanes<0, 2>(r[2], r[3]);
-      const V c = shuffle_lanes<1, 3>(r[0], r[1]), d = shuffle_lanes<1, 3>(r[2], r[3]);
-      r[0] = a, r[1] = b, r[2] = c, r[3] = d;
-    }
-  }
-  // A per-particle register (μ, λ, V, Ψ) into the transposed lanes' particle order, and back.
-  static V to_lane_order(V v) {
-    if constexpr (count == 8) return shuffle_lanes<0, 2, 4, 6, 1, 3, 5, 7>(v, v);
-    return v;
-  }
-  static V from_lane_order(V v) {
-    if constexpr (count == 8) return shuffle_lanes<0, 4, 1, 5, 2, 6, 3, 7>(v, v);
-    return v;
   }
 };
 
