@@ -295,38 +295,38 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
       }
       p_.x[q] = x;
       if (!std::isfinite(x.sum() + p_.v[q].sum())) chunk_bad = true;
-      if (sums) {  // the row's terms at the new state, as particle_sums() adds them
+      // The row's terms at the new state, as particle_sums() adds them: x, v and C are read
+      // from the particle arrays after the chunk; the extra terms are set here.
+      if (sums && terms.extras) {
         const int j = int(q - c * chunk);
-        terms.set(j, x, p_.v[q]);
-        if constexpr (is_affine(S) && K::type != KernelType::linear) terms.set_C(j, p_.C[q]);
-        if (terms.extras) {
-          const T m = p_.mass[q];
-          T modes_kinetic = 0;  // PolyPIC's higher modes (sim/transfer_polypic.hpp)
-          if constexpr (S == Scheme::polypic) {
-            if (polypic_extra > 0) {
-              Stencil<T, D, QuadraticKernel> at_x;
-              at_x.compute(x, grid_);
-              modes_kinetic =
-                  T(0.5) * m *
-                  polypic::modes_energy_density<T, D>(at_x, grid_.inv_dx, p_.modes, std::size_t(q));
-            }
-          }
-          if constexpr (K::type == KernelType::linear) {
-            Stencil<T, D, LinearKernel> at_x;
+        const T m = p_.mass[q];
+        T modes_kinetic = 0;  // PolyPIC's higher modes (sim/transfer_polypic.hpp)
+        if constexpr (S == Scheme::polypic) {
+          if (polypic_extra > 0) {
+            Stencil<T, D, QuadraticKernel> at_x;
             at_x.compute(x, grid_);
-            terms.set_affine(j, m, p_.C[q], Mat<T, D>(at_x.inertia()), modes_kinetic);
-          } else {  // PolyPIC's higher modes; its C is in the columns
-            terms.extra_kinetic[j] = modes_kinetic;
-            for (int a = 0; a < terms.moments; ++a) terms.affine_moment[a][j] = T(0);
+            modes_kinetic =
+                T(0.5) * m *
+                polypic::modes_energy_density<T, D>(at_x, grid_.inv_dx, p_.modes, std::size_t(q));
           }
+        }
+        if constexpr (K::type == KernelType::linear) {
+          Stencil<T, D, LinearKernel> at_x;
+          at_x.compute(x, grid_);
+          terms.set_affine(j, m, p_.C[q], Mat<T, D>(at_x.inertia()), modes_kinetic);
+        } else {  // PolyPIC's higher modes; its C is read with x and v
+          terms.extra_kinetic[j] = modes_kinetic;
+          for (int a = 0; a < terms.moments; ++a) terms.affine_moment[a][j] = T(0);
         }
       }
     }
     max_move = std::max(max_move, double(chunk_move));
     bad = bad || chunk_bad;
-    if (sums)
-      chunk_sums_[std::size_t(c)] =
-          terms.sum(&p_.mass[std::size_t(c * chunk)], int(end - c * chunk), gravity);
+    if (sums) {
+      const std::size_t first = std::size_t(c * chunk);
+      chunk_sums_[std::size_t(c)] = terms.sum(&p_.mass[first], &p_.x[first], &p_.v[first],
+                                              p_.C.data() + first, int(end - c * chunk), gravity);
+    }
   }
   if (sums) {
     *sums = ParticleSums{};

@@ -9,6 +9,7 @@
 #include <array>
 #include <cstring>
 
+#include "entry_lanes.hpp"
 #include "lanes.hpp"
 #include "math.hpp"
 
@@ -31,14 +32,18 @@ struct alignas(64) ParticleSums {
   }
 };
 
-// A chunk of G2P's particles as columns, in T: x and v at the new state; C, where D_p =
-// k Δx² I (quadratic, cubic); else (the multilinear kernel's D_p, PolyPIC's higher modes) each
-// particle's ½ m tr(C D_p Cᵀ) (+ modes) and m (Bᵀ : ε), B = C D_p (Jiang et al. 2017, Sec 5.3).
-// sum() forms each particle's terms in T, as measure()'s oracle does, P particles per vector,
-// and adds them in double. Why: added one particle at a time in G2P, the sums' chains of
-// dependent double adds and the conversions cost 14 % of a 2D float step (Intel Xeon, AVX-512;
-// 16 % on the AMD EPYC); formed in double from every converted column, 6.5 % (native) and 11 %
-// (x86-64-v3); formed in T, 5.5 % and 9 % (medians of three, Intel Xeon, 2026-11-24).
+// A chunk of G2P's particles at their new state, summed after G2P has stored them (x, v and C
+// are then in L1): sum() reads x, v and, where D_p = k Δx² I (quadratic, cubic), C from the
+// particle arrays; else (the multilinear kernel's D_p, PolyPIC's higher modes) G2P sets each
+// particle's ½ m tr(C D_p Cᵀ) (+ modes) and m (Bᵀ : ε), B = C D_p (Jiang et al. 2017, Sec 5.3),
+// in this chunk's columns. sum() forms each particle's terms in T, as measure()'s oracle does, P
+// particles per vector, and adds them in double. Why: added one particle at a time in G2P, the
+// sums' chains of dependent double adds and the conversions cost 14 % of a 2D float step (Intel
+// Xeon, AVX-512; 16 % on the AMD EPYC); formed in double from every converted column, 6.5 %
+// (native) and 11 % (x86-64-v3); formed in T, 5.5 % and 9 % (medians of three, Intel Xeon,
+// 2026-11-24). G2P storing x, v and C a second time, as columns of this chunk, was half of what
+// was left; they are now read from the particle arrays several particles a register
+// (sim/entry_lanes.hpp).
 template <class T, int D, int N>
 struct ChunkTerms {
   // Particles per vector of terms: 8 float or 4 double, one AVX2 register. With 16 floats (one
@@ -48,22 +53,12 @@ struct ChunkTerms {
   static constexpr int P = 32 / int(sizeof(T));
   static constexpr int Q = 4;
   static_assert(N % P == 0 && P % Q == 0);
+  static_assert(sizeof(Vec<T, D>) == D * sizeof(T) && sizeof(Mat<T, D>) == D * D * sizeof(T));
   static constexpr int moments = D == 2 ? 1 : 3;  // 2D: only the z component
-  alignas(64) T x[D][N], v[D][N];
-  alignas(64) T c[D * D][N];  // C(a, b) in column a + D b
   alignas(64) T extra_kinetic[N], affine_moment[moments][N];
-  T isotropic_k = 0;    // k Δx² where the C columns are set, else 0
+  T isotropic_k = 0;    // k Δx² where C is read, else 0
   bool extras = false;  // whether extra_kinetic and affine_moment are set (else not read)
 
-  void set(int j, const Vec<T, D>& xj, const Vec<T, D>& vj) {
-    for (int a = 0; a < D; ++a) {
-      x[a][j] = xj[a];
-      v[a][j] = vj[a];
-    }
-  }
-  void set_C(int j, const Mat<T, D>& C) {
-    for (int e = 0; e < D * D; ++e) c[e][j] = C.data()[e];
-  }
   // With any D_p (the multilinear kernel's diagonal one, Sec 5.9).
   void set_affine(int j, T m, const Mat<T, D>& C, const Mat<T, D>& Dp, T modes_kinetic) {
     const Mat<T, D> CD = C * Dp;
@@ -73,23 +68,20 @@ struct ChunkTerms {
     for (int a = 0; a < moments; ++a) affine_moment[a][j] = T(moment[D == 2 ? 2 : a]);
   }
 
-  // The chunk's first `count` particles, masses from `mass`, gravity g. Per particle in T, as
-  // measure() forms them: ½ m (|v|² + k |C|²) (+ the extra kinetic terms), m v, m x (gravity
-  // −g·Σ m x is formed in double at the end), x × m v + m k (C_ba − C_ab) ε_abγ (+ the extra
-  // moments).
-  ParticleSums sum(const T* mass, int count, const std::array<double, 3>& g) {
+  // The chunk's first `count` particles (mass, x, v, and C where isotropic_k is set: `count`
+  // of each, not read past), gravity g. Per particle in T, as measure() forms them:
+  // ½ m (|v|² + k |C|²) (+ the extra kinetic terms), m v, m x (gravity −g·Σ m x is formed in
+  // double at the end), x × m v + m k (C_ba − C_ab) ε_abγ (+ the extra moments).
+  ParticleSums sum(const T* mass, const Vec<T, D>* x, const Vec<T, D>* v, const Mat<T, D>* C,
+                   int count, const std::array<double, 3>& g) {
     using VT = typename SimdVector<T, P>::type;
     using VD = typename SimdVector<double, Q>::type;
     const int padded = (count + P - 1) / P * P;
-    for (int j = count; j < padded; ++j) {  // the last vector's unused lanes
-      for (int a = 0; a < D; ++a) x[a][j] = v[a][j] = T(0);
-      if (isotropic_k != T(0))
-        for (int e = 0; e < D * D; ++e) c[e][j] = T(0);
-      if (extras) {
+    if (extras)  // the last vector's unused lanes
+      for (int j = count; j < padded; ++j) {
         extra_kinetic[j] = T(0);
         for (int a = 0; a < moments; ++a) affine_moment[a][j] = T(0);
       }
-    }
     auto load = [](const T* from) {
       VT out;
       std::memcpy(&out, from, sizeof out);
@@ -106,17 +98,16 @@ struct ChunkTerms {
     };
     const T k = isotropic_k;
     VD kinetic{}, mx[D] = {}, p[D] = {}, L[moments] = {};
-    for (int j = 0; j < padded; j += P) {
-      T tail[P] = {};  // the masses of a last, partial vector (mass[] ends at count)
-      if (j + P > count)
-        for (int l = 0; l < count - j; ++l) tail[l] = mass[j + l];
-      const VT m = load(j + P <= count ? mass + j : tail);
-      VT xs[D], mv[D], v2{};
+    // P particles from (ms, xs, vs, cs): the arrays from particle j on, or a copy of the last,
+    // partial vector's particles, zero after them (the arrays end at count).
+    auto terms_of = [&](int j, const T* ms, const T* xp, const T* vp, const T* cp) {
+      const VT m = load(ms);
+      VT xs[D], vs[D], mv[D], v2{};
+      load_entries<D>(xp, xs);
+      load_entries<D>(vp, vs);
       for (int a = 0; a < D; ++a) {
-        xs[a] = load(&x[a][j]);
-        const VT va = load(&v[a][j]);
-        v2 += va * va;
-        mv[a] = m * va;
+        v2 += vs[a] * vs[a];
+        mv[a] = m * vs[a];
         add(p[a], mv[a]);
         add(mx[a], m * xs[a]);
       }
@@ -129,16 +120,12 @@ struct ChunkTerms {
       }
       VT kin = v2;
       if (k != T(0)) {  // m k |C|² and m k (C_ba − C_ab) ε_abγ, Sec 5.3
-        VT c2{};
-        for (int e = 0; e < D * D; ++e) {
-          const VT ce = load(&c[e][j]);
-          c2 += ce * ce;
-        }
+        VT cs[D * D], c2{};
+        load_entries<D * D>(cp, cs);
+        for (int e = 0; e < D * D; ++e) c2 += cs[e] * cs[e];
         kin += k * c2;
         const VT mk = k * m;
-        auto skew = [&](int a, int b) {
-          return mk * (load(&c[b + D * a][j]) - load(&c[a + D * b][j]));
-        };
+        auto skew = [&](int a, int b) { return mk * (cs[b + D * a] - cs[a + D * b]); };
         if constexpr (D == 2) {
           moment[0] += skew(0, 1);
         } else {
@@ -154,6 +141,27 @@ struct ChunkTerms {
       }
       add(kinetic, kin);
       for (int a = 0; a < moments; ++a) add(L[a], moment[a]);
+    };
+    // The arrays' scalars (Eigen's fixed-size vectors and matrices are their scalars alone).
+    const T* x_entries = reinterpret_cast<const T*>(x);
+    const T* v_entries = reinterpret_cast<const T*>(v);
+    const T* c_entries = k != T(0) ? reinterpret_cast<const T*>(C) : nullptr;
+    const int whole = count / P * P;
+    for (int j = 0; j < whole; j += P)
+      terms_of(j, mass + j, x_entries + D * j, v_entries + D * j,
+               c_entries ? c_entries + D * D * j : nullptr);
+    if (whole < count) {
+      T ms[P] = {}, xs[P * D] = {}, vs[P * D] = {}, cs[P * D * D] = {};
+      for (int l = 0; l < count - whole; ++l) {
+        ms[l] = mass[whole + l];
+        for (int a = 0; a < D; ++a) {
+          xs[D * l + a] = x_entries[D * (whole + l) + a];
+          vs[D * l + a] = v_entries[D * (whole + l) + a];
+        }
+        if (c_entries)
+          for (int e = 0; e < D * D; ++e) cs[D * D * l + e] = c_entries[D * D * (whole + l) + e];
+      }
+      terms_of(whole, ms, xs, vs, cs);
     }
     auto total = [](const VD& lanes) {
       double s = 0;

@@ -7,9 +7,12 @@
 // for the implicit solve and mesh forces come from here; XPIC's and PolyPIC's extra passes and
 // the diagnostics still use Stencil::compute. In 3D the rows' products are formed here too.
 #pragma once
+#include <algorithm>
 #include <cstdint>
 #include <type_traits>
 
+#include "entry_lanes.hpp"
+#include "lanes.hpp"
 #include "stencil.hpp"
 
 namespace apiclab {
@@ -35,9 +38,33 @@ struct StencilBatch {
   // Particles x[0..count) (count ≤ L); lanes past count repeat the last particle.
   void compute(const Vec<T, D>* x, int count, const GridGeometry<T, D>& g) {
     using One = Stencil<T, D, K>;
+    // x's entries per axis. A whole float batch a register of particles at a time
+    // (sim/entry_lanes.hpp): copied lane by lane, they were 16 scalar copies and compares an axis,
+    // and the vector loads of the axis loop below waited on those stores (a failed store forward;
+    // perf annotate, 2D float G2P). Double keeps the copies: GCC floors its 4 lanes one by one
+    // from the scalars, which forward, and the register loads ran 2D double 3–6 % slower.
+    alignas(64) T xs[D][L];
+    const bool by_registers = sizeof(T) == 4 && count == L;
+    if constexpr (sizeof(T) == 4) {
+      if (by_registers) {
+        constexpr int P = std::min(L, simd_register_bytes / int(sizeof(T)));
+        using V = typename SimdVector<T, P>::type;
+        static_assert(sizeof(Vec<T, D>) == D * sizeof(T) && L % P == 0);
+        const T* entries = reinterpret_cast<const T*>(x);  // Eigen's vectors are their scalars
+        for (int l = 0; l < L; l += P) {
+          V regs[D];
+          load_entries<D>(entries + D * l, regs);
+          for (int a = 0; a < D; ++a) store_register(&xs[a][l], regs[a]);
+        }
+      }
+    }
     for (int a = 0; a < D; ++a) {
-      T xa[L];
-      for (int l = 0; l < L; ++l) xa[l] = x[l < count ? l : count - 1][a];
+      T copies[L];
+      const T* xa = xs[a];
+      if (!by_registers) {
+        for (int l = 0; l < L; ++l) copies[l] = x[l < count ? l : count - 1][a];
+        xa = copies;
+      }
       const T origin = g.origin[a], inv_dx = g.inv_dx, dx = g.dx;
       // Off a periodic axis, One::offset without its branch, in 64 bits as the lanes need.
       const std::int64_t lo = g.lo[a], stride = std::int64_t(g.stride[a]);

@@ -9,6 +9,7 @@
 #include <limits>
 #include <utility>
 
+#include "entry_lanes.hpp"
 #include "lanes.hpp"
 #include "math.hpp"
 
@@ -66,7 +67,7 @@ struct StressLanes {
                                   Mat<T, 3>* stress_out, T* psi_out) {
     static_assert(sizeof(Mat<T, 3>) == 9 * sizeof(T));  // `count` matrices, 9 scalars apart
     M3 f;
-    load_matrices(F[0].data(), f.m);
+    load_entries(F[0].data(), f.m);
     const V vmu = load_register<V>(mu), vlambda = load_register<V>(lambda);
     const V vvolume = load_register<V>(volume);
     V f_norm2 = V{};
@@ -132,7 +133,7 @@ struct StressLanes {
       for (int j = 0; j < 3; ++j)
         s.m[i + 3 * j] =
             -vvolume * (p.m[i] * f.m[j] + p.m[i + 3] * f.m[j + 3] + p.m[i + 6] * f.m[j + 6]);
-    store_matrices(s.m, stress_out[0].data());
+    store_entries(s.m, stress_out[0].data());
     store_register(psi_out, psi);
     unsigned failed_bits = 0;
     for (int l = 0; l < count; ++l)
@@ -145,7 +146,7 @@ struct StressLanes {
                                  Mat<T, 2>* stress_out, T* psi_out) {
     static_assert(sizeof(Mat<T, 2>) == 4 * sizeof(T));  // `count` matrices, 4 scalars apart
     V f[4];
-    load_matrices(F[0].data(), f);
+    load_entries(F[0].data(), f);
     const V vmu = load_register<V>(mu), vlambda = load_register<V>(lambda);
     const V vvolume = load_register<V>(volume);
     const V a = f[0] + f[3], b = f[1] - f[2], n2 = a * a + b * b;
@@ -166,94 +167,8 @@ struct StressLanes {
     V out[4];
     for (int i = 0; i < 2; ++i)
       for (int j = 0; j < 2; ++j) out[i + 2 * j] = -vvolume * (p[i] * f[j] + p[i + 2] * f[j + 2]);
-    store_matrices(out, stress_out[0].data());
+    store_entries(out, stress_out[0].data());
     store_register(psi_out, psi);
-  }
-
- private:
-  // 128-bit halves of a register: `per_half` scalars each.
-  static constexpr int per_half = 16 / int(sizeof(T));
-  static constexpr int halves = count / per_half;
-  using Half = typename SimdVector<T, per_half>::type;
-
-  // The n entries of `count` consecutive matrices (n scalars apart: 2×2 or 3×3) as one register
-  // per entry with matrix l in lane l, and back. Lane by lane these moves were a third of the 2D
-  // and a quarter of the 3D stress pass. Entries e … e + per_half − 1 come as per_half registers,
-  // register j holding in half g those entries of matrix j + g·per_half (one 128-bit load or
-  // store each, no cross-half shuffle); a transpose within each half then gives one register per
-  // entry. What is left of n (3D: entry 8) goes lane by lane.
-  template <int n>
-  static void load_matrices(const T* m, V (&out)[n]) {
-    constexpr int whole = n / per_half * per_half;
-    for (int e = 0; e < whole; e += per_half) {
-      V r[per_half];
-      for (int j = 0; j < per_half; ++j) {
-        if constexpr (halves == 1)
-          r[j] = load_register<V>(m + n * j + e);
-        else
-          r[j] = join_halves<V>(load_register<Half>(m + n * j + e),
-                                load_register<Half>(m + n * (j + per_half) + e));
-      }
-      transpose_within_halves(r);
-      for (int k = 0; k < per_half; ++k) out[e + k] = r[k];
-    }
-    for (int e = whole; e < n; ++e)
-      out[e] = entry_of_each(m + e, n, std::make_index_sequence<count>{});
-  }
-  template <int n>
-  static void store_matrices(const V (&in)[n], T* m) {
-    constexpr int whole = n / per_half * per_half;
-    for (int e = 0; e < whole; e += per_half) {
-      V r[per_half];
-      for (int k = 0; k < per_half; ++k) r[k] = in[e + k];
-      transpose_within_halves(r);
-      for (int j = 0; j < per_half; ++j) {
-        if constexpr (halves == 1) {
-          store_register(m + n * j + e, r[j]);
-        } else {
-          store_register(m + n * j + e, half_of<0, Half>(r[j]));
-          store_register(m + n * (j + per_half) + e, half_of<1, Half>(r[j]));
-        }
-      }
-    }
-    for (int e = whole; e < n; ++e)
-      for (int l = 0; l < count; ++l) m[n * l + e] = in[e][l];
-  }
-  template <std::size_t... l>
-  static V entry_of_each(const T* m, int n, std::index_sequence<l...>) {
-    return V{m[n * int(l)]...};
-  }
-  // Lane g·per_half + i of register k becomes lane g·per_half + k of register i: a per_half ×
-  // per_half transpose within each 128-bit half (unpacks and half moves, one instruction each on
-  // SSE, AVX2 and AVX-512); its own inverse.
-  static void transpose_within_halves(V (&r)[per_half]) {
-    if constexpr (count == 8) {
-      const V t0 = shuffle_lanes<0, 8, 1, 9, 4, 12, 5, 13>(r[0], r[1]);  // unpack low
-      const V t1 = shuffle_lanes<2, 10, 3, 11, 6, 14, 7, 15>(r[0], r[1]);
-      const V t2 = shuffle_lanes<0, 8, 1, 9, 4, 12, 5, 13>(r[2], r[3]);
-      const V t3 = shuffle_lanes<2, 10, 3, 11, 6, 14, 7, 15>(r[2], r[3]);
-      r[0] = shuffle_lanes<0, 1, 8, 9, 4, 5, 12, 13>(t0, t2);  // low pairs of both
-      r[1] = shuffle_lanes<2, 3, 10, 11, 6, 7, 14, 15>(t0, t2);
-      r[2] = shuffle_lanes<0, 1, 8, 9, 4, 5, 12, 13>(t1, t3);
-      r[3] = shuffle_lanes<2, 3, 10, 11, 6, 7, 14, 15>(t1, t3);
-    } else if constexpr (count == 4 && per_half == 4) {  // 4 floats (SSE): one half
-      const V t0 = shuffle_lanes<0, 4, 2, 6>(r[0], r[1]),
-              t1 = shuffle_lanes<1, 5, 3, 7>(r[0], r[1]);
-      const V t2 = shuffle_lanes<0, 4, 2, 6>(r[2], r[3]),
-              t3 = shuffle_lanes<1, 5, 3, 7>(r[2], r[3]);
-      r[0] = shuffle_lanes<0, 1, 4, 5>(t0, t2);
-      r[1] = shuffle_lanes<0, 1, 4, 5>(t1, t3);
-      r[2] = shuffle_lanes<2, 3, 6, 7>(t0, t2);
-      r[3] = shuffle_lanes<2, 3, 6, 7>(t1, t3);
-    } else if constexpr (count == 4) {  // 4 doubles (AVX): unpack low and high
-      const V low = shuffle_lanes<0, 4, 2, 6>(r[0], r[1]);
-      r[1] = shuffle_lanes<1, 5, 3, 7>(r[0], r[1]);
-      r[0] = low;
-    } else {  // 2 doubles (SSE)
-      const V low = shuffle_lanes<0, 2>(r[0], r[1]);
-      r[1] = shuffle_lanes<1, 3>(r[0], r[1]);
-      r[0] = low;
-    }
   }
 };
 

@@ -164,9 +164,9 @@ TEST(ParticleSums, FusedEqualsOracle2DDouble) { all_schemes<double, 2>(); }
 TEST(ParticleSums, FusedEqualsOracle3DFloat) { all_schemes<float, 3>(); }
 TEST(ParticleSums, FusedEqualsOracle3DDouble) { all_schemes<double, 3>(); }
 
-// ChunkTerms on its own: any count of particles (partial vectors, a partial last chunk), C's
-// columns and per-particle terms, against the sums written out per particle in double from the
-// same T inputs. ChunkTerms forms each particle's terms in T (as measure() does), with at most
+// ChunkTerms on its own: any count of particles (partial vectors, a partial last chunk), C read
+// from its array or per-particle terms, against the sums written out per particle in double from
+// the same T inputs. ChunkTerms forms each particle's terms in T (as measure() does), with at most
 // D² + D + 4 roundings of ε_T each (the kinetic energy: |v|², |C|², k |C|², their add, m, the
 // extra terms' add; the others fewer), then adds them in double: within
 // (D² + D + 4) ε_T Σ_p |term_p| + 8 n ε_64 Σ_p |term_p| (Higham 2002, eq 4.4).
@@ -178,8 +178,10 @@ void chunk_sums_like_the_formula(int count, bool isotropic) {
   auto terms = std::make_unique<ChunkTerms<T, D, N>>();
   std::mt19937 rng(count * 7 + D);
   std::uniform_real_distribution<double> u(-1, 1);
-  std::vector<T> mass(
-      static_cast<std::size_t>(count));  // exactly count: sum() must not read past it
+  // Exactly count of each: sum() must not read past them.
+  std::vector<T> mass(static_cast<std::size_t>(count));
+  std::vector<Vec<T, D>> xs(static_cast<std::size_t>(count)), vs(xs);
+  std::vector<Mat<T, D>> Cs(static_cast<std::size_t>(count));
   const std::array<double, 3> g{0.3, -9.8, 1.1};
   const T k = T(1.0 / 3000);
   terms->isotropic_k = isotropic ? k : T(0);
@@ -195,11 +197,12 @@ void chunk_sums_like_the_formula(int count, bool isotropic) {
       v[a] = T(3 * u(rng));
       for (int b = 0; b < D; ++b) C(a, b) = T(20 * u(rng));
     }
-    terms->set(j, x, v);
+    xs[std::size_t(j)] = x;
+    vs[std::size_t(j)] = v;
+    Cs[std::size_t(j)] = C;
     double extra_kinetic = 0;
     Eigen::Vector3d extra_moment = Eigen::Vector3d::Zero();
     if (isotropic) {
-      terms->set_C(j, C);
       extra_kinetic = 0.5 * m * double(k) * C.template cast<double>().squaredNorm();
       extra_moment =
           m * double(k) * permutation_contract<double, D>(C.template cast<double>().transpose());
@@ -227,7 +230,7 @@ void chunk_sums_like_the_formula(int count, bool isotropic) {
       scale.L[std::size_t(a)] += m * xd.norm() * vd.norm() + std::abs(extra_moment[a]);
     }
   }
-  const ParticleSums got = terms->sum(mass.data(), count, g);
+  const ParticleSums got = terms->sum(mass.data(), xs.data(), vs.data(), Cs.data(), count, g);
   const double tol = (D * D + D + 4) * double(std::numeric_limits<T>::epsilon()) +
                      8 * std::max(count, 1) * std::numeric_limits<double>::epsilon();
   EXPECT_NEAR(got.kinetic, expect.kinetic, tol * scale.kinetic);
