@@ -113,6 +113,40 @@ void check_all_kernels() {
     }
 }
 
+// Node offsets on a grid whose plane stride does not fit 32 bits (a region of more than 2³¹
+// nodes a plane: no allocation here, the geometry alone), and on one whose stride is the largest
+// that does: the batch multiplies in 32 × 32 → 64 bits only for the second.
+template <class T, int D>
+void offsets_beyond_32_bit_strides() {
+  const Grid<T, D> g = batch_grid<T, D>(false, 1.0 / 32);
+  const std::vector<Vec<T, D>> x = batch_positions<T, D>(1.0 / 32);
+  for (std::size_t stride :
+       {std::size_t(std::numeric_limits<std::int32_t>::max()), std::size_t(3) << 31}) {
+    SCOPED_TRACE(::testing::Message() << D << "D, stride " << stride);
+    GridGeometry<T, D> wide = g;
+    wide.stride[D - 1] = stride;
+    StencilBatch<T, D, QuadraticKernel> batch;
+    for (std::size_t begin = 0; begin + batch.L <= x.size(); begin += batch.L) {
+      batch.compute(&x[begin], batch.L, wide);
+      for (int l = 0; l < batch.L; ++l) {
+        Stencil<T, D, QuadraticKernel> one, got;
+        one.compute(x[begin + std::size_t(l)], wide);
+        batch.get(l, got);
+        for (int a = 0; a < D; ++a)
+          for (int k = 0; k < QuadraticKernel::width; ++k)
+            ASSERT_EQ(got.off[a][k], one.off[a][k]) << "axis " << a << " node " << k;
+      }
+    }
+  }
+}
+
+TEST(StencilBatch, OffsetsBeyond32BitStrides) {
+  offsets_beyond_32_bit_strides<float, 2>();
+  offsets_beyond_32_bit_strides<double, 2>();
+  offsets_beyond_32_bit_strides<float, 3>();
+  offsets_beyond_32_bit_strides<double, 3>();
+}
+
 TEST(StencilBatch, MatchesStencilCompute2DFloat) { check_all_kernels<float, 2>(); }
 TEST(StencilBatch, MatchesStencilCompute2DDouble) { check_all_kernels<double, 2>(); }
 TEST(StencilBatch, MatchesStencilCompute3DFloat) { check_all_kernels<float, 3>(); }
