@@ -81,8 +81,8 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
               : max_move) if (parallel_worthwhile())
   for (std::ptrdiff_t c = 0; c < chunks; ++c) {
     ChunkTerms<T, D, chunk> terms;
-    // APIC-like schemes with an isotropic D_p: C's columns; the linear kernel's D_p and PolyPIC's
-    // modes: each particle's terms.
+    // APIC-like schemes with an isotropic D_p: C, read with x and v; the linear kernel's D_p and
+    // PolyPIC's modes: each particle's terms.
     if constexpr (is_affine(S) && K::type != KernelType::linear) terms.isotropic_k = k_inertia;
     terms.extras = (is_affine(S) && K::type == KernelType::linear) ||
                    (S == Scheme::polypic && polypic_extra > 0);

@@ -1,10 +1,10 @@
 // The diagnostics row's sums over particles: kinetic energy with the affine term, the
 // gravitational potential, linear and angular momentum (docs/architecture.md, Diagnostics CSV).
 // measure() sums them in a pass of its own (the readable oracle, sim/mpm_measure.hpp); a step
-// asked for its row takes them from G2P instead (sim/g2p.hpp): G2P stores each particle's new
-// state in a chunk's columns (ChunkTerms), and ChunkTerms::sum forms each particle's terms in T,
-// several particles per vector, and adds them in double. The chunks are fixed and their sums added
-// in chunk order, so that the row does not depend on the thread count.
+// asked for its row takes them from G2P instead (sim/g2p.hpp): after each chunk of particles,
+// ChunkTerms::sum reads their new state from the particle arrays, forms each particle's terms in
+// T, several particles per vector, and adds them in double. The chunks are fixed and their sums
+// added in chunk order, so that the row does not depend on the thread count.
 #pragma once
 #include <array>
 #include <cstring>
@@ -41,9 +41,9 @@ struct alignas(64) ParticleSums {
 // sums' chains of dependent double adds and the conversions cost 14 % of a 2D float step (Intel
 // Xeon, AVX-512; 16 % on the AMD EPYC); formed in double from every converted column, 6.5 %
 // (native) and 11 % (x86-64-v3); formed in T, 5.5 % and 9 % (medians of three, Intel Xeon,
-// 2026-11-24). G2P storing x, v and C a second time, as columns of this chunk, was half of what
-// was left; they are now read from the particle arrays several particles a register
-// (sim/entry_lanes.hpp).
+// 2026-11-24). G2P stored x, v and C a second time, as columns of this chunk: 10 of the row's 25
+// instructions a particle (callgrind, x86-64-v3, 2D float); they are now read from the particle
+// arrays several particles a register (sim/entry_lanes.hpp).
 template <class T, int D, int N>
 struct ChunkTerms {
   // Particles per vector of terms: 8 float or 4 double, one AVX2 register. With 16 floats (one
