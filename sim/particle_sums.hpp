@@ -43,7 +43,9 @@ struct alignas(64) ParticleSums {
 // (native) and 11 % (x86-64-v3); formed in T, 5.5 % and 9 % (medians of three, Intel Xeon,
 // 2026-11-24). G2P stored x, v and C a second time, as columns of this chunk: 10 of the row's 25
 // instructions a particle (callgrind, x86-64-v3, 2D float); they are now read from the particle
-// arrays several particles a register (sim/entry_lanes.hpp).
+// arrays several particles a register (sim/entry_lanes.hpp). Float terms of two vectors of
+// particles are added in float before their conversion (G below): the row 6.5 → 3.6 % of a 2D
+// float step on x86-64-v3 with G2P's chunks of 1024 (2026-11-25, user time, ten rounds).
 template <class T, int D, int N>
 struct ChunkTerms {
   // Particles per vector of terms: 8 float or 4 double, one AVX2 register. With 16 floats (one
@@ -74,19 +76,132 @@ struct ChunkTerms {
   // double at the end), x × m v + m k (C_ba − C_ab) ε_abγ (+ the extra moments).
   ParticleSums sum(const T* mass, const Vec<T, D>* x, const Vec<T, D>* v, const Mat<T, D>* C,
                    int count, const std::array<double, 3>& g) {
-    using VT = typename SimdVector<T, P>::type;
-    using VD = typename SimdVector<double, Q>::type;
-    const int padded = (count + P - 1) / P * P;
-    if (extras)  // the last vector's unused lanes
+    if (isotropic_k != T(0))
+      return extras ? sum_as<true, true>(mass, x, v, C, count, g)
+                    : sum_as<true, false>(mass, x, v, C, count, g);
+    return extras ? sum_as<false, true>(mass, x, v, C, count, g)
+                  : sum_as<false, false>(mass, x, v, C, count, g);
+  }
+
+ private:
+  using VT = typename SimdVector<T, P>::type;
+  using VD = typename SimdVector<double, Q>::type;
+  // Float terms of G vectors of particles are added in float before their conversion: one more
+  // rounding a term (ε_T of the pair), half the conversions, which were the row's bottleneck
+  // (each a lane-crossing move on the one shuffle port). Double terms are added as they come.
+  static constexpr int G = sizeof(T) == 4 ? 2 : 1;
+  // 2D float: the lanes of a vector hold particles (0 1 4 5 2 3 6 7) of its 8, the order in which
+  // one in-half shuffle of two loads splits x and y (for sums the order is free); else in order.
+  static constexpr bool shuffled = D == 2 && P == 8;
+  static_assert(N % (G * P) == 0);
+
+  struct Terms {
+    VT kinetic, mx[D], p[D], L[moments];
+    void add(const Terms& o) {
+      kinetic += o.kinetic;
+      for (int a = 0; a < D; ++a) {
+        mx[a] += o.mx[a];
+        p[a] += o.p[a];
+      }
+      for (int a = 0; a < moments; ++a) L[a] += o.L[a];
+    }
+  };
+
+  // P consecutive scalars in the lanes' particle order.
+  static VT load_scalars(const T* from) {
+    const VT in = load_register<VT>(from);
+    if constexpr (shuffled) return shuffle_lanes<0, 1, 4, 5, 2, 3, 6, 7>(in, in);
+    return in;
+  }
+  // Entries of P consecutive 2-vectors or matrices, one register per entry, in the lanes' order.
+  template <int n>
+  static void load_items(const T* from, VT (&out)[n]) {
+    if constexpr (shuffled && n == 2) {
+      const VT low = load_register<VT>(from), high = load_register<VT>(from + 8);
+      out[0] = shuffle_lanes<0, 2, 8, 10, 4, 6, 12, 14>(low, high);
+      out[1] = shuffle_lanes<1, 3, 9, 11, 5, 7, 13, 15>(low, high);
+    } else if constexpr (shuffled && n == 4) {  // items (0 2) (1 3) (4 6) (5 7), transposed
+      using Half = typename SimdVector<T, 4>::type;
+      for (int j = 0; j < 4; ++j) {
+        const int first = j / 2 * 4 + j % 2;
+        out[j] = join_halves<VT>(load_register<Half>(from + 4 * first),
+                                 load_register<Half>(from + 4 * (first + 2)));
+      }
+      entry_lanes_detail::transpose_within_halves(out);
+    } else {
+      load_entries<n>(from, out);
+    }
+  }
+
+  // The terms of P particles from (ms, xp, vp, cp): the arrays from particle j on, or a copy of
+  // the last, partial group's particles, zero after them.
+  template <bool isotropic, bool with_extras>
+  Terms terms_of(int j, const T* ms, const T* xp, const T* vp, const T* cp) const {
+    Terms t;
+    const VT m = load_scalars(ms);
+    VT xs[D], vs[D], v2{};
+    load_items<D>(xp, xs);
+    load_items<D>(vp, vs);
+    for (int a = 0; a < D; ++a) {
+      v2 += vs[a] * vs[a];
+      t.p[a] = m * vs[a];
+      t.mx[a] = m * xs[a];
+    }
+    if constexpr (D == 2) {
+      t.L[0] = xs[0] * t.p[1] - xs[1] * t.p[0];
+    } else {
+      for (int a = 0; a < 3; ++a)
+        t.L[a] = xs[(a + 1) % 3] * t.p[(a + 2) % 3] - xs[(a + 2) % 3] * t.p[(a + 1) % 3];
+    }
+    VT kin = v2;
+    if constexpr (isotropic) {  // m k |C|² and m k (C_ba − C_ab) ε_abγ, Sec 5.3
+      const T k = isotropic_k;
+      VT cs[D * D], c2{};
+      load_items<D * D>(cp, cs);
+      for (int e = 0; e < D * D; ++e) c2 += cs[e] * cs[e];
+      kin += k * c2;
+      const VT mk = k * m;
+      auto skew = [&](int a, int b) { return mk * (cs[b + D * a] - cs[a + D * b]); };
+      if constexpr (D == 2) {
+        t.L[0] += skew(0, 1);
+      } else {
+        t.L[0] += skew(1, 2);
+        t.L[1] += skew(2, 0);
+        t.L[2] += skew(0, 1);
+      }
+    }
+    t.kinetic = kin * (T(0.5) * m);
+    if constexpr (with_extras) {
+      t.kinetic += load_scalars(&extra_kinetic[j]);
+      for (int a = 0; a < moments; ++a) t.L[a] += load_scalars(&affine_moment[a][j]);
+    }
+    return t;
+  }
+
+  // The terms of `count` · P particles added pairwise (count a power of 2): log₂ count roundings.
+  template <int count, bool isotropic, bool with_extras>
+  Terms terms_tree(int j, const T* ms, const T* xp, const T* vp, const T* cp) const {
+    if constexpr (count == 1) {
+      return terms_of<isotropic, with_extras>(j, ms, xp, vp, cp);
+    } else {
+      constexpr int half = count / 2 * P;  // particles in each half
+      Terms t = terms_tree<count / 2, isotropic, with_extras>(j, ms, xp, vp, cp);
+      t.add(terms_tree<count / 2, isotropic, with_extras>(
+          j + half, ms + half, xp + half * D, vp + half * D, isotropic ? cp + half * D * D : cp));
+      return t;
+    }
+  }
+
+  template <bool isotropic, bool with_extras>
+  ParticleSums sum_as(const T* mass, const Vec<T, D>* x, const Vec<T, D>* v, const Mat<T, D>* C,
+                      int count, const std::array<double, 3>& g) {
+    constexpr int group = G * P;  // particles a conversion to double
+    const int padded = (count + group - 1) / group * group;
+    if constexpr (with_extras)  // the last group's unused lanes
       for (int j = count; j < padded; ++j) {
         extra_kinetic[j] = T(0);
         for (int a = 0; a < moments; ++a) affine_moment[a][j] = T(0);
       }
-    auto load = [](const T* from) {
-      VT out;
-      std::memcpy(&out, from, sizeof out);
-      return out;
-    };
     // P terms into Q double lanes, Q at a time in lane order. Lane by lane, which GCC 12 turns
     // into one conversion per Q lanes; __builtin_convertvector took three instructions for 4.
     auto add = [](VD& sum, const VT& terms) {
@@ -96,72 +211,38 @@ struct ChunkTerms {
         sum += part;
       }
     };
-    const T k = isotropic_k;
     VD kinetic{}, mx[D] = {}, p[D] = {}, L[moments] = {};
-    // P particles from (ms, xs, vs, cs): the arrays from particle j on, or a copy of the last,
-    // partial vector's particles, zero after them (the arrays end at count).
-    auto terms_of = [&](int j, const T* ms, const T* xp, const T* vp, const T* cp) {
-      const VT m = load(ms);
-      VT xs[D], vs[D], mv[D], v2{};
-      load_entries<D>(xp, xs);
-      load_entries<D>(vp, vs);
+    // G·P particles from the arrays (particle j on), or from zero-padded copies.
+    auto group_of = [&](int j, const T* ms, const T* xp, const T* vp, const T* cp) {
+      const Terms t = terms_tree<G, isotropic, with_extras>(j, ms, xp, vp, cp);
+      add(kinetic, t.kinetic);
       for (int a = 0; a < D; ++a) {
-        v2 += vs[a] * vs[a];
-        mv[a] = m * vs[a];
-        add(p[a], mv[a]);
-        add(mx[a], m * xs[a]);
+        add(mx[a], t.mx[a]);
+        add(p[a], t.p[a]);
       }
-      VT moment[moments];
-      if constexpr (D == 2) {
-        moment[0] = xs[0] * mv[1] - xs[1] * mv[0];
-      } else {
-        for (int a = 0; a < 3; ++a)
-          moment[a] = xs[(a + 1) % 3] * mv[(a + 2) % 3] - xs[(a + 2) % 3] * mv[(a + 1) % 3];
-      }
-      VT kin = v2;
-      if (k != T(0)) {  // m k |C|² and m k (C_ba − C_ab) ε_abγ, Sec 5.3
-        VT cs[D * D], c2{};
-        load_entries<D * D>(cp, cs);
-        for (int e = 0; e < D * D; ++e) c2 += cs[e] * cs[e];
-        kin += k * c2;
-        const VT mk = k * m;
-        auto skew = [&](int a, int b) { return mk * (cs[b + D * a] - cs[a + D * b]); };
-        if constexpr (D == 2) {
-          moment[0] += skew(0, 1);
-        } else {
-          moment[0] += skew(1, 2);
-          moment[1] += skew(2, 0);
-          moment[2] += skew(0, 1);
-        }
-      }
-      kin *= T(0.5) * m;
-      if (extras) {
-        kin += load(&extra_kinetic[j]);
-        for (int a = 0; a < moments; ++a) moment[a] += load(&affine_moment[a][j]);
-      }
-      add(kinetic, kin);
-      for (int a = 0; a < moments; ++a) add(L[a], moment[a]);
+      for (int a = 0; a < moments; ++a) add(L[a], t.L[a]);
     };
     // The arrays' scalars (Eigen's fixed-size vectors and matrices are their scalars alone).
     const T* x_entries = reinterpret_cast<const T*>(x);
     const T* v_entries = reinterpret_cast<const T*>(v);
-    const T* c_entries = k != T(0) ? reinterpret_cast<const T*>(C) : nullptr;
-    const int whole = count / P * P;
-    for (int j = 0; j < whole; j += P)
-      terms_of(j, mass + j, x_entries + D * j, v_entries + D * j,
-               c_entries ? c_entries + D * D * j : nullptr);
+    const T* c_entries = isotropic ? reinterpret_cast<const T*>(C) : nullptr;
+    const int whole = count / group * group;
+    for (int j = 0; j < whole; j += group)
+      group_of(j, mass + j, x_entries + D * j, v_entries + D * j,
+               isotropic ? c_entries + D * D * j : nullptr);
     if (whole < count) {
-      T ms[P] = {}, xs[P * D] = {}, vs[P * D] = {}, cs[P * D * D] = {};
+      T ms[group] = {}, xs[group * D] = {}, vs[group * D] = {},
+        cs[isotropic ? group * D * D : 1] = {};
       for (int l = 0; l < count - whole; ++l) {
         ms[l] = mass[whole + l];
         for (int a = 0; a < D; ++a) {
           xs[D * l + a] = x_entries[D * (whole + l) + a];
           vs[D * l + a] = v_entries[D * (whole + l) + a];
         }
-        if (c_entries)
+        if constexpr (isotropic)
           for (int e = 0; e < D * D; ++e) cs[D * D * l + e] = c_entries[D * D * (whole + l) + e];
       }
-      terms_of(whole, ms, xs, vs, cs);
+      group_of(whole, ms, xs, vs, cs);
     }
     auto total = [](const VD& lanes) {
       double s = 0;
