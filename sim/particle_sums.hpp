@@ -44,8 +44,9 @@ struct alignas(64) ParticleSums {
 // 2026-11-24). G2P stored x, v and C a second time, as columns of this chunk: 10 of the row's 25
 // instructions a particle (callgrind, x86-64-v3, 2D float); they are now read from the particle
 // arrays several particles a register (sim/entry_lanes.hpp). Float terms of two vectors of
-// particles are added in float before their conversion (G below): the row 6.5 → 3.6 % of a 2D
-// float step on x86-64-v3 with G2P's chunks of 1024 (2026-11-25, user time, ten rounds).
+// particles are added in float before their conversion (G below): with G2P's chunks of 1024 the
+// row went 7.6 → 2.5 % of a 2D float step natively, 11.1 → 3.6 % on x86-64-v3 (bench, medians
+// of three, Intel Xeon, 2026-11-25).
 template <class T, int D, int N>
 struct ChunkTerms {
   // Particles per vector of terms: 8 float or 4 double, one AVX2 register. With 16 floats (one
