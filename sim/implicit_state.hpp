@@ -20,7 +20,8 @@ struct ImplicitSolveState {
   std::vector<ConstrainedNode<T, D>> constraints;  // constraints acting this step
   std::vector<Vec<T, D>> dv, grad;                 // Δv = ṽ − v, ∇E(Δv)
   std::vector<Mat<T, D>> Fy;                       // F_p at the force position y
-  std::vector<Eigen::Matrix<T, D * D, D * D>> hessian;  // ∂P/∂F per particle
+  // Per particle ∂P/∂F at y; in 2D folded with b Δt² V_p and Fⁿ into S_p (implicit.hpp).
+  std::vector<Eigen::Matrix<T, D * D, D * D>> stiffness;
   std::vector<Mat<T, D>> block_inverse;  // block-Jacobi: each node's D×D block of H, inverted
   NewtonCgVectors<T, D> cg;
   std::vector<double> residuals;  // Newton residuals of the last step, in order

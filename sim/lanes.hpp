@@ -16,7 +16,8 @@ namespace apiclab {
 // Bytes of the vector registers the lane groups fill: 32 with AVX, also where AVX-512 has 64.
 // With 64 (Intel Xeon, AVX-512, 1 thread, seven interleaved rounds) 2D double ran 1.5–8 % and
 // 3D double 2–4.7 % slower and float the same: 512-bit arithmetic lowers the core's clock.
-// The same width on both builds also gives the native and the x86-64-v3 build one layout.
+// The same width on both builds also gives the native and the x86-64-v3 build one layout. The
+// native build holds GCC's own vectoriser to it too (-mprefer-vector-width=256, CMakeLists.txt).
 #if defined(__AVX__)
 inline constexpr int simd_register_bytes = 32;
 #else

@@ -166,7 +166,8 @@ void bytes_per_item(const SceneDesc& scene, MemoryEstimate& e) {
         2.0 * polypic::extra_modes(polypic::kept_modes(scene.solver.polypic_modes, D), D) *
         sizeof(V);
   if (scene.solver.integrator != Integrator::symplectic) {
-    // Implicit: F at y and dP/dF per particle; Newton and CG vectors on the nodes (Sec 4.2).
+    // Implicit: F at y and the stiffness operator per particle; Newton and CG vectors on the
+    // nodes (Sec 4.2).
     e.bytes_per_particle += sizeof(M) + sizeof(Eigen::Matrix<T, D * D, D * D>);
     e.bytes_per_node += 6 * sizeof(V) + 4;
   }

@@ -123,6 +123,8 @@ class MpmSimulation final : public Simulation, public TransferControls {
   template <class K>
   double implicit_energy(const std::vector<Vec<T, D>>& dv, bool gradient);
   void implicit_update_hessian(bool project_definite);
+  // 2D folds each particle's ∂P/∂F with b Δt² V_p and Fⁿ (implicit_update_hessian says why).
+  static constexpr bool folded_stiffness = D == 2;
   template <class K>
   void implicit_hessian_apply(const std::vector<Vec<T, D>>& in, std::vector<Vec<T, D>>& out);
   void implicit_project(std::vector<Vec<T, D>>& z) const;
