@@ -5,8 +5,10 @@
 #include <type_traits>
 
 #include "deformation_update.hpp"
+#include "gather_paired.hpp"
 #include "kernel_dispatch.hpp"
 #include "mpm.hpp"
+#include "particle_tail.hpp"
 #include "stencil_batch.hpp"
 #include "transfer_polypic.hpp"
 #include "transfer_schemes.hpp"
@@ -43,9 +45,16 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
   bool bad = false;
   double max_move = 0;
   Vec<T, D> lo, hi;
+  T lo2[2] = {}, hi2[2] = {};  // 2D's walls for ParticleTail2d
+  bool any_periodic = false;
   for (int a = 0; a < D; ++a) {
     lo[a] = T(scene_.domain.min[a]);
     hi[a] = T(scene_.domain.max[a]);
+    if (a < 2) {
+      lo2[a] = lo[a];
+      hi2[a] = hi[a];
+    }
+    any_periodic = any_periodic || grid_.periodic[a];
   }
   // The gather reads the first 2D lanes of each node: one register per node in 2D double
   // (256-bit lanes, sim/lanes.hpp) instead of two.
@@ -94,6 +103,11 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
     T chunk_move = 0;
     bool chunk_bad = false;
     StencilBatch<T, D, K> batch;  // x^n's stencils, read before this loop moves the particles
+    // 2D: the F and x updates of the batch's particles once its last is gathered, unless a
+    // particle's own later work reads them (ASFLIP's move reads F^{n+1}, the row's extra terms
+    // x^{n+1}) or an axis wraps.
+    ParticleTail2d<T, StencilBatch<T, D, K>::L> tail;
+    const bool tail_batched = D == 2 && S != Scheme::asflip && !terms.extras && !any_periodic;
     for (std::ptrdiff_t q = c * chunk; q < end; ++q) {
       const int lane = int((q - c * chunk) % batch.L);
       if (lane == 0)
@@ -111,6 +125,10 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
       // Σ w (ṽ × vⁿ) only for λ > 0, into the given sums (of lane type L).
       auto gather = [&](auto moving_nodes, auto& vsum, auto& grad_cols, auto& b_cols, auto& twist) {
         using L = std::remove_reference_t<decltype(vsum)>;
+        if constexpr (paired_halves<L>(decltype(moving_nodes)::value)) {  // 2D float
+          gather_2d_paired(batch, lane, st, wr, packed, vsum, grad_cols, b_cols);
+          return;
+        }
         // Forced inline: GCC 12 keeps this row body out of line on x86-64-v3 in 3D double, and
         // the sums it adds to, taken by reference, then go through memory at every row.
         batch.for_each_row(
@@ -254,49 +272,61 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
       }
       // MLS-MPM (Hu et al. 2018): the new C is the velocity gradient, F^{n+1} = (I + Δt C) F.
       if constexpr (S == Scheme::mls) gradu = p_.C[q];
-      if constexpr (D == 3) {                    // sim/deformation_update.hpp
-        if (S == Scheme::mls || lambda != T(0))  // ∇u as a matrix (λ = 0 left it in lanes)
-          for (int c = 0; c < D; ++c)
-            gradu_lanes[c] = GradColumn::of(gradu(0, c), gradu(1, c), gradu(2, c));
-        for (int c = 0; c < D; ++c) gradu_lanes[c] = dt * gradu_lanes[c];
-        update_deformation_3d(p_.F[q].data(), gradu_lanes);
-      } else {
-        // The loop here, not shared with deformation_update.hpp's scalar one: inlined from a
-        // function, GCC vectorised it into shuffles and a 256-bit store, 8 % slower in 2D double
-        // on x86-64-v3.
-        const Mat<T, D> F0 = p_.F[q];
-        // Δt ∇u before the stores: Δt is the parallel region's shared variable, which a store
-        // to F may alias, so reading it inside the loop reloaded it at every entry (perf
-        // annotate).
-        const Mat<T, D> dt_gradu = dt * gradu;
-        for (int b = 0; b < D; ++b)
-          for (int a = 0; a < D; ++a) {
-            T s = F0(a, b);
-            for (int k = 0; k < D; ++k) s += dt_gradu(a, k) * F0(k, b);
-            p_.F[q](a, b) = s;
+      if (tail_batched) {  // F and x a batch at a time (sim/particle_tail.hpp)
+        if constexpr (D == 2) {
+          tail.set(lane, dt * gradu, dt * ubar);
+          if (lane == batch.L - 1 || q == end - 1) {
+            const std::ptrdiff_t first = q - lane;
+            if (!tail.apply(lane + 1, &p_.F[first], &p_.x[first], &p_.v[first], lo2, hi2,
+                            chunk_move))
+              chunk_bad = true;
           }
-      }
-      // Particle update: positions on the moved grid (eq 39), F by eq 40 (above).
-      Vec<T, D> move = dt * ubar;
-      // ASFLIP (Fei et al. 2021): separating particles also move by β α (v_p^n − v_old);
-      // a particle whose volume shrinks this step (ln J^{n+1} < −10⁻³, the threshold of the
-      // authors' pyasflip demo) keeps the grid's motion (β_min = 0).
-      if constexpr (S == Scheme::asflip)
-        if (beta != T(0) && std::log(std::max(p_.F[q].determinant(), T(1e-15))) >= T(-1e-3))
-          move += (dt * beta * alpha) * flip_difference;
-      Vec<T, D> x = p_.x[q] + move;
-      chunk_move = std::max(chunk_move, move.cwiseAbs().maxCoeff());
-      for (int a = 0; a < D; ++a) {
-        if (grid_.periodic[a]) {
-          const T L = hi[a] - lo[a];
-          if (x[a] < lo[a] || x[a] >= hi[a]) x[a] -= L * std::floor((x[a] - lo[a]) / L);
-          if (x[a] >= hi[a]) x[a] = lo[a];  // round-off of the line above
-        } else {
-          x[a] = std::min(std::max(x[a], lo[a]), hi[a]);  // walls: keep the stencil on the grid
         }
+      } else {
+        if constexpr (D == 3) {                    // sim/deformation_update.hpp
+          if (S == Scheme::mls || lambda != T(0))  // ∇u as a matrix (λ = 0 left it in lanes)
+            for (int c = 0; c < D; ++c)
+              gradu_lanes[c] = GradColumn::of(gradu(0, c), gradu(1, c), gradu(2, c));
+          for (int c = 0; c < D; ++c) gradu_lanes[c] = dt * gradu_lanes[c];
+          update_deformation_3d(p_.F[q].data(), gradu_lanes);
+        } else {
+          // The loop here, not shared with deformation_update.hpp's scalar one: inlined from a
+          // function, GCC vectorised it into shuffles and a 256-bit store, 8 % slower in 2D double
+          // on x86-64-v3.
+          const Mat<T, D> F0 = p_.F[q];
+          // Δt ∇u before the stores: Δt is the parallel region's shared variable, which a store
+          // to F may alias, so reading it inside the loop reloaded it at every entry (perf
+          // annotate).
+          const Mat<T, D> dt_gradu = dt * gradu;
+          for (int b = 0; b < D; ++b)
+            for (int a = 0; a < D; ++a) {
+              T s = F0(a, b);
+              for (int k = 0; k < D; ++k) s += dt_gradu(a, k) * F0(k, b);
+              p_.F[q](a, b) = s;
+            }
+        }
+        // Particle update: positions on the moved grid (eq 39), F by eq 40 (above).
+        Vec<T, D> move = dt * ubar;
+        // ASFLIP (Fei et al. 2021): separating particles also move by β α (v_p^n − v_old);
+        // a particle whose volume shrinks this step (ln J^{n+1} < −10⁻³, the threshold of the
+        // authors' pyasflip demo) keeps the grid's motion (β_min = 0).
+        if constexpr (S == Scheme::asflip)
+          if (beta != T(0) && std::log(std::max(p_.F[q].determinant(), T(1e-15))) >= T(-1e-3))
+            move += (dt * beta * alpha) * flip_difference;
+        Vec<T, D> x = p_.x[q] + move;
+        chunk_move = std::max(chunk_move, move.cwiseAbs().maxCoeff());
+        for (int a = 0; a < D; ++a) {
+          if (grid_.periodic[a]) {
+            const T L = hi[a] - lo[a];
+            if (x[a] < lo[a] || x[a] >= hi[a]) x[a] -= L * std::floor((x[a] - lo[a]) / L);
+            if (x[a] >= hi[a]) x[a] = lo[a];  // round-off of the line above
+          } else {
+            x[a] = std::min(std::max(x[a], lo[a]), hi[a]);  // walls: keep the stencil on the grid
+          }
+        }
+        p_.x[q] = x;
+        if (!std::isfinite(x.sum() + p_.v[q].sum())) chunk_bad = true;
       }
-      p_.x[q] = x;
-      if (!std::isfinite(x.sum() + p_.v[q].sum())) chunk_bad = true;
       // The row's terms at the new state, as particle_sums() adds them: x, v and C are read
       // from the particle arrays after the chunk; the extra terms are set here.
       if (sums && terms.extras) {
@@ -306,7 +336,7 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
         if constexpr (S == Scheme::polypic) {
           if (polypic_extra > 0) {
             Stencil<T, D, QuadraticKernel> at_x;
-            at_x.compute(x, grid_);
+            at_x.compute(p_.x[q], grid_);
             modes_kinetic =
                 T(0.5) * m *
                 polypic::modes_energy_density<T, D>(at_x, grid_.inv_dx, p_.modes, std::size_t(q));
@@ -314,7 +344,7 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
         }
         if constexpr (K::type == KernelType::linear) {
           Stencil<T, D, LinearKernel> at_x;
-          at_x.compute(x, grid_);
+          at_x.compute(p_.x[q], grid_);
           terms.set_affine(j, m, p_.C[q], Mat<T, D>(at_x.inertia()), modes_kinetic);
         } else {  // PolyPIC's higher modes; its C is read with x and v
           terms.extra_kinetic[j] = modes_kinetic;

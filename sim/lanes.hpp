@@ -24,6 +24,13 @@ inline constexpr int simd_register_bytes = 32;
 inline constexpr int simd_register_bytes = 16;
 #endif
 
+// Vector registers of the target: AVX-512VL gives 256-bit operations 32, AVX2 16.
+#if defined(__AVX512VL__)
+inline constexpr int simd_register_count = 32;
+#else
+inline constexpr int simd_register_count = 16;
+#endif
+
 // One register of P values. Spelled per scalar and width because the attribute is lost on a
 // dependent typedef.
 template <class T, int P>
