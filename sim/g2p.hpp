@@ -45,17 +45,12 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
   bool bad = false;
   double max_move = 0;
   Vec<T, D> lo, hi;
-  T lo2[2] = {}, hi2[2] = {};  // 2D's walls for ParticleTail2d
-  bool any_periodic = false;
   for (int a = 0; a < D; ++a) {
     lo[a] = T(scene_.domain.min[a]);
     hi[a] = T(scene_.domain.max[a]);
-    if (a < 2) {
-      lo2[a] = lo[a];
-      hi2[a] = hi[a];
-    }
-    any_periodic = any_periodic || grid_.periodic[a];
   }
+  const bool any_periodic =
+      std::find(grid_.periodic.begin(), grid_.periodic.end(), true) != grid_.periodic.end();
   // The gather reads the first 2D lanes of each node: one register per node in 2D double
   // (256-bit lanes, sim/lanes.hpp) instead of two.
   using Lanes = typename Grid<T, D>::GatherLanes;
@@ -277,8 +272,7 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
           tail.set(lane, dt * gradu, dt * ubar);
           if (lane == batch.L - 1 || q == end - 1) {
             const std::ptrdiff_t first = q - lane;
-            if (!tail.apply(lane + 1, &p_.F[first], &p_.x[first], &p_.v[first], lo2, hi2,
-                            chunk_move))
+            if (!tail.apply(lane + 1, &p_.F[first], &p_.x[first], &p_.v[first], lo, hi, chunk_move))
               chunk_bad = true;
           }
         }

@@ -22,14 +22,8 @@ inline constexpr bool paired_2d_float_gather =
 // register, and no Σ w (ṽ × vⁿ) (λ = 0).
 template <class L>
 constexpr bool paired_halves(bool moving_nodes) {
-  if constexpr (!paired_2d_float_gather) {
-    return false;
-  } else if constexpr (requires { L::per_part; }) {
-    using Part = std::remove_cvref_t<decltype(L{}.part[0][0])>;
-    return std::is_same_v<Part, float> && L::per_part == 4 && L::parts == 1 && !moving_nodes;
-  } else {
-    return false;
-  }
+  return paired_2d_float_gather && std::is_same_v<typename L::Part, SimdVector<float, 4>::type> &&
+         L::parts == 1 && !moving_nodes;
 }
 
 // The gather of g2p_impl's generic row body for particle `lane` of `batch` (stencil st, w r

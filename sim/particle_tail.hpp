@@ -29,8 +29,8 @@ struct ParticleTail2d {
 
   // One particle, as g2p_impl did it: F (in place), x clamped to [lo, hi] (no periodic axis).
   // Returns whether x and v are finite; raises largest_move to its largest |move| entry.
-  bool apply_one(int l, Mat<T, 2>& F, Vec<T, 2>& x, const Vec<T, 2>& v, const T (&lo)[2],
-                 const T (&hi)[2], T& largest_move) const {
+  bool apply_one(int l, Mat<T, 2>& F, Vec<T, 2>& x, const Vec<T, 2>& v, const Vec<T, 2>& lo,
+                 const Vec<T, 2>& hi, T& largest_move) const {
     const Mat<T, 2> F0 = F;
     for (int b = 0; b < 2; ++b)
       for (int a = 0; a < 2; ++a) {
@@ -44,56 +44,56 @@ struct ParticleTail2d {
   }
 
   // Particles 0 … count − 1 of F, x and v; a full batch a register at a time.
-  bool apply(int count, Mat<T, 2>* F, Vec<T, 2>* x, const Vec<T, 2>* v, const T (&lo)[2],
-             const T (&hi)[2], T& largest_move) const {
+  bool apply(int count, Mat<T, 2>* F, Vec<T, 2>* x, const Vec<T, 2>* v, const Vec<T, 2>& lo,
+             const Vec<T, 2>& hi, T& largest_move) const {
     constexpr int P = std::min(L, simd_register_bytes / int(sizeof(T)));
-    if constexpr (L % P == 0 && sizeof(Mat<T, 2>) == 4 * sizeof(T) &&
-                  sizeof(Vec<T, 2>) == 2 * sizeof(T)) {
-      if (count == L) {
-        using V = typename SimdVector<T, P>::type;
-        bool finite = true;
-        V widest{};
-        for (int l0 = 0; l0 < L; l0 += P) {
-          T* f = reinterpret_cast<T*>(F + l0);
-          T* xs = reinterpret_cast<T*>(x + l0);
-          const T* vs = reinterpret_cast<const T*>(v + l0);
-          V f0[4], g[4], pos[2], vel[2];
-          load_entries<4>(f, f0);
-          load_entries<2>(xs, pos);
-          load_entries<2>(vs, vel);
-          for (int e = 0; e < 4; ++e) g[e] = load_register<V>(&dt_gradu[e][l0]);
-          V f1[4];
-          for (int b = 0; b < 2; ++b)
-            for (int a = 0; a < 2; ++a) {
-              V s = f0[a + 2 * b];
-              for (int k = 0; k < 2; ++k) s += g[a + 2 * k] * f0[k + 2 * b];
-              f1[a + 2 * b] = s;
-            }
-          store_entries<4>(f1, f);
-          V abs_move[2];
-          for (int a = 0; a < 2; ++a) {
-            const V m = load_register<V>(&move[a][l0]);
-            abs_move[a] = m < V{} ? -m : m;
-            const V moved = pos[a] + m;
-            const V low = V{} + lo[a], high = V{} + hi[a];
-            const V above = moved < low ? low : moved;  // std::max(moved, lo)
-            pos[a] = high < above ? high : above;       // std::min(…, hi)
-          }
-          const V m = abs_move[0] < abs_move[1] ? abs_move[1] : abs_move[0];
-          widest = widest < m ? m : widest;
-          store_entries<2>(pos, xs);
-          const V sum = (pos[0] + pos[1]) + (vel[0] + vel[1]);
-          // x − x is 0 for a finite x, NaN for ±∞ and NaN.
-          const auto ok = (sum - sum) == V{};
-          for (int l = 0; l < P; ++l) finite = finite && ok[l] != 0;
-        }
-        for (int l = 0; l < P; ++l) largest_move = std::max(largest_move, widest[l]);
-        return finite;
-      }
+    static_assert(
+        L % P == 0 && sizeof(Mat<T, 2>) == 4 * sizeof(T) && sizeof(Vec<T, 2>) == 2 * sizeof(T),
+        "whole registers of particles, each particle's entries packed");
+    if (count < L) {
+      bool finite = true;
+      for (int l = 0; l < count; ++l)
+        finite = apply_one(l, F[l], x[l], v[l], lo, hi, largest_move) && finite;
+      return finite;
     }
+    using V = typename SimdVector<T, P>::type;
     bool finite = true;
-    for (int l = 0; l < count; ++l)
-      finite = apply_one(l, F[l], x[l], v[l], lo, hi, largest_move) && finite;
+    V widest{};
+    for (int l0 = 0; l0 < L; l0 += P) {
+      T* f = reinterpret_cast<T*>(F + l0);
+      T* xs = reinterpret_cast<T*>(x + l0);
+      const T* vs = reinterpret_cast<const T*>(v + l0);
+      V f0[4], g[4], pos[2], vel[2];
+      load_entries<4>(f, f0);
+      load_entries<2>(xs, pos);
+      load_entries<2>(vs, vel);
+      for (int e = 0; e < 4; ++e) g[e] = load_register<V>(&dt_gradu[e][l0]);
+      V f1[4];
+      for (int b = 0; b < 2; ++b)
+        for (int a = 0; a < 2; ++a) {
+          V s = f0[a + 2 * b];
+          for (int k = 0; k < 2; ++k) s += g[a + 2 * k] * f0[k + 2 * b];
+          f1[a + 2 * b] = s;
+        }
+      store_entries<4>(f1, f);
+      V abs_move[2];
+      for (int a = 0; a < 2; ++a) {
+        const V m = load_register<V>(&move[a][l0]);
+        abs_move[a] = m < V{} ? -m : m;
+        const V moved = pos[a] + m;
+        const V low = V{} + lo[a], high = V{} + hi[a];
+        const V above = moved < low ? low : moved;  // std::max(moved, lo)
+        pos[a] = high < above ? high : above;       // std::min(…, hi)
+      }
+      const V m = abs_move[0] < abs_move[1] ? abs_move[1] : abs_move[0];
+      widest = widest < m ? m : widest;
+      store_entries<2>(pos, xs);
+      const V sum = (pos[0] + pos[1]) + (vel[0] + vel[1]);
+      // x − x is 0 for a finite x, NaN for ±∞ and NaN.
+      const auto ok = (sum - sum) == V{};
+      for (int l = 0; l < P; ++l) finite = finite && ok[l] != 0;
+    }
+    for (int l = 0; l < P; ++l) largest_move = std::max(largest_move, widest[l]);
     return finite;
   }
 };

@@ -22,7 +22,7 @@ void batch_equals_one_by_one(bool poison) {
   ParticleTail2d<T, L> tail;
   std::vector<Mat<T, 2>> F(L), F1;
   std::vector<Vec<T, 2>> x(L), v(L), x1;
-  const T lo[2] = {T(0.1), T(0.2)}, hi[2] = {T(0.9), T(0.8)};
+  const Vec<T, 2> lo(T(0.1), T(0.2)), hi(T(0.9), T(0.8));
   for (int l = 0; l < L; ++l) {
     Mat<T, 2> g;
     g << T(0.01 * u(rng)), T(0.01 * u(rng)), T(0.01 * u(rng)), T(0.01 * u(rng));
@@ -76,7 +76,7 @@ TEST(ParticleTail, FollowsEquation40) {
     tail.set(l, g, Vec<double, 2>(0.01 * l, -0.01));
   }
   F0 = F;
-  const double lo[2] = {0, 0}, hi[2] = {1, 1};
+  const Vec<double, 2> lo(0, 0), hi(1, 1);
   double largest = 0;
   EXPECT_TRUE(tail.apply(4, F.data(), x.data(), v.data(), lo, hi, largest));
   EXPECT_DOUBLE_EQ(largest, 0.03);
