@@ -134,7 +134,7 @@ double MpmSimulation<T, D>::implicit_energy(const std::vector<Vec<T, D>>& dv, bo
     Vec<T, D> u = Vec<T, D>::Zero();
     st[std::size_t(q)].for_each([&](std::size_t i, T w, const Vec<T, D>& gw, const Vec<T, D>&) {
       const Vec<T, D> ui = a * grid_.velocity[i] + b * dv[i];
-      G += ui * gw.transpose();
+      for (int c = 0; c < D; ++c) G.col(c) += gw[c] * ui;  // not ui gwᵀ: see gradient_gather
       u += w * ui;
     });
     if constexpr (D == 2)
@@ -165,9 +165,7 @@ double MpmSimulation<T, D>::implicit_energy(const std::vector<Vec<T, D>>& dv, bo
       const MaterialParams<T>& mat = materials_[std::size_t(p_.material[q])];
       Mat<T, D> stress = (dt * p_.volume0[q]) * first_piola<T, D>(mat.model, imp_.Fy[q], mat.lame) *
                          p_.F[q].transpose();
-      st[q].for_each([&](std::size_t i, T, const Vec<T, D>& gw, const Vec<T, D>&) {
-        imp_.grad[i] += stress * gw;
-      });
+      st[q].gradient_scatter(stress, imp_.grad.data());
     });
     if constexpr (D == 2)
       if (mesh)  // ∂(Φ_mesh / b)/∂Δv_i = Δt Σ_p w_ip ∂Φ/∂x_p
@@ -288,10 +286,7 @@ void MpmSimulation<T, D>::implicit_hessian_apply(const std::vector<Vec<T, D>>& i
   const T b = imp_.b, dt = imp_.dt;
   for (std::uint32_t i : imp_.active) out[i] = grid_.mass[i] * in[i];
   for_each_particle_coloured([&](std::uint32_t q) {
-    Mat<T, D> G = Mat<T, D>::Zero();
-    st[q].for_each([&](std::size_t i, T, const Vec<T, D>& gw, const Vec<T, D>&) {
-      G += in[i] * gw.transpose();
-    });
+    const Mat<T, D> G = st[q].gradient_gather(in.data());
     Mat<T, D> s;  // Δt V_p ∂P/∂F[b Δt G Fⁿ] Fⁿᵀ
     if constexpr (folded_stiffness) {
       Eigen::Map<Eigen::Matrix<T, N, 1>>(s.data()) =
@@ -303,8 +298,7 @@ void MpmSimulation<T, D>::implicit_hessian_apply(const std::vector<Vec<T, D>>& i
           imp_.stiffness[q] * Eigen::Map<const Eigen::Matrix<T, N, 1>>(dF.data());
       s = (dt * p_.volume0[q]) * dP * p_.F[q].transpose();
     }
-    st[q].for_each(
-        [&](std::size_t i, T, const Vec<T, D>& gw, const Vec<T, D>&) { out[i] += s * gw; });
+    st[q].gradient_scatter(s, out.data());
   });
   if constexpr (D == 2)
     if (!mesh_.empty()) {  // b Δt² Σ_p w_ip (K δx)_p with δx_p = Σ_j w_jp δ_j

@@ -102,6 +102,34 @@ struct Stencil {
     }
   }
 
+  // Σ_i u_i ∇w_ipᵀ over the stencil's nodes of `u` (the implicit Hessian's δF, eq 36), by rows:
+  // ∇w_i = (dw₀ row.w, w₀ row.dw₁, …), so per row two sums over axis 0 and D column updates.
+  // Column by column, not Eigen's outer product: GCC 12 stored that product's two 128-bit halves
+  // and reloaded them as one 256-bit value per node, a store-forwarding stall each time.
+  Mat<T, D> gradient_gather(const Vec<T, D>* u) const {
+    Mat<T, D> G = Mat<T, D>::Zero();
+    for_each_row([&](const Row& row) {
+      Vec<T, D> along = Vec<T, D>::Zero(), across = Vec<T, D>::Zero();  // Σ dw₀ u, Σ w₀ u
+      for (int i = 0; i < W; ++i) {
+        const Vec<T, D>& ui = u[row.off + off[0][i]];
+        along += dw[0][i] * ui;
+        across += w[0][i] * ui;
+      }
+      G.col(0) += row.dw[0] * along;
+      for (int a = 1; a < D; ++a) G.col(a) += row.dw[a] * across;
+    });
+    return G;
+  }
+  // out_i += s ∇w_ip for the stencil's nodes (eq 35's force on a node), by the same rows.
+  void gradient_scatter(const Mat<T, D>& s, Vec<T, D>* out) const {
+    for_each_row([&](const Row& row) {
+      const Vec<T, D> along = row.dw[0] * s.col(0);
+      Vec<T, D> across = row.dw[1] * s.col(1);
+      for (int a = 2; a < D; ++a) across += row.dw[a] * s.col(a);
+      for (int i = 0; i < W; ++i) out[row.off + off[0][i]] += dw[0][i] * along + w[0][i] * across;
+    });
+  }
+
   // D_p = Σ w (x_i − x_p)(x_i − x_p)ᵀ (eq 25); diagonal for tensor-product kernels.
   Mat<T, D> inertia() const {
     Mat<T, D> Dp = Mat<T, D>::Zero();

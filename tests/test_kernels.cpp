@@ -3,9 +3,11 @@
 // linear, quadratic and cubic kernels, at random positions and at periodic wrap positions.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
+#include <vector>
 
 #include "sim/grid.hpp"
 #include "sim/kernels.hpp"
@@ -122,6 +124,76 @@ TEST(Kernels, Cubic2D) { run_kernel_identities<2, CubicKernel>(); }
 TEST(Kernels, Linear3D) { run_kernel_identities<3, LinearKernel>(); }
 TEST(Kernels, Quadratic3D) { run_kernel_identities<3, QuadraticKernel>(); }
 TEST(Kernels, Cubic3D) { run_kernel_identities<3, CubicKernel>(); }
+
+// The implicit Hessian's stencil products by rows (Stencil::gradient_gather / gradient_scatter)
+// against node-by-node sums: Σ u_i ∇w_iᵀ over for_each, an affine field u = A x + c gathering
+// to A (Σ x_i ∇wᵀ = I, Σ ∇w = 0), and the scatter the gather's adjoint:
+// Σ_i u_i · (s ∇w_i) = s : Σ_i u_i ∇w_iᵀ. Walls and periodic axes (wrapped offsets).
+template <class T, int D, class K>
+void check_gradient_rows(bool periodic) {
+  SCOPED_TRACE(::testing::Message() << "D = " << D << " sizeof(T) = " << sizeof(T) << " width "
+                                    << K::width << (periodic ? " periodic" : " walls"));
+  const double dx = 1.0 / 16;
+  const Grid<T, D> g = test::unit_box_grid<T, D>(periodic, dx);
+  std::mt19937_64 rng(77 + D * 10 + K::width);
+  std::uniform_real_distribution<double> u01(0.0, 1.0), u11(-1.0, 1.0);
+  Mat<T, D> A, s;
+  Vec<T, D> c;
+  for (int a = 0; a < D; ++a) {
+    c[a] = T(u11(rng));
+    for (int b = 0; b < D; ++b) A(a, b) = T(u11(rng)), s(a, b) = T(u11(rng));
+  }
+  std::vector<Vec<T, D>> field(g.size()), affine(g.size());
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    for (int a = 0; a < D; ++a) field[i][a] = T(u11(rng));
+    affine[i] = A * g.node_position(i).template cast<T>() + c;
+  }
+  // Terms ≤ 1 (fields) times ≤ 2/Δx (gradients), ≤ 64 of them: 64 ε of 2/Δx bounds a regrouping.
+  const double tol = 64 * double(std::numeric_limits<T>::epsilon()) * 2 / dx;
+  Stencil<T, D, K> st;
+  for (int n = 0; n < 50; ++n) {
+    Vec<T, D> xp;
+    for (int a = 0; a < D; ++a) xp[a] = T(periodic || n % 2 ? u01(rng) : 0.2 + 0.6 * u01(rng));
+    st.compute(xp, g);
+    Mat<T, D> by_node = Mat<T, D>::Zero();
+    std::vector<Vec<T, D>> scattered(g.size(), Vec<T, D>::Zero()),
+        by_node_scatter(g.size(), Vec<T, D>::Zero());
+    st.for_each([&](std::size_t i, T, const Vec<T, D>& gw, const Vec<T, D>&) {
+      by_node += field[i] * gw.transpose();
+      by_node_scatter[i] += s * gw;
+    });
+    const Mat<T, D> rows = st.gradient_gather(field.data());
+    EXPECT_LE(double((rows - by_node).norm()), tol) << "x_p = " << xp.transpose();
+    st.gradient_scatter(s, scattered.data());
+    double dot = 0, worst = 0;
+    for (std::size_t i = 0; i < g.size(); ++i) {
+      dot += double(field[i].dot(scattered[i]));
+      worst = std::max(worst, double((scattered[i] - by_node_scatter[i]).norm()));
+    }
+    EXPECT_LE(worst, tol) << "x_p = " << xp.transpose();
+    EXPECT_NEAR(dot, double((s.cwiseProduct(rows)).sum()), D * D * tol) << "adjoint";
+    if (!periodic)  // an affine field is not periodic
+      EXPECT_LE(double((st.gradient_gather(affine.data()) - A).norm()), 4 * tol) << "affine";
+  }
+}
+
+template <class T, int D>
+void check_gradient_rows_all_kernels() {
+  for (bool periodic : {false, true}) {
+    check_gradient_rows<T, D, LinearKernel>(periodic);
+    check_gradient_rows<T, D, QuadraticKernel>(periodic);
+    check_gradient_rows<T, D, CubicKernel>(periodic);
+  }
+}
+
+TEST(Kernels, GradientRows2D) {
+  check_gradient_rows_all_kernels<double, 2>();
+  check_gradient_rows_all_kernels<float, 2>();
+}
+TEST(Kernels, GradientRows3D) {
+  check_gradient_rows_all_kernels<double, 3>();
+  check_gradient_rows_all_kernels<float, 3>();
+}
 
 // The 1D weights and derivatives against the B-spline formulas and finite differences.
 template <class K>
