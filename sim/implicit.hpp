@@ -15,37 +15,14 @@
 // with gravity too). The Newton-CG loop itself is generic (sim/newton_cg.hpp); its state lives
 // in ImplicitSolveState (sim/implicit_state.hpp).
 #pragma once
-#include <Eigen/Eigenvalues>
-
 #include "mpm.hpp"
 #include "round_off_floor.hpp"
+#include "stress_hessian.hpp"
 
 namespace apiclab {
 
 template <class T, int D>
 void project_on_constraint(Vec<T, D>& v, const ConstrainedNode<T, D>& c);
-
-// Per-particle ∂P/∂F as a D²×D² matrix at F, symmetrised and projected to be positive
-// semi-definite (negative eigenvalues clamped to zero, as Stomakhin et al. 2012 and Teran et
-// al. 2005 do per particle), so CG always sees a positive definite M + bΔt²K.
-template <class T, int D>
-Eigen::Matrix<T, D * D, D * D> projected_stress_hessian(MaterialModel model, const Mat<T, D>& F,
-                                                        Lame<T> l) {
-  constexpr int N = D * D;
-  Eigen::Matrix<T, N, N> H;
-  for (int c = 0; c < N; ++c) {
-    Mat<T, D> E = Mat<T, D>::Zero();
-    E(c % D, c / D) = T(1);  // column-major vec
-    Mat<T, D> dP = first_piola_differential<T, D>(model, F, E, l);
-    H.col(c) = Eigen::Map<const Eigen::Matrix<T, N, 1>>(dP.data());
-  }
-  H = (T(0.5) * (H + H.transpose())).eval();  // eval: H aliases Hᵀ
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<T, N, N>> eig(H);
-  Eigen::Matrix<T, N, 1> ev = eig.eigenvalues();
-  if (ev.minCoeff() >= T(0)) return H;
-  ev = ev.cwiseMax(T(0));
-  return eig.eigenvectors() * ev.asDiagonal() * eig.eigenvectors().transpose();
-}
 
 template <class T, int D>
 template <class K>

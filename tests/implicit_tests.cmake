@@ -1,5 +1,6 @@
 # Implicit integrators (midpoint, backward Euler): finite differences and conservation.
-add_executable(apiclab_implicit_tests ${CMAKE_CURRENT_LIST_DIR}/test_implicit.cpp)
+add_executable(apiclab_implicit_tests ${CMAKE_CURRENT_LIST_DIR}/test_implicit.cpp
+                                      ${CMAKE_CURRENT_LIST_DIR}/test_stress_hessian.cpp)
 target_link_libraries(apiclab_implicit_tests PRIVATE apiclab_sim GTest::gtest_main)
 target_compile_definitions(apiclab_implicit_tests PRIVATE APICLAB_SOURCE_DIR="${CMAKE_SOURCE_DIR}")
 gtest_discover_tests(apiclab_implicit_tests DISCOVERY_TIMEOUT 60 PROPERTIES LABELS "unit")
