@@ -227,14 +227,18 @@ void MpmSimulation<T, D>::implicit_block_jacobi() {
     const T s = folded_stiffness ? T(1) : scale * p_.volume0[q];
     st[q].for_each([&](std::size_t i, T, const Vec<T, D>& gw, const Vec<T, D>&) {
       const Vec<T, D> c = folded_stiffness ? gw : Vec<T, D>(F.transpose() * gw);
-      Eigen::Matrix<T, D * D, D> Hc;  // Hc[k + D m][a] = Σ_l H[k + D m][a + D l] c_l
+      // Column a of the block, Σ_l c_l Σ_m c_m H[D m .. D m + D)[a + D l], as D-vectors: an
+      // Eigen D²×D temporary here was stored in halves and reloaded whole (store-forwarding
+      // stalls, as gradient_gather's comment in sim/stencil.hpp says).
       for (int a = 0; a < D; ++a) {
-        Hc.col(a) = H.col(a) * c[0];
-        for (int l = 1; l < D; ++l) Hc.col(a) += H.col(a + D * l) * c[l];
+        Vec<T, D> column = Vec<T, D>::Zero();
+        for (int l = 0; l < D; ++l) {
+          Vec<T, D> hc = c[0] * H.col(a + D * l).template head<D>();
+          for (int m = 1; m < D; ++m) hc += c[m] * H.col(a + D * l).template segment<D>(D * m);
+          column += c[l] * hc;
+        }
+        imp_.block_inverse[i].col(a) += s * column;
       }
-      Mat<T, D> block = Mat<T, D>::Zero();
-      for (int m = 0; m < D; ++m) block += c[m] * Hc.template middleRows<D>(D * m);
-      imp_.block_inverse[i] += s * block;
     });
   });
   for (std::uint32_t i : imp_.active)
