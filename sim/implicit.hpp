@@ -170,23 +170,14 @@ void MpmSimulation<T, D>::implicit_update_hessian(bool project_definite) {
     if (!mesh_.empty()) mesh_.update_hessian(mesh_x_, index_of_id_, project_definite);
   const std::ptrdiff_t np = std::ptrdiff_t(p_.size());
   constexpr int N = D * D;
-  using Vector = Eigen::Matrix<T, N, 1>;
   const T b_dt2 = imp_.b * imp_.dt * imp_.dt;
 #pragma omp parallel for schedule(static) if (parallel_worthwhile())
   for (std::ptrdiff_t q = 0; q < np; ++q) {
     const MaterialParams<T>& mat = materials_[std::size_t(p_.material[std::size_t(q)])];
     const Mat<T, D>& F = imp_.Fy[std::size_t(q)];
-    Eigen::Matrix<T, N, N> dPdF;
-    if (project_definite) {
-      dPdF = projected_stress_hessian<T, D>(mat.model, F, mat.lame);
-    } else {
-      for (int c = 0; c < N; ++c) {
-        Mat<T, D> E = Mat<T, D>::Zero();
-        E(c % D, c / D) = T(1);
-        Mat<T, D> dP = first_piola_differential<T, D>(mat.model, F, E, mat.lame);
-        dPdF.col(c) = Eigen::Map<const Vector>(dP.data());
-      }
-    }
+    const Eigen::Matrix<T, N, N> dPdF =
+        project_definite ? projected_stress_hessian<T, D>(mat.model, F, mat.lame)
+                         : stress_differential_matrix<T, D>(mat.model, F, mat.lame);
     if constexpr (!folded_stiffness) {
       imp_.stiffness[std::size_t(q)] = dPdF;
       continue;

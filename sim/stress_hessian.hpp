@@ -10,10 +10,10 @@
 
 namespace apiclab {
 
-// ∂P/∂F at F (column-major vec), symmetrised. Exactly symmetric for hyperelastic P; the
-// symmetrisation removes round-off so that the eigensolver below sees a symmetric matrix.
+// ∂P/∂F at F (column-major vec), column c the differential along the unit direction c.
 template <class T, int D>
-Eigen::Matrix<T, D * D, D * D> stress_hessian(MaterialModel model, const Mat<T, D>& F, Lame<T> l) {
+Eigen::Matrix<T, D * D, D * D> stress_differential_matrix(MaterialModel model, const Mat<T, D>& F,
+                                                          Lame<T> l) {
   constexpr int N = D * D;
   Eigen::Matrix<T, N, N> H;
   for (int c = 0; c < N; ++c) {
@@ -22,6 +22,14 @@ Eigen::Matrix<T, D * D, D * D> stress_hessian(MaterialModel model, const Mat<T, 
     Mat<T, D> dP = first_piola_differential<T, D>(model, F, E, l);
     H.col(c) = Eigen::Map<const Eigen::Matrix<T, N, 1>>(dP.data());
   }
+  return H;
+}
+
+// The same, symmetrised. Exactly symmetric for hyperelastic P; the symmetrisation removes
+// round-off so that the eigensolver below sees a symmetric matrix.
+template <class T, int D>
+Eigen::Matrix<T, D * D, D * D> stress_hessian(MaterialModel model, const Mat<T, D>& F, Lame<T> l) {
+  const Eigen::Matrix<T, D * D, D* D> H = stress_differential_matrix<T, D>(model, F, l);
   return T(0.5) * (H + H.transpose());
 }
 
@@ -49,21 +57,15 @@ bool remove_negative_modes_neo_hookean(const Mat<T, D>& F, Lame<T> l,
     H.noalias() -= eigenvalue * q * q.transpose();
   };
   for (int i = 0; i < D; ++i)
-    for (int j = i + 1; j < D; ++j) {
-      const T twist = l.mu + c / (sigma[i] * sigma[j]);
-      if (twist < T(0)) {
+    for (int j = i + 1; j < D; ++j)
+      for (const T sign : {T(-1), T(1)}) {  // twist (Q antisymmetric), then the other
+        const T eigenvalue = l.mu - sign * (c / (sigma[i] * sigma[j]));
+        if (!(eigenvalue < T(0))) continue;
         Mat<T, D> Q = Mat<T, D>::Zero();
         Q(i, j) = T(1) / std::sqrt(T(2));
-        Q(j, i) = -Q(i, j);
-        remove(twist, Q);
+        Q(j, i) = sign * Q(i, j);
+        remove(eigenvalue, Q);
       }
-      const T other = l.mu - c / (sigma[i] * sigma[j]);
-      if (other < T(0)) {
-        Mat<T, D> Q = Mat<T, D>::Zero();
-        Q(i, j) = Q(j, i) = T(1) / std::sqrt(T(2));
-        remove(other, Q);
-      }
-    }
   const Vec<T, D> s = sigma.cwiseInverse();
   Mat<T, D> stretch = l.lambda * s * s.transpose();
   for (int i = 0; i < D; ++i) stretch(i, i) += l.mu - c * s[i] * s[i];
