@@ -124,6 +124,9 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
           gather_2d_paired(batch, lane, st, wr, packed, vsum, grad_cols, b_cols);
           return;
         }
+        // Each x-node's address once a particle, as in P2G (sim/p2g.hpp).
+        const typename Grid<T, D>::NodeLanes* packed_x[W];
+        for (int i = 0; i < W; ++i) packed_x[i] = packed + st.off[0][i];
         // Forced inline: GCC 12 keeps this row body out of line on x86-64-v3 in 3D double, and
         // the sums it adds to, taken by reference, then go through memory at every row.
         batch.for_each_row(
@@ -131,7 +134,7 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
             st, [&](const typename StencilBatch<T, D, K>::Row& row) __attribute__((always_inline)) {
               L s0{}, s1{}, g0{}, t0{};
               for (int i = 0; i < W; ++i) {
-                const L node = L::prefix_of(packed[st.off[0][i] + row.off]);
+                const L node = L::prefix_of(packed_x[i][row.off]);
                 s0 += wx[i] * node;
                 s1 += wr[i] * node;
                 g0 += st.dw[0][i] * node;
@@ -208,6 +211,10 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
           // Sec 5.9: C = Σ ṽ_i ∇w_ipᵀ; TPIC (Nakamura et al. 2023) takes this velocity gradient
           // for every kernel: P2G's v_p + ∇v_p (x_i − x_p) is the first-order Taylor expansion.
           gathered.apic_C = gradv;
+        } else if (lambda == T(0) && !bform_multilinear) {
+          // C = B D⁻¹ straight from the sums: through the general branch's B, kept on the stack
+          // across its λ test, C waited on a store and reload at every particle (perf annotate).
+          gathered.apic_C = Bsum * inv_k;
         } else {
           Mat<T, D> B = Bsum;
           if (lambda != T(0)) {
@@ -269,7 +276,7 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
       if constexpr (S == Scheme::mls) gradu = p_.C[q];
       if (tail_batched) {  // F and x a batch at a time (sim/particle_tail.hpp)
         if constexpr (D == 2) {
-          tail.set(lane, dt * gradu, dt * ubar);
+          tail.set_scaled(lane, gradu, ubar, dt);
           if (lane == batch.L - 1 || q == end - 1) {
             const std::ptrdiff_t first = q - lane;
             if (!tail.apply(lane + 1, &p_.F[first], &p_.x[first], &p_.v[first], lo, hi, chunk_move))

@@ -44,6 +44,8 @@ __attribute__((always_inline)) inline void gather_2d_paired(const Batch& batch, 
     w_wr[i] = pair(st.w[0][i], wr[i]);
     dw[i] = V4{} + st.dw[0][i];
   }
+  const Node* packed_x[W];  // each x-node's address once a particle (see sim/p2g.hpp)
+  for (int i = 0; i < W; ++i) packed_x[i] = packed + st.off[0][i];
   V8 sum_b0{}, grad1_b1{};  // (Σ w ṽ | B column 0), (∇ column 1 | B column 1)
   V4 grad0{};
   batch.for_each_row(
@@ -52,8 +54,7 @@ __attribute__((always_inline)) inline void gather_2d_paired(const Batch& batch, 
         V4 g{};
         for (int i = 0; i < W; ++i) {
           // The node's lanes twice (pack_velocities): one load, no shuffle.
-          const V8 node =
-              load_register<V8>(reinterpret_cast<const float*>(&packed[st.off[0][i] + row.off]));
+          const V8 node = load_register<V8>(reinterpret_cast<const float*>(&packed_x[i][row.off]));
           s += w_wr[i] * node;
           g += dw[i] * half_of<0, V4>(node);
         }

@@ -88,5 +88,32 @@ TEST(ParticleTail, FollowsEquation40) {
   }
 }
 
+// set_scaled (G2P's call: ∇u, ū and Δt read whole) stores Δt ∇u and Δt ū, the bits of set's
+// entry-by-entry products, in every lane.
+template <class T, int L>
+void scaled_equals_set() {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-1, 1);
+  ParticleTail2d<T, L> a, b;
+  const T dt = T(0.37 * (1 + u(rng)));
+  for (int l = 0; l < L; ++l) {
+    Mat<T, 2> g;
+    g << T(u(rng)), T(u(rng)), T(u(rng)), T(u(rng));
+    const Vec<T, 2> ubar(T(u(rng)), T(u(rng)));
+    a.set(l, dt * g, dt * ubar);
+    b.set_scaled(l, g, ubar, dt);
+  }
+  for (int l = 0; l < L; ++l) {
+    for (int e = 0; e < 4; ++e) EXPECT_EQ(a.dt_gradu[e][l], b.dt_gradu[e][l]) << l << " " << e;
+    for (int c = 0; c < 2; ++c) EXPECT_EQ(a.move[c][l], b.move[c][l]) << l << " " << c;
+    EXPECT_NE(b.move[1][l], T(0));
+  }
+}
+
+TEST(ParticleTail, SetScaledGivesTheBitsOfSet) {
+  scaled_equals_set<float, 16>();
+  scaled_equals_set<double, 4>();
+}
+
 }  // namespace
 }  // namespace apiclab
