@@ -211,10 +211,6 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
           // Sec 5.9: C = Σ ṽ_i ∇w_ipᵀ; TPIC (Nakamura et al. 2023) takes this velocity gradient
           // for every kernel: P2G's v_p + ∇v_p (x_i − x_p) is the first-order Taylor expansion.
           gathered.apic_C = gradv;
-        } else if (lambda == T(0) && !bform_multilinear) {
-          // C = B D⁻¹ straight from the sums: through the general branch's B, kept on the stack
-          // across its λ test, C waited on a store and reload at every particle (perf annotate).
-          gathered.apic_C = Bsum * inv_k;
         } else {
           Mat<T, D> B = Bsum;
           if (lambda != T(0)) {

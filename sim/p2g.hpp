@@ -158,7 +158,8 @@ void MpmSimulation<T, D>::p2g_impl() {
             for (int i = 0; i < W; ++i) {
               // Two multiply-adds onto the node, not a multiply, a multiply-add and an add: one
               // instruction a node fewer, 2D float 1.02–1.04× (Zen 5, both builds); the order of
-              // the sums, and so their round-off, changed (README, Figs 4–6 and the PolyPIC row).
+              // the sums, and so their round-off, changed (README: Fig 6's FLIP drift, the PolyPIC
+              // row).
               Lanes& node = acc_x[i][row.off];
               node = node + rw * per_x[i];
               node = node + st.w[0][i] * per_row;

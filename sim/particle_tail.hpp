@@ -29,7 +29,7 @@ struct ParticleTail2d {
   }
   // The same from ∇u, ū and Δt, each read whole and scaled in a register. G2P keeps ∇u and ū on
   // the stack, and set()'s entry-by-entry reads of them were loads inside a wider store, which
-  // Zen 5 does not forward: 2D float G2P's hottest spot (20 % of its samples, perf annotate).
+  // Zen 5 does not forward: 2D float G2P's hottest spot (12–17 % of its samples, perf annotate).
   void set_scaled(int l, const Mat<T, 2>& gradu, const Vec<T, 2>& ubar, T dt) {
     using V4 = typename SimdVector<T, 4>::type;
     const V4 g = dt * load_register<V4>(gradu.data());
