@@ -108,47 +108,52 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
       if (lane == 0)
         batch.compute(&p_.x[std::size_t(q)], int(std::min<std::ptrdiff_t>(batch.L, end - q)),
                       grid_);
-      Stencil<T, D, K> st;
-      batch.get(lane, st);
+      // The rare readers of the whole stencil (RPIC's D_p, XPIC's and PolyPIC's gathers) copy it;
+      // the gather reads the batch in place.
+      auto stencil = [&] {
+        Stencil<T, D, K> st;
+        batch.get(lane, st);
+        return st;
+      };
       // Gather row by row (see Stencil::for_each_row) on nodes packed as [ṽ (D), vⁿ (D), pad],
       // whole vectors at a time: lanes 0..D−1 give the sums over ṽ, lanes D..2D−1 over vⁿ.
       constexpr int W = K::width;
-      const T* wx = st.w[0];
       T wr[W];
-      for (int i = 0; i < W; ++i) wr[i] = wx[i] * st.r[0][i];
+      for (int i = 0; i < W; ++i) wr[i] = batch.w[0][i][lane] * batch.r[0][i][lane];
       Lanes vsum{}, grad_cols[D] = {}, b_cols[D] = {}, twist{};
       // Σ w (ṽ × vⁿ) only for λ > 0, into the given sums (of lane type L).
       auto gather = [&](auto moving_nodes, auto& vsum, auto& grad_cols, auto& b_cols, auto& twist) {
         using L = std::remove_reference_t<decltype(vsum)>;
         if constexpr (paired_halves<L>(decltype(moving_nodes)::value)) {  // 2D float
-          gather_2d_paired(batch, lane, st, wr, packed, vsum, grad_cols, b_cols);
+          gather_2d_paired(batch, lane, wr, packed, vsum, grad_cols, b_cols);
           return;
         }
         // Each x-node's address once a particle, as in P2G (sim/p2g.hpp).
         const typename Grid<T, D>::NodeLanes* packed_x[W];
-        for (int i = 0; i < W; ++i) packed_x[i] = packed + st.off[0][i];
+        for (int i = 0; i < W; ++i) packed_x[i] = packed + batch.off[0][i][lane];
         // Forced inline: GCC 12 keeps this row body out of line on x86-64-v3 in 3D double, and
         // the sums it adds to, taken by reference, then go through memory at every row.
-        batch.for_each_row(
-            lane,
-            st, [&](const typename StencilBatch<T, D, K>::Row& row) __attribute__((always_inline)) {
-              L s0{}, s1{}, g0{}, t0{};
-              for (int i = 0; i < W; ++i) {
-                const L node = L::prefix_of(packed_x[i][row.off]);
-                s0 += wx[i] * node;
-                s1 += wr[i] * node;
-                g0 += st.dw[0][i] * node;
-                if constexpr (decltype(moving_nodes)::value) t0 += wx[i] * cross(node);
-              }
-              vsum += row.w * s0;
-              if constexpr (decltype(moving_nodes)::value) twist += row.w * t0;
-              grad_cols[0] += row.w * g0;
-              b_cols[0] += row.w * s1;
-              for (int ax = 1; ax < D; ++ax) {
-                grad_cols[ax] += row.dw[ax] * s0;
-                b_cols[ax] += row.wr(ax) * s0;
-              }
-            });
+        auto row_sums = [&](const typename StencilBatch<T, D, K>::Row& row)
+            __attribute__((always_inline)) {
+          L s0{}, s1{}, g0{}, t0{};
+          for (int i = 0; i < W; ++i) {
+            const L node = L::prefix_of(packed_x[i][row.off]);
+            const T wx = batch.w[0][i][lane];
+            s0 += wx * node;
+            s1 += wr[i] * node;
+            g0 += batch.dw[0][i][lane] * node;
+            if constexpr (decltype(moving_nodes)::value) t0 += wx * cross(node);
+          }
+          vsum += row.w * s0;
+          if constexpr (decltype(moving_nodes)::value) twist += row.w * t0;
+          grad_cols[0] += row.w * g0;
+          b_cols[0] += row.w * s1;
+          for (int ax = 1; ax < D; ++ax) {
+            grad_cols[ax] += row.dw[ax] * s0;
+            b_cols[ax] += row.wr(ax) * s0;
+          }
+        };
+        batch.for_each_row(lane, row_sums);
       };
       // u_i = λ vⁿ_i + (1 − λ) ṽ_i (eq 30): ū = Σ w u, ∇u = Σ u ∇wᵀ.
       Vec<T, D> vpic, vold_p, ubar;
@@ -241,9 +246,10 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
       if constexpr (S == Scheme::xpic) {
         if (xpic_gather) {
           Vec<T, D> shift = Vec<T, D>::Zero();
+          const Stencil<T, D, K> st = stencil();
           st.for_each_row([&](const typename Stencil<T, D, K>::Row& row) {
             Vec<T, D> s = Vec<T, D>::Zero();
-            for (int i = 0; i < W; ++i) s += wx[i] * xpic_shift[st.off[0][i] + row.off];
+            for (int i = 0; i < W; ++i) s += st.w[0][i] * xpic_shift[st.off[0][i] + row.off];
             shift += row.w * s;
           });
           gathered.xpic_shift = shift;
@@ -253,12 +259,14 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
       Vec<T, D> flip_difference;
       if constexpr (S == Scheme::asflip) flip_difference = p_.v[q] - vold_p;
       update_particle_velocity<S>(
-          gathered, alpha, multilinear, [&] { return Mat<T, D>(st.inertia()); }, p_.v[q], p_.C[q]);
+          gathered, alpha, multilinear, [&] { return Mat<T, D>(stencil().inertia()); }, p_.v[q],
+          p_.C[q]);
       if constexpr (S == Scheme::polypic) {  // Fu et al. 2017: the kept modes, by projection
         polypic::keep_linear_modes<T, D>(p_.C[q], polypic_kept);
         if constexpr (K::type == KernelType::quadratic) {
           if (polypic_extra > 0) {  // the row form of polypic::gather_modes, on the packed ṽ
             auto node = [&](std::size_t i) { return Lanes::prefix_of(packed[i]); };
+            const Stencil<T, D, K> st = stencil();
             if (polypic_g)
               polypic::gather_modes_rows<T, D, 3, Lanes>(st, grid_.inv_dx, node, polypic_extra,
                                                          p_.modes, std::size_t(q));

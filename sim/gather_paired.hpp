@@ -30,26 +30,28 @@ constexpr bool paired_halves(bool moving_nodes) {
 // along x in wr), nodes read from `packed`: vsum = Σ w ṽ|vⁿ, grad_cols[c] = Σ ∂_c w ṽ|vⁿ,
 // b_cols[c] = Σ w r_c ṽ|vⁿ. Each node's 8 floats must hold its 4 lanes twice
 // (MpmSimulation::pack_velocities).
-template <class Batch, class Stencil, class Node, class L, int W>
+template <class Batch, class Node, class L, int W>
 __attribute__((always_inline)) inline void gather_2d_paired(const Batch& batch, int lane,
-                                                            const Stencil& st, const float (&wr)[W],
+                                                            const float (&wr)[W],
                                                             const Node* packed, L& vsum,
                                                             L (&grad_cols)[2], L (&b_cols)[2]) {
   using V4 = SimdVector<float, 4>::type;
   using V8 = SimdVector<float, 8>::type;
-  auto pair = [](float low, float high) { return join_halves<V8>(V4{} + low, V4{} + high); };
+  auto pair = [](float low, float high) {
+    return join_halves<V8>(splat<V4>(low), splat<V4>(high));
+  };
   V8 w_wr[W];  // [w_i | w_i r_i] along x
   V4 dw[W];
   for (int i = 0; i < W; ++i) {
-    w_wr[i] = pair(st.w[0][i], wr[i]);
-    dw[i] = V4{} + st.dw[0][i];
+    w_wr[i] = pair(batch.w[0][i][lane], wr[i]);
+    dw[i] = splat<V4>(batch.dw[0][i][lane]);
   }
   const Node* packed_x[W];  // each x-node's address once a particle (see sim/p2g.hpp)
-  for (int i = 0; i < W; ++i) packed_x[i] = packed + st.off[0][i];
+  for (int i = 0; i < W; ++i) packed_x[i] = packed + batch.off[0][i][lane];
   V8 sum_b0{}, grad1_b1{};  // (Σ w ṽ | B column 0), (∇ column 1 | B column 1)
   V4 grad0{};
   batch.for_each_row(
-      lane, st, [&](const typename Batch::Row& row) __attribute__((always_inline)) {
+      lane, [&](const typename Batch::Row& row) __attribute__((always_inline)) {
         V8 s{};  // (Σ_x w ṽ | Σ_x w r ṽ) of the row
         V4 g{};
         for (int i = 0; i < W; ++i) {

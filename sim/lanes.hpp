@@ -61,6 +61,13 @@ inline V shuffle_lanes(V a, V b) {
 #endif
 }
 
+// Every lane s, as one broadcast: s − 0 is s for every s (−0 − 0 = −0), so GCC folds it away;
+// V{} + s it must keep (0 + −0 = +0), and a lane-by-lane fill it builds with one insert a lane.
+template <class V, class T>
+inline V splat(T s) {
+  return s - V{};
+}
+
 // A register from its two halves, and one half of a register (GCC 12 and Clang both have
 // __builtin_shufflevector, which may change the lane count; __builtin_shuffle may not).
 template <class V, class Half>

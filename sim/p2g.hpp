@@ -97,77 +97,83 @@ void MpmSimulation<T, D>::p2g_impl() {
   auto* acc = grid_.accumulator.data();
   // MLS-MPM: f_i = −Σ V P Fᵀ D⁻¹ w (x_i − x_p), the stress riding the affine weights.
   const T inv_k = mls_forces ? T(1) / inertia_scale() : T(0);
-  blocks_.for_each_block_coloured(
-      [&](std::uint32_t begin, std::uint32_t end) {
-        StencilBatch<T, D, K> batch;
-        for (std::uint32_t q = begin; q < end; ++q) {
-          const int lane = int((q - begin) % batch.L);
-          if (lane == 0)
-            batch.compute(&p_.x[q], int(std::min<std::uint32_t>(batch.L, end - q)), grid_);
-          Stencil<T, D, K> st;
-          batch.get(lane, st);
-          if (keep) cache[q] = st;
-          const T m = p_.mass[q];
-          const Vec<T, D> mv = m * p_.v[q];
-          const Mat<T, D> mC = m * p_.C[q];
-          Mat<T, D> stress = Mat<T, D>::Zero(), mls = Mat<T, D>::Zero();
-          if constexpr (with_forces) stress = stress_[q];
-          if constexpr (mls_forces) mls = inv_k * stress_[q];
-          // Node i of a row gets w = wx_i row.w and ∇w = (dwx_i row.w, wx_i row.dw[1..]), so with
-          // the lanes [m, m v, f]
-          //   node_i += row.w (wx_i (mass_mom + r0_i affine[0]) + dwx_i stress_lanes[0])
-          //           + wx_i Σ_{a≥1} (row.w row.r_a affine[a] + row.dw_a stress_lanes[a]),
-          // where affine[a] = [0, m C col a, 0] and stress_lanes[a] = [0, 0, stress col a]:
-          // whole-vector multiply-adds only.
-          // Each group built whole in registers (Lanes::of), not lane by lane.
-          using Lanes = typename Grid<T, D>::NodeLanes;
-          Lanes mass_mom, affine_lanes[D], stress_lanes[D];
-          if constexpr (D == 2) {
-            mass_mom = Lanes::of(m, mv[0], mv[1]);
-            for (int c = 0; c < D; ++c) {
-              affine_lanes[c] =
-                  affine ? Lanes::of(T(0), mC(0, c), mC(1, c), mls(0, c), mls(1, c)) : Lanes{};
-              stress_lanes[c] = Lanes::of(T(0), T(0), T(0), stress(0, c), stress(1, c));
+  // Keeping the stencils compiled apart: the copy in the loop, even untaken, let GCC hoist the
+  // stencil's loads above the scatter and spill them (x86-64-v3; see StencilBatch::for_each_row).
+  auto scatter = [&](auto keeping) {
+    blocks_.for_each_block_coloured(
+        [&](std::uint32_t begin, std::uint32_t end) {
+          StencilBatch<T, D, K> batch;
+          for (std::uint32_t q = begin; q < end; ++q) {
+            const int lane = int((q - begin) % batch.L);
+            if (lane == 0)
+              batch.compute(&p_.x[q], int(std::min<std::uint32_t>(batch.L, end - q)), grid_);
+            const T m = p_.mass[q];
+            const Vec<T, D> mv = m * p_.v[q];
+            const Mat<T, D> mC = m * p_.C[q];
+            Mat<T, D> stress = Mat<T, D>::Zero(), mls = Mat<T, D>::Zero();
+            if constexpr (with_forces) stress = stress_[q];
+            if constexpr (mls_forces) mls = inv_k * stress_[q];
+            // Node i of a row gets w = wx_i row.w and ∇w = (dwx_i row.w, wx_i row.dw[1..]), so with
+            // the lanes [m, m v, f]
+            //   node_i += row.w (wx_i (mass_mom + r0_i affine[0]) + dwx_i stress_lanes[0])
+            //           + wx_i Σ_{a≥1} (row.w row.r_a affine[a] + row.dw_a stress_lanes[a]),
+            // where affine[a] = [0, m C col a, 0] and stress_lanes[a] = [0, 0, stress col a]:
+            // whole-vector multiply-adds only.
+            // Each group built whole in registers (Lanes::of), not lane by lane.
+            using Lanes = typename Grid<T, D>::NodeLanes;
+            Lanes mass_mom, affine_lanes[D], stress_lanes[D];
+            if constexpr (D == 2) {
+              mass_mom = Lanes::of(m, mv[0], mv[1]);
+              for (int c = 0; c < D; ++c) {
+                affine_lanes[c] =
+                    affine ? Lanes::of(T(0), mC(0, c), mC(1, c), mls(0, c), mls(1, c)) : Lanes{};
+                stress_lanes[c] = Lanes::of(T(0), T(0), T(0), stress(0, c), stress(1, c));
+              }
+            } else {
+              mass_mom = Lanes::of(m, mv[0], mv[1], mv[2]);
+              for (int c = 0; c < D; ++c) {
+                affine_lanes[c] = affine ? Lanes::of(T(0), mC(0, c), mC(1, c), mC(2, c), mls(0, c),
+                                                     mls(1, c), mls(2, c))
+                                         : Lanes{};
+                stress_lanes[c] =
+                    Lanes::of(T(0), T(0), T(0), T(0), stress(0, c), stress(1, c), stress(2, c));
+              }
             }
-          } else {
-            mass_mom = Lanes::of(m, mv[0], mv[1], mv[2]);
-            for (int c = 0; c < D; ++c) {
-              affine_lanes[c] = affine ? Lanes::of(T(0), mC(0, c), mC(1, c), mC(2, c), mls(0, c),
-                                                   mls(1, c), mls(2, c))
-                                       : Lanes{};
-              stress_lanes[c] =
-                  Lanes::of(T(0), T(0), T(0), T(0), stress(0, c), stress(1, c), stress(2, c));
-            }
+            Lanes per_x[W];
+            for (int i = 0; i < W; ++i)
+              per_x[i] = batch.w[0][i][lane] * (mass_mom + batch.r[0][i][lane] * affine_lanes[0]) +
+                         batch.dw[0][i][lane] * stress_lanes[0];
+            // Each x-node's address once a particle: acc[off_i + row.off] spelled as one index
+            // cost a shift and two adds a node (a node is 32 bytes, beyond x86's address scales);
+            // with this and G2P's like change 2D float ran 1.03–1.05× natively (Zen 5).
+            Lanes* acc_x[W];
+            for (int i = 0; i < W; ++i) acc_x[i] = acc + batch.off[0][i][lane];
+            batch.for_each_row(lane, [&](const typename StencilBatch<T, D, K>::Row& row) {
+              Lanes per_row{};
+              for (int ax = 1; ax < D; ++ax) {
+                if constexpr (affine) per_row += row.wr(ax) * affine_lanes[ax];
+                if constexpr (with_forces) per_row += row.dw[ax] * stress_lanes[ax];
+              }
+              const T rw = row.w;
+              for (int i = 0; i < W; ++i) {
+                // Two multiply-adds onto the node, not a multiply, a multiply-add and an add: one
+                // instruction a node fewer, 2D float 1.02–1.04× (Zen 5, both builds); the order of
+                // the sums, and so their round-off, changed (README: Fig 6's FLIP drift, the
+                // PolyPIC row).
+                Lanes& node = acc_x[i][row.off];
+                node = node + rw * per_x[i];
+                node = node + batch.w[0][i][lane] * per_row;
+              }
+            });
+            if constexpr (decltype(keeping)::value) batch.get(lane, cache[q]);
           }
-          Lanes per_x[W];
-          for (int i = 0; i < W; ++i)
-            per_x[i] = st.w[0][i] * (mass_mom + st.r[0][i] * affine_lanes[0]) +
-                       st.dw[0][i] * stress_lanes[0];
-          // Each x-node's address once a particle: acc[off_i + row.off] spelled as one index
-          // cost a shift and two adds a node (a node is 32 bytes, beyond x86's address scales);
-          // with this and G2P's like change 2D float ran 1.03–1.05× natively (Zen 5).
-          Lanes* acc_x[W];
-          for (int i = 0; i < W; ++i) acc_x[i] = acc + st.off[0][i];
-          batch.for_each_row(lane, st, [&](const typename StencilBatch<T, D, K>::Row& row) {
-            Lanes per_row{};
-            for (int ax = 1; ax < D; ++ax) {
-              if constexpr (affine) per_row += row.wr(ax) * affine_lanes[ax];
-              if constexpr (with_forces) per_row += row.dw[ax] * stress_lanes[ax];
-            }
-            const T rw = row.w;
-            for (int i = 0; i < W; ++i) {
-              // Two multiply-adds onto the node, not a multiply, a multiply-add and an add: one
-              // instruction a node fewer, 2D float 1.02–1.04× (Zen 5, both builds); the order of
-              // the sums, and so their round-off, changed (README: Fig 6's FLIP drift, the PolyPIC
-              // row).
-              Lanes& node = acc_x[i][row.off];
-              node = node + rw * per_x[i];
-              node = node + st.w[0][i] * per_row;
-            }
-          });
-        }
-      },
-      parallel_worthwhile());
+        },
+        parallel_worthwhile());
+  };
+  if (keep)
+    scatter(std::true_type{});
+  else
+    scatter(std::false_type{});
 }
 
 // Accumulator lanes to the grid's arrays: m_i, (m v)_i (held in Grid::velocity until eq 26), f_i.

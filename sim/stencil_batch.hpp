@@ -123,15 +123,22 @@ struct StencilBatch {
     T wr(int a) const { return w_r[a]; }
   };
   using Row = std::conditional_t<D == 3, BatchRow, typename Stencil<T, D, K>::Row>;
-  // Particle l's rows, as st.for_each_row gives them (st: get(l)'s copy). In 2D st's own rows,
-  // which leave 2D P2G and G2P compiled as before: the variants tried (rows read from the batch,
-  // w (x_i − x_p) as a field of Stencil::Row) changed GCC's code and ran the x86-64-v3 build's
-  // 2D float 2–7 % slower, for one product a row to save.
+  // Particle l's rows, as its stencil's for_each_row gives them (get(l)'s copy), read from the
+  // batch in place. P2G and G2P read the x-axis weights the same way, with no copy of the stencil:
+  // copied, GCC loaded its 24 entries and 6 offsets into registers at the top of each particle
+  // and spilled them (16 registers on x86-64-v3), about 45 instructions of P2G's 195 a particle;
+  // read in place they are broadcasts from memory (x86-64-v3, 2D float P2G: 150 a particle).
   template <class Fn>
-  __attribute__((always_inline)) void for_each_row(int l, const Stencil<T, D, K>& st,
-                                                   Fn&& f) const {
+  __attribute__((always_inline)) void for_each_row(int l, Fn&& f) const {
     if constexpr (D == 2) {
-      st.for_each_row(f);
+      typename Stencil<T, D, K>::Row row;
+      for (int j = 0; j < W; ++j) {
+        row.off = std::size_t(off[1][j][l]);
+        row.w = w[1][j][l];
+        row.dw = Vec<T, 2>(row.w, dw[1][j][l]);
+        row.r = Vec<T, 2>(T(0), r[1][j][l]);
+        f(row);
+      }
     } else {
       BatchRow row;
       for (int k = 0; k < rows; ++k) {

@@ -40,7 +40,7 @@ TEST(GatherPaired, SumsOfThePlainGather) {
     float wr[K::width];
     for (int i = 0; i < K::width; ++i) wr[i] = st.w[0][i] * st.r[0][i];
     Sums vsum{}, grad[2] = {}, b[2] = {};
-    gather_2d_paired(batch, l, st, wr, nodes.data(), vsum, grad, b);
+    gather_2d_paired(batch, l, wr, nodes.data(), vsum, grad, b);
     // The plain gather in double: node (i, j) has w = wx_i wy_j, ∇w = (dwx_i wy_j, wx_i dwy_j),
     // x_i − x_p = (rx_i, ry_j).
     double e_sum[4] = {}, e_grad[2][4] = {}, e_b[2][4] = {};
