@@ -57,7 +57,6 @@ struct StressLanes {
       if (m[l]) return true;
     return false;
   }
-  static V splat(T s) { return V{} + s; }
 
   // For `count` particles starting at F: stress_out = −V P(F) Fᵀ and psi_out = Ψ(F) of the
   // fixed-corotated model, P = 2μ(F − R) + λ(J − 1) J F⁻ᵀ. Returns a bit per lane that the
@@ -76,17 +75,17 @@ struct StressLanes {
     // polar_newton_3d's test det > 1e-6 ‖F‖³, squared.
     const Mask ok = (J > T(0)) & (J * J > T(1e-12) * f_norm2 * f_norm2 * f_norm2);
     M3 x;
-    for (int k = 0; k < 9; ++k) x.m[k] = ok ? f.m[k] : splat(k % 4 == 0 ? T(1) : T(0));
-    V d = ok ? J : splat(T(1));
+    for (int k = 0; k < 9; ++k) x.m[k] = ok ? f.m[k] : splat<V>(k % 4 == 0 ? T(1) : T(0));
+    V d = ok ? J : splat<V>(T(1));
     Mask active = ok;
     const T tolerance2 =
         T(64) * std::numeric_limits<T>::epsilon() * std::numeric_limits<T>::epsilon();
-    V step2 = splat(T(1));
+    V step2 = splat<V>(T(1));
     for (int it = 0; it < 30 && any(active); ++it) {
       const M3 c = cofactor(x);
       // γ = (‖X⁻¹‖ / ‖X‖)^½ = (‖cof X‖ / (det X ‖X‖))^½ while far from converged, as
       // polar_newton_3d (sim/math.hpp).
-      V gamma = splat(T(1));
+      V gamma = splat<V>(T(1));
       const Mask scaled = active & (step2 > T(1e-4));
       if (any(scaled)) {  // the norms only for a step that scales
         V c_norm2 = V{}, x_norm2 = V{};
@@ -95,7 +94,7 @@ struct StressLanes {
           x_norm2 += x.m[k] * x.m[k];
         }
         V ratio = c_norm2 / (d * d * x_norm2);
-        ratio = scaled ? ratio : splat(T(1));
+        ratio = scaled ? ratio : splat<V>(T(1));
         V root = ratio;  // (initialised: GCC cannot see the loop write every lane)
         for (int l = 0; l < count; ++l) root[l] = std::sqrt(std::sqrt(ratio[l]));
         gamma = scaled ? root : gamma;
@@ -153,7 +152,7 @@ struct StressLanes {
     V inverse_n;
     for (int l = 0; l < count; ++l) inverse_n[l] = T(1) / std::sqrt(n2[l]);  // vectorised
     const Mask rotated = n2 > T(0);
-    const V c = rotated ? a * inverse_n : splat(T(1)), s = rotated ? b * inverse_n : V{};
+    const V c = rotated ? a * inverse_n : splat<V>(T(1)), s = rotated ? b * inverse_n : V{};
     const V J = f[0] * f[3] - f[2] * f[1];
     const V fr[4] = {f[0] - c, f[1] - s, f[2] + s, f[3] - c};  // F − R, column-major
     const V cof[4] = {f[3], -f[2], -f[1], f[0]};
