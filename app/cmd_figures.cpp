@@ -11,7 +11,7 @@
 //   eol_fig7_spin.png/.csv         Fan et al. 2013 Fig 7: ω(t) of a spinning disk, EoL/Eulerian
 //   eol_fig8_drop.png/.csv         Fan et al. 2013 Fig 8: Δt against time of the drop, coloured
 //                                  by the bound that set it
-//   scheme_energy.png/.csv         issue 15: two-ring total energy at a fixed time, every scheme
+//   scheme_energy.png/.csv         two-ring total energy at a fixed time, every scheme
 #include <algorithm>
 #include <cstdio>
 #include <thread>

@@ -20,11 +20,10 @@ constexpr int kSimulationNice = 10;             // below the window thread's pri
 
 // The window must answer at least once a second (tests/gui_soak.sh), and under a software
 // rasteriser a draw of a large 3D scene needs most of a core: left equal, the simulation's
-// OpenMP and pane threads took that core from it (two-cubes under Xvfb at load 19: a frame every
-// 0.6 s, gaps to 1.15 s; with the simulation at nice +10, every 0.23 s, gaps to 0.56 s). Linux
-// keeps a nice value per thread and new threads inherit it, so lowering this thread's priority
-// before it starts any covers the threads it starts. The simulation still takes every core the
-// window leaves idle.
+// OpenMP and pane threads took that core from it and frames came late (docs/performance.md).
+// Linux keeps a nice value per thread and new threads inherit it, so lowering this thread's
+// priority before it starts any covers the threads it starts. The simulation still takes every
+// core the window leaves idle.
 void yield_to_the_window() {
   const id_t self = id_t(::gettid());
   errno = 0;

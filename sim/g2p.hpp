@@ -75,9 +75,8 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
   const Vec3d gravity = scene_.gravity;
   const T k_inertia = inertia_scale();
   // With sums: the particles in fixed chunks, each summed in index order, the chunks' sums then
-  // added in chunk order, so that the row does not depend on the thread count. 1024 a chunk: with
-  // 256 each sum cost G2P about 800 cycles more than the sum's own work (2D float, x86-64-v3;
-  // measured, cause not seen without counters), a third of the row.
+  // added in chunk order, so that the row does not depend on the thread count. 1024 a chunk:
+  // each chunk's sum costs G2P a fixed overhead beyond its own work (docs/performance.md).
   constexpr std::ptrdiff_t chunk = 1024;
   const std::ptrdiff_t chunks = (n + chunk - 1) / chunk;
   if (sums) chunk_sums_.resize(std::size_t(chunks));
@@ -296,8 +295,7 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
           update_deformation_3d(p_.F[q].data(), gradu_lanes);
         } else {
           // The loop here, not shared with deformation_update.hpp's scalar one: inlined from a
-          // function, GCC vectorised it into shuffles and a 256-bit store, 8 % slower in 2D double
-          // on x86-64-v3.
+          // function, GCC vectorised it into shuffles and a 256-bit store, slower on x86-64-v3.
           const Mat<T, D> F0 = p_.F[q];
           // Δt ∇u before the stores: Δt is the parallel region's shared variable, which a store
           // to F may alias, so reading it inside the loop reloaded it at every entry (perf

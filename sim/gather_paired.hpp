@@ -1,11 +1,10 @@
 // 2D float G2P's gather (sim/g2p.hpp) with two 4-lane sums in each 256-bit register. A node's
 // lanes [ṽ (2), vⁿ (2)] fill half a register, so the generic gather kept nine weights, three
 // per-node sums and five per-particle sums in 4-lane registers: more than x86-64-v3's sixteen,
-// and GCC spilled them to the stack at every node (perf annotate; the native AVX-512 build has
-// 32 registers and did not). Here the node, stored twice, is read as one register and multiplied
-// once by [w_i | w_i r_i], the pairs (Σ w ṽ | Σ w r ṽ) and (∇w columns | B columns) share
-// registers, and the sums are the same products added in the same order as the generic gather's.
-// x86-64-v3 build, Zen 5, 1 thread: 2D float 1.02× (median of eight interleaved rounds).
+// and GCC spilled them to the stack at every node (with AVX-512VL's 32 registers it does not).
+// Here the node, stored twice, is read as one register and multiplied once by [w_i | w_i r_i],
+// the pairs (Σ w ṽ | Σ w r ṽ) and (∇w columns | B columns) share registers, and the sums are the
+// same products added in the same order as the generic gather's (docs/performance.md).
 #pragma once
 #include <type_traits>
 
@@ -14,7 +13,7 @@
 namespace apiclab {
 
 // Whether 2D float gathers paired on this target: 256-bit registers, and 16 of them (with
-// AVX-512VL's 32 the generic gather fits, and ran 3–7 % faster; Zen 5, native build).
+// AVX-512VL's 32 the generic gather fits, and is the faster one).
 inline constexpr bool paired_2d_float_gather =
     simd_register_bytes == 32 && simd_register_count == 16;
 

@@ -160,10 +160,10 @@ double MpmSimulation<T, D>::implicit_energy(const std::vector<Vec<T, D>>& dv, bo
 // step's b Δt² V_p and Fⁿ into the operator S_p that implicit_hessian_apply reads: with
 // G = Σ_i δ_i ∇wᵀ, vec(s) = S_p vec(G) for s = Δt V_p ∂P/∂F[b Δt G Fⁿ] Fⁿᵀ, i.e.
 // S_p = b Δt² V_p (Fⁿ ⊗ I) ∂P/∂F (Fⁿᵀ ⊗ I), formed once a Newton iteration, where the two D×D
-// products and scalings it saves were per particle and CG iteration: rotating-disk (midpoint,
-// ~60 CG iterations a Newton iteration) 1.07–1.20× faster. 3D keeps ∂P/∂F: S_p costs 486
-// multiply-adds a Newton iteration and saves 72 a CG iteration, and sphere-impact-3d's contact
-// takes ~10 CG a Newton; its one A/B (1.16× slower) was within this VM's run-order effect.
+// products and scalings it saves were per particle and CG iteration (rotating-disk takes ~60 CG
+// iterations a Newton one; docs/performance.md). 3D keeps ∂P/∂F: S_p costs 486 multiply-adds a
+// Newton iteration and saves 72 a CG iteration, and sphere-impact-3d's contact takes ~10 CG a
+// Newton, too few to pay for it.
 template <class T, int D>
 void MpmSimulation<T, D>::implicit_update_hessian(bool project_definite) {
   if constexpr (D == 2)

@@ -2,7 +2,7 @@
 // registers of the target (GCC/Clang vector extension, no intrinsics). A group wider than a
 // register is split into register-sized parts with explicit per-part operations: a single
 // 512-bit vector of doubles on an AVX2 target is lowered through the stack (scalar stores, then
-// vector reloads), which made double on AVX2 three times slower than float.
+// vector reloads), which made double on AVX2 several times slower than float.
 #pragma once
 #include <algorithm>
 #include <bit>
@@ -14,8 +14,8 @@
 namespace apiclab {
 
 // Bytes of the vector registers the lane groups fill: 32 with AVX, also where AVX-512 has 64.
-// With 64 (Intel Xeon, AVX-512, 1 thread, seven interleaved rounds) 2D double ran 1.5–8 % and
-// 3D double 2–4.7 % slower and float the same: 512-bit arithmetic lowers the core's clock.
+// With 64 double ran slower and float the same: 512-bit arithmetic lowers the core's clock
+// (docs/performance.md).
 // The same width on both builds also gives the native and the x86-64-v3 build one layout. The
 // native build holds GCC's own vectoriser to it too (-mprefer-vector-width=256, CMakeLists.txt).
 #if defined(__AVX__)
@@ -172,7 +172,7 @@ struct Lanes {
 
   // (v_i, v_j, v_k, …): three lanes brought to the front (the rest unspecified). The builtins
   // spelled here, not through shuffle_lanes: that changed GCC's inlining in 2D double G2P on
-  // x86-64-v3 (893 → 1000 instructions, 5 % slower).
+  // x86-64-v3 into more, slower instructions.
   template <int i, int j, int k>
   Lanes front3() const {
     static_assert(i < count && j < count && k < count);

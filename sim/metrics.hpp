@@ -1,4 +1,4 @@
-// What a sweep measures of a run (issue 13): conservation from its diagnostics rows, and its
+// What a sweep measures of a run: conservation from its diagnostics rows, and its
 // distance to a reference run from the particle positions at frame times. Pure functions of
 // rows and frames, so they are tested on constructed cases (tests/test_metrics.cpp).
 #pragma once

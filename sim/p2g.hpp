@@ -144,8 +144,7 @@ void MpmSimulation<T, D>::p2g_impl() {
               per_x[i] = batch.w[0][i][lane] * (mass_mom + batch.r[0][i][lane] * affine_lanes[0]) +
                          batch.dw[0][i][lane] * stress_lanes[0];
             // Each x-node's address once a particle: acc[off_i + row.off] spelled as one index
-            // cost a shift and two adds a node (a node is 32 bytes, beyond x86's address scales);
-            // with this and G2P's like change 2D float ran 1.03–1.05× natively (Zen 5).
+            // cost a shift and two adds a node (a node is 32 bytes, beyond x86's address scales).
             Lanes* acc_x[W];
             for (int i = 0; i < W; ++i) acc_x[i] = acc + batch.off[0][i][lane];
             batch.for_each_row(lane, [&](const typename StencilBatch<T, D, K>::Row& row) {
@@ -157,9 +156,8 @@ void MpmSimulation<T, D>::p2g_impl() {
               const T rw = row.w;
               for (int i = 0; i < W; ++i) {
                 // Two multiply-adds onto the node, not a multiply, a multiply-add and an add: one
-                // instruction a node fewer, 2D float 1.02–1.04× (Zen 5, both builds); the order of
-                // the sums, and so their round-off, changed (README: Fig 6's FLIP drift, the
-                // PolyPIC row).
+                // instruction a node fewer. This order of the sums sets their round-off, which
+                // Fig 6's FLIP drift and PolyPIC's blow-up time show.
                 Lanes& node = acc_x[i][row.off];
                 node = node + rw * per_x[i];
                 node = node + batch.w[0][i][lane] * per_row;

@@ -37,22 +37,17 @@ struct alignas(64) ParticleSums {
 // particle arrays; else (the multilinear kernel's D_p, PolyPIC's higher modes) G2P sets each
 // particle's ½ m tr(C D_p Cᵀ) (+ modes) and m (Bᵀ : ε), B = C D_p (Jiang et al. 2017, Sec 5.3),
 // in this chunk's columns. sum() forms each particle's terms in T, as measure()'s oracle does, P
-// particles per vector, and adds them in double. Why: added one particle at a time in G2P, the
-// sums' chains of dependent double adds and the conversions cost 14 % of a 2D float step (Intel
-// Xeon, AVX-512; 16 % on the AMD EPYC); formed in double from every converted column, 6.5 %
-// (native) and 11 % (x86-64-v3); formed in T, 5.5 % and 9 % (medians of three, Intel Xeon,
-// 2026-11-24). G2P stored x, v and C a second time, as columns of this chunk: 10 of the row's 25
-// instructions a particle (callgrind, x86-64-v3, 2D float); they are now read from the particle
-// arrays several particles a register (sim/entry_lanes.hpp). Float terms of two vectors of
-// particles are added in float before their conversion (G below): with G2P's chunks of 1024 the
-// row went 7.6 → 2.5 % of a 2D float step natively, 11.1 → 3.6 % on x86-64-v3 (bench, medians
-// of three, Intel Xeon, 2026-11-25).
+// particles per vector, and adds them in double; x, v and C are read from the particle arrays
+// several particles a register (sim/entry_lanes.hpp), and float terms of two vectors of
+// particles are added in float before their conversion (G below). Why: added one particle at a
+// time in G2P, the chains of dependent double adds and the conversions made the diagnostics row
+// a large share of a 2D float step; this way it is a few % (docs/performance.md).
 template <class T, int D, int N>
 struct ChunkTerms {
-  // Particles per vector of terms: 8 float or 4 double, one AVX2 register. With 16 floats (one
-  // AVX-512 register) the row cost 10 % of a 2D float step instead of 5.5 %: the step's other
-  // loops use no AVX-512 register, and this one alone lowers the core's clock. Their double
-  // values are added 4 at a time: the same order, so the same row, in every build.
+  // Particles per vector of terms: 8 float or 4 double, one AVX2 register. Not 16 floats (one
+  // AVX-512 register): the step's other loops use no AVX-512 register, and this one alone would
+  // lower the core's clock (docs/performance.md). Their double values are added 4 at a time: the
+  // same order, so the same row, in every build.
   static constexpr int P = 32 / int(sizeof(T));
   static constexpr int Q = 4;
   static_assert(N % P == 0 && P % Q == 0);

@@ -26,7 +26,8 @@ struct ParticleTable {
   const ParticleColumn* find(const std::string& name) const;
 };
 
-// The CSV of DESIGN.md's --dump contract: `id,object,x,y[,z],vx,vy[,vz],mass,volume0,F..,C..`.
+// The --dump CSV (docs/outputs.md#particle-dumps---dump): `id,object,x,y[,z],vx,vy[,vz],mass,
+// volume0,F..,C..`, one row per particle by id; its columns are a contract.
 void write_particles_csv(std::ostream& out, const ParticleTable& table);
 
 }  // namespace apiclab

@@ -1,12 +1,10 @@
 // The end of 2D G2P's per-particle work, F^{n+1} = (I + Δt ∇u) F^n (eq 40) and
 // x^{n+1} = x^n + Δt ū (eq 39) with the walls' clamp and the finiteness check, for a batch of
-// particles at once, particle l in lane l (issue 12: the F update across particles). One
-// particle at a time these were scalar products, lane extractions and compares at the end of a
-// long chain from the gather; across the batch they are a few whole-register operations, and
-// the gathers of the batch's particles no longer wait on one another's ends. Same operations in
-// the same order as the per-particle code, so the results are the same bits
-// (tests/test_particle_tail.cpp). Zen 5, 1 thread, medians of seven interleaved rounds: 2D float
-// 1.024× native and 1.047× x86-64-v3 (with sim/gather_paired.hpp), 2D double 1.023× and 1.044×.
+// particles at once, particle l in lane l. One particle at a time these were scalar products,
+// lane extractions and compares at the end of a long chain from the gather; across the batch
+// they are a few whole-register operations, and the gathers of the batch's particles no longer
+// wait on one another's ends. Same operations in the same order as the per-particle code, so
+// the results are the same bits (tests/test_particle_tail.cpp).
 #pragma once
 #include <algorithm>
 #include <cmath>
@@ -29,7 +27,7 @@ struct ParticleTail2d {
   }
   // The same from ∇u, ū and Δt, each read whole and scaled in a register. G2P keeps ∇u and ū on
   // the stack, and set()'s entry-by-entry reads of them were loads inside a wider store, which
-  // Zen 5 does not forward: 2D float G2P's hottest spot (12–17 % of its samples, perf annotate).
+  // some cores do not forward: then 2D float G2P's hottest spot.
   void set_scaled(int l, const Mat<T, 2>& gradu, const Vec<T, 2>& ubar, T dt) {
     using V4 = typename SimdVector<T, 4>::type;
     const V4 g = dt * load_register<V4>(gradu.data());

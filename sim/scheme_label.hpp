@@ -2,7 +2,7 @@
 // titles and plot legends, compare PNGs and terminal lines, figure legends, sweep tables, the
 // CSV sidecar's "label") says XPIC(3) or PolyPIC(9 modes), not XPIC or PolyPIC, so two runs of
 // one scheme with different parameters are told apart. Machine-readable columns keep the bare
-// registry key (DESIGN.md: extend, never break) and carry the parameter beside it.
+// registry key (the output contract, docs/outputs.md#contract) and carry the parameter beside it.
 #pragma once
 #include <cstdio>
 #include <string>

@@ -1,6 +1,6 @@
-// The stencils of a few consecutive particles at once, the particles across SIMD lanes
-// (issue 12): one particle's Stencil::compute is a floor, three int/float conversions and a
-// dozen dependent products per axis, about a fifth of G2P in 2D float when done per particle.
+// The stencils of a few consecutive particles at once, the particles across SIMD lanes: one
+// particle's Stencil::compute is a floor, three int/float conversions and a dozen dependent
+// products per axis, about a fifth of G2P in 2D float when done per particle.
 // Same operations per lane as Stencil::compute; the results agree to the rounding of x / Δx,
 // not bit for bit, because GCC fuses (x − origin) / Δx into the following adds (FMA) in one and
 // not always in the other (tests/test_stencil_batch.cpp). G2P, P2G and the stencils P2G keeps
@@ -20,17 +20,16 @@ namespace apiclab {
 
 template <class T, int D, class K>
 struct StencilBatch {
-  // Particles per batch, the fastest measured on an Intel Xeon (AVX-512) with both the native and
-  // the x86-64-v3 build: 16 float (2D float 26.1 / 24.4 M particle-steps/s against 24.2 / 23.4
-  // with 8), 4 double (16.7 / 16.4 M against 16.2 / 16.6 with 8 and 15.9 / 15.9 with 16).
+  // Particles per batch: 16 float, 4 double, the fastest measured with both the native and the
+  // x86-64-v3 build (docs/performance.md).
   static constexpr int L = sizeof(T) == 4 ? 16 : 4;
   static constexpr int W = K::width;
   alignas(64) T w[D][W][L], dw[D][W][L], r[D][W][L];
   alignas(64) std::int64_t off[D][W][L];
   // 3D: the rows of Stencil::for_each_row (k outer, j inner), their products formed here across
-  // the lanes; per particle they were five scalar products and broadcasts a row in P2G and G2P
-  // (3D float 1.15× native, 1.2× x86-64-v3). Plain arrays: the same tables as a member struct
-  // ([[no_unique_address]], empty in 2D) ran 3D float at 0.78× (not chased; GCC 12).
+  // the lanes instead of five scalar products and broadcasts a row per particle in P2G and G2P.
+  // Plain arrays: GCC compiled the same tables as a member struct ([[no_unique_address]], empty
+  // in 2D) into slower 3D float code.
   static constexpr int rows = D == 3 ? W * W : 0;
   alignas(64) T row_w[rows][L], row_dw1[rows][L], row_dw2[rows][L], row_wr1[rows][L],
       row_wr2[rows][L];
@@ -41,9 +40,9 @@ struct StencilBatch {
     using One = Stencil<T, D, K>;
     // x's entries per axis. A whole float batch a register of particles at a time
     // (sim/entry_lanes.hpp): copied lane by lane, they were 16 scalar copies and compares an axis,
-    // and the vector loads of the axis loop below waited on those stores (a failed store forward;
-    // perf annotate, 2D float G2P). Double keeps the copies: GCC floors its 4 lanes one by one
-    // from the scalars, which forward, and the register loads ran 2D double 3–6 % slower.
+    // and the vector loads of the axis loop below waited on those stores (a failed store
+    // forward). Double keeps the copies: GCC floors its 4 lanes one by one from the scalars,
+    // which forward, and the register loads were slower there.
     alignas(64) T xs[D][L];
     const bool by_registers = sizeof(T) == 4 && count == L;
     if constexpr (sizeof(T) == 4) {
@@ -81,8 +80,7 @@ struct StencilBatch {
       // Off a periodic axis, One::offset without its branch, in 64 bits as the lanes need: one
       // multiply a lane, the stencil's next nodes a stride on, and where the stride fits 32 bits
       // (any grid below 2³¹ nodes a plane) a 32 × 32 → 64-bit multiply, one instruction on
-      // x86-64-v3, which has no 64-bit vector multiply (GCC's six-instruction stand-in per node
-      // was about 3 % of a 2D float step's instructions).
+      // x86-64-v3, which has no 64-bit vector multiply (GCC stands in six instructions a node).
       const std::int64_t lo = g.lo[a], stride = std::int64_t(g.stride[a]);
       if (stride <= std::numeric_limits<std::int32_t>::max()) {
         const std::int32_t lo32 = std::int32_t(lo), stride32 = std::int32_t(stride);

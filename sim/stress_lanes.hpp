@@ -16,9 +16,9 @@
 namespace apiclab {
 
 // Lanes per group: one register (simd_register_bytes, 256 bits also on AVX-512). In 2D a
-// particle's arithmetic is too short to pay for moving its F into 512-bit lanes (2D double on
-// AVX-512 ran at 0.87 of the scalar pass with 8 lanes, 1.2× faster with 4 on AVX2; bench, one
-// run, interleaved); in 3D 512-bit lanes gained nothing once every other loop used 256 bits.
+// particle's arithmetic is too short to pay for moving its F into 512-bit lanes (8 double lanes
+// ran slower than the scalar pass, 4 faster); in 3D 512-bit lanes gained nothing once every
+// other loop used 256 bits.
 template <class T, int D>
 inline constexpr int stress_lane_count = std::min(8, simd_register_bytes / int(sizeof(T)));
 

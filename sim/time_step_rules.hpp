@@ -19,7 +19,7 @@ namespace apiclab {
 template <class T, int D>
 double MpmSimulation<T, D>::choose_dt(double t_limit) const {
   const TimeDesc& tm = scene_.time;
-  // A fixed step is the step (issue 11): the frame is the step at or just past its time.
+  // A fixed step is the step: the frame is the step at or just past its time.
   if (!tm.lands_on_frames()) return tm.dt;
   const double dx = scene_.domain.dx;
   double dt_star = tm.dt;

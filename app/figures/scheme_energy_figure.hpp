@@ -1,4 +1,4 @@
-// The two-ring energy table (issue 15): the rings of Jiang et al. 2017, Sec 6.4, collide once
+// The two-ring energy table: the rings of Jiang et al. 2017, Sec 6.4, collide once
 // per transfer scheme in scheme_choices() (so a scheme added later appears without an edit),
 // all with symplectic Euler and the elastic time-step rule, and the total energy at one fixed
 // time is reported per scheme: DIR/scheme_energy.csv, a bar chart DIR/scheme_energy.png, and the

@@ -199,7 +199,7 @@ PlotPick plot(const char* id, ImVec2 size, const PlotOptions& o,
   }
   yr = pad(yr, o.log_y);
   // The legend never covers a curve: the y range grows at the top by the legend's height, so
-  // the legend sits in a band that holds no data (issue 11).
+  // the legend sits in a band that holds no data.
   const bool legend = o.legend && !series.empty();
   const float legend_h = 4 + series.size() * (fh + 1), box_h = size.y - 3 * fh - 12;
   if (legend && box_h > 0 && legend_h + 8 < 0.6f * box_h && yr.valid()) {

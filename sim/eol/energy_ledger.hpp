@@ -1,6 +1,7 @@
-// Where the energy of an Eulerian-on-Lagrangian step goes, stage by stage (issue 14: a spinning
-// object that hits a slip floor gains energy). Opt-in (EolSimulation::record_energy_ledger); the
-// step pays for it only when it is on (two extra passes over the nodes, one over the cells).
+// Where the energy of an Eulerian-on-Lagrangian step goes, stage by stage (to find why a
+// spinning object that hits a slip floor gains energy). Opt-in
+// (EolSimulation::record_energy_ledger); the step pays for it only when it is on (two extra
+// passes over the nodes, one over the cells).
 //
 // Energy E = K + G + Ψ: kinetic ½ Σ m|u|², gravity −Σ m g·x, elastic Σ V₀ Ψ(F). One step:
 //   impulse and plane rows (eqs 16, 29): u → u⁺ = P(u + Δt f/m), x and m fixed, so

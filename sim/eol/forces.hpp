@@ -365,7 +365,7 @@ class ElasticForces {
   // the same order for any thread count, whichever thread takes a layer. So layers are handed
   // out dynamically, heaviest first (by the cells with material each held last pass): a thread
   // slowed by other work on the machine leaves the rest to the others, and the big middle
-  // layers do not end a colour on one thread (static halves: 1.5x on 2 threads, README).
+  // layers do not end a colour on one thread (docs/eol.md#what-makes-the-step-fast).
   template <class Zero, class Finish, class Cell>
   void for_each_cell_by_layer(std::size_t nodes, bool parallel, Zero&& zero, Finish&& finish,
                               Cell&& cell) {
