@@ -14,6 +14,7 @@
 
 #include "app/cli_checks.hpp"
 #include "app/frame_loop.hpp"
+#include "app/perf_ledger.hpp"
 #include "cli.hpp"
 #include "commands.hpp"
 #include "sim/memory_estimate.hpp"
@@ -37,6 +38,7 @@ struct BenchOptions {
   int frames = 3;
   double domain_times = 1;  // --scene: the domain grown to this × its area (2D) or volume (3D)
   int polypic_modes = 0;    // solver.polypic_modes of the block (0 = all)
+  std::string record;       // --record: the performance ledger to append rows to
 };
 
 // A block of fixed-corotated material, spinning and falling, filling a quarter of the domain
@@ -195,6 +197,40 @@ std::optional<BlockResult> time_block(const BenchOptions& o, Precision precision
   return r;
 }
 
+// The ledger row of one timing of the block (--record); the reference step's row beside it.
+LedgerRow block_row(const BenchOptions& o, const BlockResult& r, const std::string& note) {
+  LedgerRow row;
+  row.dim = o.dim;
+  row.precision = *o.precision;
+  row.threads = omp_get_max_threads();
+  row.scheme = o.scheme;
+  row.kernel = o.kernel;
+  row.integrator = o.integrator;
+  row.particles = long(r.particles);
+  row.steps = r.steps;
+  row.rate = r.rate;
+  row.wall = r.wall;
+  char share[64];
+  std::snprintf(share, sizeof share, "diagnostics row %.1f %%", 100 * r.row_share);
+  row.note = note + (note.empty() ? "" : "; ") + share;
+  if (o.polypic_modes > 0) row.note += "; polypic modes " + std::to_string(o.polypic_modes);
+  return row;
+}
+void add_block_rows(std::vector<LedgerRow>& rows, const BenchOptions& o, const BlockResult& r,
+                    const std::string& note) {
+  rows.push_back(block_row(o, r, note));
+  if (!r.reference) return;
+  LedgerRow ref = rows.back();
+  ref.build = "reference";
+  ref.rate = *r.reference;
+  ref.wall.reset();
+  ref.steps = 0;
+  char speedup[64];
+  std::snprintf(speedup, sizeof speedup, "this build %.2fx the reference", r.rate / *r.reference);
+  ref.note = note + (note.empty() ? "" : "; ") + speedup;
+  rows.push_back(ref);
+}
+
 Precision parse_precision(const std::string& key) {
   try {
     return parse_choice(precision_choices(), key, "precision");
@@ -216,6 +252,7 @@ int bench_sizes(const BenchOptions& o, Precision precision) {
   if (o.reference) std::printf(" %18s %9s", "reference", "speed-up");
   std::printf("\n");
   double lo = 1e300, hi = 0;
+  std::vector<BlockResult> results;
   for (long size : o.sizes) {
     const double scaled = default_steps * std::pow(double(size) / default_size, 1.0 / o.dim);
     const int steps = o.steps > 0 ? o.steps : int(std::clamp(std::lround(scaled), 5L, 200L));
@@ -231,8 +268,16 @@ int bench_sizes(const BenchOptions& o, Precision precision) {
     std::fflush(stdout);
     lo = std::min(lo, r->rate);
     hi = std::max(hi, r->rate);
+    results.push_back(*r);
   }
   std::printf("flatness: slowest / fastest size = %.2f\n", lo / hi);
+  if (!o.record.empty()) {
+    char note[64];
+    std::snprintf(note, sizeof note, "sizes run flatness %.2f", lo / hi);
+    std::vector<LedgerRow> rows;
+    for (const auto& r : results) add_block_rows(rows, o, r, note);
+    append_ledger_rows(o.record, rows);
+  }
   return 0;
 }
 
@@ -251,7 +296,7 @@ std::size_t grid_bytes(const Simulation& sim) {
 
 // --domain-times N: the domain grown away from its minimum corner (walls there stay put) to N ×
 // its area or volume; the grid stores only the box the particles reach, so memory and time
-// should stay those of the tight domain (issue 12).
+// should stay those of the tight domain.
 void grow_domain(SceneDesc& scene, double times) {
   for (int a = 0; a < scene.dim; ++a)
     if (scene.domain.periodic(a))
@@ -261,6 +306,36 @@ void grow_domain(SceneDesc& scene, double times) {
   for (int a = 0; a < scene.dim; ++a)
     scene.domain.max[a] =
         scene.domain.min[a] + per_axis * (scene.domain.max[a] - scene.domain.min[a]);
+}
+
+// The ledger row of a --scene timing (--record): the scene's name and solver, its wall time and
+// rates, and in the note the frames timed and the peak RSS.
+LedgerRow scene_row(const BenchOptions& o, const SceneDesc& scene, const Simulation& sim,
+                    double wall, bool partial) {
+  LedgerRow row;
+  row.method = scene.solver.method;
+  row.scene = scene.name;
+  row.dim = scene.dim;
+  row.precision = o.precision.value_or("double");
+  row.threads = omp_get_max_threads();
+  if (row.method == "mpm") {
+    row.scheme = key_of(scene.solver.scheme);
+    row.kernel = key_of(scene.solver.kernel);
+    row.integrator = key_of(scene.solver.integrator);
+  }
+  row.particles = long(particle_count(sim));
+  row.steps = sim.steps();
+  if (row.particles > 0) row.rate = double(row.particles) * double(sim.steps()) / wall;
+  row.wall = wall;
+  row.sim_rate = sim.time() / wall;
+  struct rusage usage {};
+  getrusage(RUSAGE_SELF, &usage);
+  row.note = (partial ? "frames " + std::to_string(o.frames) : std::string("to the end")) +
+             "; peak RSS " + format_bytes(1024.0 * double(usage.ru_maxrss));
+  char domain[64];
+  std::snprintf(domain, sizeof domain, "; domain %gx", o.domain_times);
+  if (o.domain_times != 1) row.note += domain;
+  return row;
 }
 
 // --scene: the scene's own time-step rule and diagnostics (what `run` does), over a few frames.
@@ -304,6 +379,8 @@ int bench_scene_frames(const BenchOptions& o, const CLI::App& cmd) {
               format_bytes(1024.0 * double(usage.ru_maxrss)).c_str());
   std::printf("particle-steps/s: %.0f\n",
               double(particle_count(*sim)) * double(sim->steps()) / wall);
+  if (!o.record.empty())
+    append_ledger_rows(o.record, {scene_row(o, scene, *sim, wall, frames < times.frames)});
   return 0;
 }
 
@@ -311,6 +388,7 @@ int bench(BenchOptions o, const CLI::App& cmd) {
   if (o.dim != 2 && o.dim != 3) throw UsageError("--dim must be 2 or 3");
   if (o.frames < 1) throw UsageError("--frames must be at least 1");
   apply_threads(o.threads);
+  if (!o.record.empty()) check_ledger(o.record);  // refuse before the minutes of timing
   if (!o.scene.empty()) {
     for (const char* flag : {"--dim", "--particles", "--steps", "--sizes", "--reference"})
       if (cmd.count(flag))
@@ -351,6 +429,11 @@ int bench(BenchOptions o, const CLI::App& cmd) {
     std::printf("reference step (same state and precision): %.0f particle-steps/s; speed-up %.2f\n",
                 *r->reference, r->rate / *r->reference);
   std::printf("particle-steps/s: %.0f\n", r->rate);
+  if (!o.record.empty()) {
+    std::vector<LedgerRow> rows;
+    add_block_rows(rows, o, *r, "");
+    append_ledger_rows(o.record, rows);
+  }
   return 0;
 }
 
@@ -400,6 +483,10 @@ void register_bench(CLI::App& root, CommandTable& table) {
                   "with --scene: grow the domain away from its minimum corner to N x its area "
                   "(2D) or volume (3D) [allowed: 1-1e12; default: 1]")
       ->check(CLI::Range(1.0, 1e12));
+  cmd->add_option("--record", o->record,
+                  "append one row per measurement to this performance ledger (CSV, "
+                  "docs/data/performance-ledger.csv; created with its header if absent) "
+                  "[default: none]");
   table.push_back({cmd, [o, cmd] { return bench(*o, *cmd); }});
 }
 
