@@ -88,7 +88,7 @@ void warn_about_scheme(const SceneDesc& scene) {
       stderr,
       "apiclab: warning: %s: polypic with %d modes keeps the G modes, which blow up "
       "where stressed material meets nearly empty grid nodes (impacts, contact); "
-      "impacts run with solver.polypic_modes=%d or fewer (README, Further transfer schemes)\n",
+      "impacts run with solver.polypic_modes=%d or fewer (docs/transfer-schemes.md)\n",
       scene.source.c_str(), kept, 1 << scene.dim);
 }
 

@@ -1,5 +1,5 @@
 // Option values and combinations, checked before a scene is loaded or a run starts. The rule
-// (README, Command line): an option that contradicts another or cannot do anything is an error
+// (docs/cli.md): an option that contradicts another or cannot do anything is an error
 // (exit 2, one line naming the option); a scene that runs but is probably not what was meant
 // (overlapping objects) is a warning on stderr.
 #pragma once

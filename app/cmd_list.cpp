@@ -10,9 +10,7 @@
 #include "sim/scene_json.hpp"
 
 namespace apiclab::cli {
-namespace {
 
-// Up to the first ". " that ends a sentence (the next word starts with a capital letter).
 std::string first_sentence(const std::string& text) {
   for (std::size_t i = text.find(". "); i != std::string::npos; i = text.find(". ", i + 1))
     if (i + 2 < text.size() && std::isupper(static_cast<unsigned char>(text[i + 2])))
@@ -28,6 +26,8 @@ std::vector<std::filesystem::path> json_files(const std::string& dir) {
   std::sort(files.begin(), files.end());
   return files;
 }
+
+namespace {
 
 int list_scenes() {
   namespace fs = std::filesystem;

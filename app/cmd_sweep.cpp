@@ -1,5 +1,5 @@
 // `apiclab sweep SPEC --out DIR`: runs a sweep of configurations (app/sweep/), then writes
-// runs.csv, the charts and summary.md (README, Sweeps).
+// runs.csv, the charts and summary.md (docs/sweeps.md).
 #include <cstdio>
 #include <filesystem>
 #include <optional>
@@ -101,7 +101,7 @@ void register_sweep(CLI::App& root, CommandTable& table) {
       "sweep",
       "run a sweep spec: runs.csv, error-vs-cost, stability and convergence charts, "
       "summary.md");
-  cmd->add_option("spec", o->spec, "sweep spec (JSON; README, Sweeps)")->required();
+  cmd->add_option("spec", o->spec, "sweep spec (JSON; docs/sweeps.md)")->required();
   cmd->add_option("--out", o->out, "output folder (runs are kept there; a rerun resumes)");
   cmd->add_option("--jobs", o->jobs, "runs at a time, each its own process (>= 1)");
   cmd->add_option("--export-jobs", o->export_jobs,

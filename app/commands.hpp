@@ -1,6 +1,7 @@
 // Each subcommand registers its CLI11 subcommand and the action that runs it.
 #pragma once
 #include <CLI/CLI.hpp>
+#include <filesystem>
 #include <functional>
 #include <string>
 #include <vector>
@@ -17,6 +18,10 @@ void register_run(CLI::App& root, CommandTable& table);
 void register_roundtrip(CLI::App& root, CommandTable& table);
 void register_bench(CLI::App& root, CommandTable& table);
 void register_list(CLI::App& root, CommandTable& table);
+void register_docs(CLI::App& root, CommandTable& table);  // app/cmd_docs.cpp
+// Up to the first ". " that ends a sentence (the next word starts with a capital letter).
+std::string first_sentence(const std::string& text);                    // app/cmd_list.cpp
+std::vector<std::filesystem::path> json_files(const std::string& dir);  // sorted *.json
 std::string version_text();                                // "apiclab 0.1.0 (git 1fbbf76-dirty)"
 void register_sweep(CLI::App& root, CommandTable& table);  // app/cmd_sweep.cpp
 #ifdef APICLAB_HAVE_RENDER

@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
   register_roundtrip(root, table);
   register_bench(root, table);
   register_list(root, table);
+  register_docs(root, table);
   register_sweep(root, table);
 #ifdef APICLAB_HAVE_RENDER
   register_render(root, table);

@@ -37,7 +37,7 @@ constexpr int kept_modes(int setting, int dim) {
 // Modes stored beyond the constant and linear ones (Particles::modes).
 constexpr int extra_modes(int kept, int dim) { return std::max(0, kept - 1 - dim); }
 // Whether the kept modes reach the G's (past the 2^dim multilinear ones): those blow up on
-// impacts, a property of the method (README, Further transfer schemes; the projection reads a
+// impacts, a property of the method (docs/transfer-schemes.md; the projection reads a
 // node of kernel weight w -> 0 at weight 1/2, tests/test_polypic_g_modes.cpp).
 constexpr bool keeps_g_modes(int kept, int dim) { return kept > (1 << dim); }
 // How many of C's columns (the linear modes x, y, z in order) are kept.

@@ -131,7 +131,7 @@ void write_scheme_energy_figure(ChartCanvas& canvas, bool quick, int threads,
     draw_bars(bars, ImVec2(10, top + 26), ImVec2(float(W) - 30, float(H) - top - 30));
   });
   render::write_png(image, base.string() + ".png");
-  // README's table, from the same numbers.
+  // docs/transfer-schemes.md's table, from the same numbers.
   std::fprintf(stderr,
                "| scheme | total energy at t = %g s [J] | of the initial |\n| --- | --- | --- |\n",
                t_end);

@@ -2,7 +2,7 @@
 // per transfer scheme in scheme_choices() (so a scheme added later appears without an edit),
 // all with symplectic Euler and the elastic time-step rule, and the total energy at one fixed
 // time is reported per scheme: DIR/scheme_energy.csv, a bar chart DIR/scheme_energy.png, and the
-// same table as Markdown on stderr (README's table).
+// same table as Markdown on stderr (docs/transfer-schemes.md's table).
 #pragma once
 #include <string>
 

@@ -242,7 +242,7 @@ Plan make_plan(const Spec& spec) {
 
   // Landing caps a step at the frame interval, so a dt_factor step longer than it would not be
   // the step asked for: such a scene's runs all record their frames at its longest step's
-  // interval instead (the same times for every run and its reference; README, Sweeps).
+  // interval instead (the same times for every run and its reference; docs/sweeps.md).
   std::map<std::string, double> longest_dt;
   for (const PlannedRun& run : plan.runs)
     longest_dt[run.scene_path] = std::max(longest_dt[run.scene_path], run.dt);

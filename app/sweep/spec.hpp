@@ -1,4 +1,4 @@
-// A sweep specification (README, "Sweeps"): a base scene, fixed overrides and axes. Every check
+// A sweep specification (docs/sweeps.md): a base scene, fixed overrides and axes. Every check
 // that can fail runs here, before any run starts: an unknown key, an empty axis, a value the
 // parameter or choice registry rejects, an exclusion or reference that names no run.
 #pragma once

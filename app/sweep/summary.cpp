@@ -22,7 +22,7 @@ std::string write_summary(const Spec& spec, const std::vector<RunResult>& result
   for (const RunResult& r : results) total += r.present ? r.rec.total_wall_s : 0;
   md << " Run time, summed over runs: " << number_text(total, 3) << " s.\n\n";
   md << "Errors are relative L2 errors over the frames against each run's reference run "
-        "(README, Sweeps); cost is the wall time inside the steps.\n";
+        "(docs/sweeps.md); cost is the wall time inside the steps.\n";
   for (const std::string& c : charts) md << "\n![" << c << "](" << c << ")\n";
 
   for (const std::string& scene : scenes(spec)) {

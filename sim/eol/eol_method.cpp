@@ -1,6 +1,7 @@
 // The Eulerian-on-Lagrangian family as registered methods (Fan et al. 2013): `eol` (a rigid
 // frame and a grid per object) and `eulerian` (the baseline: the frame locked to the world, one
 // grid over the domain), with the validation of their keys in the scene's `solver` section.
+#include "sim/choice_parameters.hpp"
 #include "sim/eol/eol_simulation.hpp"
 #include "sim/memory_estimate.hpp"
 #include "sim/method_registry.hpp"
@@ -19,13 +20,7 @@ void validate_common(SceneSection& r, SceneDesc& s) {
   auto& e = s.solver.eol;
   // Ranges are checked once, for every method, by validate() (sim/parameters.hpp).
   e.alpha = r.number("alpha", e.alpha);
-  e.contact = r.choice(
-      "contact",
-      std::vector<Choice<EolSolverDesc::Contact>>{
-          {"surface", EolSolverDesc::Contact::surface,
-           "rows of the object's surface behind a plane, eqs 27-29"},
-          {"nodes", EolSolverDesc::Contact::nodes, "one row per node on or behind a plane"}},
-      e.contact, "contact");
+  e.contact = r.choice("contact", eol_contact_choices(), e.contact, "contact");
   e.contact_cell = r.number("contact_cell", e.contact_cell);
   s.solver.blowup_energy_factor = r.number("blowup_energy_factor", s.solver.blowup_energy_factor);
   for (int a = 0; a < s.dim; ++a)
