@@ -8,7 +8,7 @@
 #include <zlib.h>
 
 namespace {
-// zlib deflates about three times faster than stb's own compressor, for smaller files.
+// zlib deflates faster than stb's own compressor, into smaller files.
 unsigned char* deflate_with_zlib(unsigned char* data, int length, int* out_length, int) {
   uLongf size = compressBound(uLong(length));
   auto* out = static_cast<unsigned char*>(std::malloc(size));
