@@ -84,12 +84,11 @@ void warn_about_scheme(const SceneDesc& scene) {
   if (scene.solver.scheme != Scheme::polypic) return;
   const int kept = polypic::kept_modes(scene.solver.polypic_modes, scene.dim);
   if (!polypic::keeps_g_modes(kept, scene.dim)) return;
-  std::fprintf(
-      stderr,
-      "apiclab: warning: %s: polypic with %d modes keeps the G modes, which blow up "
-      "where stressed material meets nearly empty grid nodes (impacts, contact); "
-      "impacts run with solver.polypic_modes=%d or fewer (docs/transfer-schemes.md)\n",
-      scene.source.c_str(), kept, 1 << scene.dim);
+  std::fprintf(stderr,
+               "apiclab: warning: %s: polypic with %d modes keeps the G modes, which blow up "
+               "where stressed material meets nearly empty grid nodes (impacts, contact); "
+               "impacts run with solver.polypic_modes=%d or fewer (docs/transfer-schemes.md)\n",
+               scene.source.c_str(), kept, 1 << scene.dim);
 }
 
 }  // namespace apiclab::cli
