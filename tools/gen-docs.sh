@@ -8,6 +8,7 @@
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 app="${APICLAB:-$root/build/app/apiclab}"
+[[ "$app" == /* ]] || app="$PWD/$app"  # the generators run from the repository root
 
 # NAME -> "FILE|COMMAND": COMMAND prints the section's body on stdout, run from the repo root.
 declare -A generators=(
