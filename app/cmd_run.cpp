@@ -1,14 +1,16 @@
 // `apiclab run SCENE`: headless simulation with diagnostics CSV and optional particle dumps.
 #include <algorithm>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <sstream>
 
 #include "app/cli_checks.hpp"
 #include "app/clock.hpp"
 #include "app/frame_loop.hpp"
+#include "app/output_file.hpp"
 #include "app/run_outputs.hpp"
+#include "app/stop_signal.hpp"
 #include "app/sweep/record.hpp"
 #include "cli.hpp"
 #include "commands.hpp"
@@ -27,9 +29,29 @@ struct RunCommandOptions {
 
 std::string steps_text(long n) { return std::to_string(n) + (n == 1 ? " step" : " steps"); }
 
+// One diagnostics row as text, newline included: written and checked as a whole.
+std::string row_text(const DiagnosticsRow& r) {
+  std::ostringstream row;
+  write_diagnostics_row(row, r);
+  return row.str();
+}
+
+// The one line of a run that SIGINT/SIGTERM stopped: where, and which files hold what.
+std::string stopped_text(int signal, const Simulation& sim, const std::string& csv,
+                         const std::string& dump, int last_frame) {
+  std::ostringstream s;
+  s << "apiclab: stopped by " << (signal == SIGINT ? "SIGINT" : "SIGTERM") << " at step "
+    << sim.steps() << ", t = " << sim.time() << " s; diagnostics in " << csv;
+  if (!dump.empty())
+    s << ", frames 0.." << last_frame << " in " << dump << " (listed in " << dump
+      << "/frames.csv)";
+  return s.str();
+}
+
 int run(const RunCommandOptions& command) {
   const RunOptions& o = command.run;
   const double cpu_start = cpu_seconds();
+  install_stop_handlers();  // a signal during the set-up stops the run after frame 0
   SceneDesc scene = load_scene_with_options(o);
   check_flip_alpha(o, {scene.solver.scheme});
   const std::vector<DumpFormat> formats = dump_formats_of(o);
@@ -46,8 +68,8 @@ int run(const RunCommandOptions& command) {
                      dump_without_particles);
   if (!o.dump.empty()) ensure_writable_dir(o.dump);
   ParticleDump dump(o.dump, formats);
-  std::ofstream out(csv);
-  out << diagnostics_header() << '\n';
+  RowFile out(csv);
+  out.write_row(std::string(diagnostics_header()) + '\n');
   const nlohmann::json settings = run_settings(scene, precision_of(o), o.sets);
   write_csv_sidecar(csv, settings);
   if (const std::string note = time_step_note(scene); !note.empty() && !o.quiet)
@@ -55,7 +77,7 @@ int run(const RunCommandOptions& command) {
 
   DiagnosticsRow first = sim->measure();
   first.dt = 0;
-  write_diagnostics_row(out, first);
+  out.write_row(row_text(first));
   RunSummary summary(first, sim->total_mass(), DriftRule::domain_extent(scene));
   std::string label = scene.name + " [" + run_label(scene) + ", " +
                       std::string(key_of(scene.solver.integrator)) + ", " + sim->model_size() + "]";
@@ -77,7 +99,7 @@ int run(const RunCommandOptions& command) {
   long unconverged = 0;
   Lockstep panes({sim.get()});
   const auto on_row = [&](std::size_t, const DiagnosticsRow& r) {
-    write_diagnostics_row(out, r);
+    out.write_row(row_text(r));
     summary.add(r);
     if (!r.converged && unconverged++ == 0)
       std::fprintf(
@@ -89,15 +111,21 @@ int run(const RunCommandOptions& command) {
     extra << "t=" << r.t << " step " << r.step;
     progress.update(r.t, extra.str());
   };
+  int last_frame = -1;
   run_frame_loop(FrameTimes(scene), panes, on_row, [&](int f) {
     if (sim->failure()) return false;
     if (!o.dump.empty()) {
-      dump.write(*sim, f);
+      dump.write(*sim, f);  // the frame's files first, then its row in the index
       frames.add(f, sim->time(), {sim->steps()});  // the frame's real time
     }
+    last_frame = f;
     return true;
   });
   sim->on_solver_iteration(nullptr);
+  if (const int signal = stop_signal()) {
+    progress.finish(stopped_text(signal, *sim, csv, o.dump, last_frame));
+    return stop_exit_code(signal);
+  }
   double wall = now_seconds() - start;
   if (!command.summary.empty()) {
     const RunCosts costs{wall, cpu_seconds() - cpu_start, particle_count(*sim)};
@@ -105,12 +133,9 @@ int run(const RunCommandOptions& command) {
         run_summary_json(scene, settings, summary, sim->time(), costs, sim->failure());
     j["outputs"] = {{"csv", csv},
                     {"dump", o.dump.empty() ? nlohmann::json() : nlohmann::json(o.dump)}};
-    std::ofstream json(command.summary);
-    json << j.dump(2) << '\n';
-    if (!json) throw UsageError("cannot write run summary '" + command.summary + "'");
+    write_file_whole(command.summary, j.dump(2) + '\n');
   }
   if (const auto& failure = sim->failure()) {
-    out.flush();
     progress.finish("apiclab: " + failure->message + " (diagnostics so far in " + csv + ")");
     return 3;
   }

@@ -3,6 +3,7 @@
 #include <omp.h>
 
 #include "app/clock.hpp"
+#include "app/stop_signal.hpp"
 #include "app/thread_pool.hpp"
 
 namespace apiclab {
@@ -51,8 +52,8 @@ double Lockstep::step_round(double t, const OnRow& on_row) {
 
 void Lockstep::advance_to(double t, const OnRow& on_row) {
   // Until every pane reached t (not until a round takes no particle-steps: a solver without
-  // particles, such as EoL, takes none).
-  while (!all_reached(t)) step_round(t, on_row);
+  // particles, such as EoL, takes none), or until SIGINT/SIGTERM asked to stop.
+  while (!all_reached(t) && !stop_signal()) step_round(t, on_row);
 }
 
 }  // namespace apiclab

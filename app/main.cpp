@@ -3,6 +3,7 @@
 #include <iostream>
 #include <string>
 
+#include "app/output_file.hpp"
 #include "cli.hpp"
 #include "commands.hpp"
 #include "sim/scene.hpp"
@@ -66,6 +67,9 @@ int main(int argc, char** argv) {
   } catch (const apiclab::SceneError& e) {
     std::fprintf(stderr, "apiclab: %s\n", e.what());
   } catch (const UsageError& e) {
+    std::fprintf(stderr, "apiclab: %s\n", e.what());
+  } catch (const apiclab::WriteError& e) {
+    // A full disk or a file size limit: "cannot write FILE: REASON" (docs/outputs.md).
     std::fprintf(stderr, "apiclab: %s\n", e.what());
   } catch (const std::exception& e) {
     std::fprintf(stderr, "apiclab: error: %s\n", e.what());

@@ -11,6 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "app/output_file.hpp"
 #include "sim/simulation.hpp"
 
 #ifdef APICLAB_HAVE_ZLIB
@@ -30,19 +31,10 @@ void put(std::string& bytes, V v) {
   bytes.append(b, sizeof(V));
 }
 
-std::ofstream open_binary(const std::string& path) {
-  std::ofstream out(path, std::ios::binary);
-  if (!out) throw std::runtime_error("cannot write '" + path + "'");
-  return out;
-}
-
 // The XML head, then the appended block (raw bytes: each array as VtkArrays wrote it).
 void write_vtk_file(const std::string& path, const std::string& head, const std::string& data) {
-  std::ofstream out = open_binary(path);
-  out << head << "  <AppendedData encoding=\"raw\">\n   _";
-  out.write(data.data(), std::streamsize(data.size()));
-  out << "\n  </AppendedData>\n</VTKFile>\n";
-  if (!out) throw std::runtime_error("cannot write '" + path + "'");
+  write_file_whole(path, head + "  <AppendedData encoding=\"raw\">\n   _" + data +
+                             "\n  </AppendedData>\n</VTKFile>\n");
 }
 
 // Positions as 3 components (2D gets z = 0), the layout every viewer expects.
@@ -231,22 +223,17 @@ void write_ply(const std::string& path, const ParticleTable& t) {
                  a < t.dim ? float(v->values[q * std::size_t(t.dim) + std::size_t(a)]) : 0.0f);
     put<std::int32_t>(data, std::int32_t(o->values[q]));
   }
-  std::ofstream out = open_binary(path);
-  const std::string h = head.str();
-  out.write(h.data(), std::streamsize(h.size()));
-  out.write(data.data(), std::streamsize(data.size()));
-  if (!out) throw std::runtime_error("cannot write '" + path + "'");
+  write_file_whole(path, head.str() + data);
 }
 
 void write_obj(const std::string& path, const ParticleTable& t) {
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error("cannot write '" + path + "'");
+  std::ostringstream out;
   out << "# apiclab particles: one vertex per particle, ordered by id\n"
       << std::setprecision(t.digits);
   const std::vector<double> x = positions3(t);
   for (std::size_t q = 0; q < t.count; ++q)
     out << "v " << x[3 * q] << ' ' << x[3 * q + 1] << ' ' << x[3 * q + 2] << '\n';
-  if (!out) throw std::runtime_error("cannot write '" + path + "'");
+  write_file_whole(path, out.str());
 }
 
 void write_vti(const std::string& path, const GridLayer& g, bool zlib) {
@@ -344,16 +331,11 @@ void write_surface_ply(const std::string& path, const SurfaceLayer& s, int dim) 
     for (int k = 0; k < dim; ++k)
       put<std::int32_t>(data, std::int32_t(s.elements[c * std::size_t(dim) + std::size_t(k)]));
   }
-  std::ofstream out = open_binary(path);
-  const std::string h = head.str();
-  out.write(h.data(), std::streamsize(h.size()));
-  out.write(data.data(), std::streamsize(data.size()));
-  if (!out) throw std::runtime_error("cannot write '" + path + "'");
+  write_file_whole(path, head.str() + data);
 }
 
 void write_surface_obj(const std::string& path, const SurfaceLayer& s, int dim) {
-  std::ofstream out(path);
-  if (!out) throw std::runtime_error("cannot write '" + path + "'");
+  std::ostringstream out;
   const std::size_t n = s.positions.size() / std::size_t(dim);
   // max_digits10 of float: the snapshot's positions read back exactly.
   out << "# apiclab surface " << s.name << (dim == 2 ? ": closed polyline\n" : ": triangle mesh\n")
@@ -367,7 +349,7 @@ void write_surface_obj(const std::string& path, const SurfaceLayer& s, int dim) 
     for (int k = 0; k < dim; ++k) out << ' ' << s.elements[c + std::size_t(k)] + 1;
     out << '\n';
   }
-  if (!out) throw std::runtime_error("cannot write '" + path + "'");
+  write_file_whole(path, out.str());
 }
 
 bool is_vtk(DumpFormat f) { return f == DumpFormat::vtk || f == DumpFormat::vtk_raw; }
@@ -380,8 +362,7 @@ bool formats_need_particles(const std::vector<DumpFormat>& formats) {
 
 void PvdSeries::add(double t, const std::string& file, int part) {
   frames_.push_back({t, part, file});
-  std::ofstream out(dir_ + "/series.pvd");
-  if (!out) throw std::runtime_error("cannot write '" + dir_ + "/series.pvd'");
+  std::ostringstream out;
   out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"1.0\" "
          "byte_order=\"LittleEndian\">\n  <Collection>\n"
       << std::setprecision(17);
@@ -389,6 +370,7 @@ void PvdSeries::add(double t, const std::string& file, int part) {
     out << "    <DataSet timestep=\"" << e.t << "\" part=\"" << e.part << "\" file=\"" << e.file
         << "\"/>\n";
   out << "  </Collection>\n</VTKFile>\n";
+  write_file_whole(dir_ + "/series.pvd", out.str());
 }
 
 }  // namespace apiclab
@@ -433,9 +415,7 @@ void ParticleDump::write(const Simulation& sim, int frame) {
     } else if (particles) {
       const ParticleTable table = particles->particle_table();
       if (f == DumpFormat::csv) {
-        std::ofstream out(path);
-        if (!out) throw std::runtime_error("cannot write '" + path + "'");
-        write_particles_csv(out, table);
+        write_file_whole(path, [&](std::ostream& out) { write_particles_csv(out, table); });
       } else if (f == DumpFormat::ply) {
         write_ply(path, table);
       } else {

@@ -42,30 +42,27 @@ nlohmann::json run_settings(const SceneDesc& scene, Precision precision,
 }
 
 void write_csv_sidecar(const std::string& csv_path, const nlohmann::json& settings) {
-  const std::string path = csv_path + ".json";
-  std::ofstream out(path);
-  out << nlohmann::json{{"csv", std::filesystem::path(csv_path).filename().string()},
-                        {"settings", settings}}
-             .dump(2)
-      << '\n';
-  if (!out) throw std::runtime_error("cannot write '" + path + "'");
+  const nlohmann::json sidecar{{"csv", std::filesystem::path(csv_path).filename().string()},
+                               {"settings", settings}};
+  write_file_whole(csv_path + ".json", sidecar.dump(2) + '\n');
 }
 
 FrameIndex::FrameIndex(const std::string& dir, const std::vector<std::string>& panes)
-    : out_(std::filesystem::path(dir) / "frames.csv") {
-  if (!out_) throw std::runtime_error("cannot write '" + dir + "/frames.csv'");
-  out_.precision(17);
-  out_ << "frame,t";
-  if (panes.empty()) out_ << ",step";
-  for (const std::string& p : panes) out_ << ",step_" << p;
-  out_ << '\n';
+    : out_((std::filesystem::path(dir) / "frames.csv").string()) {
+  std::string head = "frame,t";
+  if (panes.empty()) head += ",step";
+  for (const std::string& p : panes) head += ",step_" + p;
+  out_.write_row(head + '\n');
 }
 
 void FrameIndex::add(int frame, double t, const std::vector<long>& steps) {
   if (!out_.is_open()) return;
-  out_ << frame << ',' << t;
-  for (long s : steps) out_ << ',' << s;
-  out_ << '\n' << std::flush;
+  std::ostringstream row;
+  row.precision(17);
+  row << frame << ',' << t;
+  for (long s : steps) row << ',' << s;
+  row << '\n';
+  out_.write_row(row.str());
 }
 
 std::string time_step_note(const SceneDesc& scene) {

@@ -3,12 +3,12 @@
 // CSV itself stays plain, docs/architecture.md), the real time of every frame (a fixed --dt is
 // taken exactly, so frame f is the step at or just past f/fps), and `run --summary FILE.json`.
 #pragma once
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "app/output_file.hpp"
 #include "sim/run_summary.hpp"
 #include "sim/scene.hpp"
 #include "sim/snapshot.hpp"
@@ -24,12 +24,13 @@ std::string apiclab_version();
 nlohmann::json run_settings(const SceneDesc& scene, Precision precision,
                             const std::vector<std::string>& overrides);
 
-// Writes `csv_path`.json: {"csv": the CSV's file name, "settings": settings}. Throws
-// std::runtime_error naming the file when it cannot be written.
+// Writes `csv_path`.json whole: {"csv": the CSV's file name, "settings": settings}. Throws
+// WriteError naming the file when it cannot be written.
 void write_csv_sidecar(const std::string& csv_path, const nlohmann::json& settings);
 
 // DIR/frames.csv: `frame,t,step`, the real time of each written frame and the step count it
-// was reached at; with several panes (compare) one step column per pane, `step_<name>`.
+// was reached at; with several panes (compare) one step column per pane, `step_<name>`. A row
+// is written whole and flushed when its frame's files are complete (WriteError otherwise).
 class FrameIndex {
  public:
   FrameIndex() = default;
@@ -38,7 +39,7 @@ class FrameIndex {
   void add(int frame, double t, const std::vector<long>& steps);
 
  private:
-  std::ofstream out_;
+  RowFile out_;
 };
 
 // One line about how steps meet frames, for the start of a run ("" when nothing to say): a
