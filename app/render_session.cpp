@@ -136,7 +136,11 @@ void RenderSession::draw(const std::vector<const Snapshot*>& panes, const std::s
   flush();
   pending_png = std::async(std::launch::async, [this, image, path] {
     const double t = now_seconds();
-    render::write_png(*image, path);
+    try {
+      render::write_png(*image, path);  // whole or absent: "cannot write PATH: REASON"
+    } catch (const std::runtime_error& e) {
+      throw UsageError(e.what());  // one line, exit 2
+    }
     png_seconds += now_seconds() - t;
   });
 }

@@ -1,7 +1,10 @@
 #include "render/image.hpp"
 
 #include <algorithm>
+#include <cerrno>
+#include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <stdexcept>
 
 #ifdef APICLAB_HAVE_ZLIB
@@ -31,12 +34,42 @@ unsigned char* deflate_with_zlib(unsigned char* data, int length, int* out_lengt
 
 namespace apiclab::render {
 
+namespace {
+
+// Writes `bytes` to `path`.part, checked to the last byte and the close, then renames it: the
+// PNG is whole or absent (stb's own file writer checks neither the write nor the close).
+void write_whole(const std::string& path, const unsigned char* bytes, std::size_t size) {
+  const std::string temp = path + ".part";
+  const auto fail = [&](int error) {
+    std::remove(temp.c_str());
+    throw std::runtime_error("cannot write " + path + ": " + std::strerror(error ? error : EIO));
+  };
+  errno = 0;
+  std::FILE* f = std::fopen(temp.c_str(), "wb");
+  if (!f) fail(errno);
+  int error = std::fwrite(bytes, 1, size, f) == size ? 0 : errno;
+  errno = 0;
+  if (std::fclose(f) != 0 && error == 0) error = errno ? errno : EIO;
+  if (error == 0 && std::rename(temp.c_str(), path.c_str()) != 0) error = errno ? errno : EIO;
+  if (error != 0) fail(error);
+}
+
+}  // namespace
+
 void write_png(const Image& image, const std::string& path) {
   // Unfiltered rows: trying all five filters per row costs more than it saves here.
   stbi_write_force_png_filter = 0;
-  if (!stbi_write_png(path.c_str(), image.width, image.height, 4, image.rgba.data(),
-                      image.width * 4))
-    throw std::runtime_error("cannot write " + path);
+  int size = 0;
+  unsigned char* png = stbi_write_png_to_mem(image.rgba.data(), image.width * 4, image.width,
+                                             image.height, 4, &size);
+  if (!png) throw std::runtime_error("cannot write " + path + ": PNG encoding failed");
+  try {
+    write_whole(path, png, std::size_t(size));
+  } catch (...) {
+    STBIW_FREE(png);
+    throw;
+  }
+  STBIW_FREE(png);
 }
 
 Image read_png(const std::string& path) {

@@ -72,6 +72,18 @@ else
   nok "partial run summary" "exit $RC" "$(ls -l "$TMP/c")" "$(tail -n 2 "$ERR")"
 fi
 
+# ---- render: a PNG frame that does not fit is absent, not empty --------------------------------
+if "$APICLAB" render --help >/dev/null 2>&1; then
+  # 16 KiB holds the CSV, not a 320x240 frame (about 34 kB).
+  limited 16 render rotating-disk --out "$TMP/r" --t-end 0.1 --size 320x240 --quiet
+  if [ "$RC" -eq 2 ] && [ "$(last_line)" = "apiclab: cannot write $TMP/r/frame_0000.png: File too large" ] &&
+    [ -z "$(cd "$TMP/r" && ls frame_*.png* 2>/dev/null)" ]; then
+    ok "render: a PNG that does not fit stops with exit 2, no partial or empty PNG"
+  else
+    nok "render PNG whole or absent" "exit $RC" "$(ls -l "$TMP/r")" "$(tail -n 2 "$ERR")"
+  fi
+fi
+
 # ---- SIGINT and SIGTERM --------------------------------------------------------------------------
 # stopped SIGNAL CODE: a long run with dumps, stopped after about a second.
 stopped() {
