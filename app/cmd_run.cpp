@@ -36,6 +36,14 @@ std::string row_text(const DiagnosticsRow& r) {
   return row.str();
 }
 
+// The empty file the option check created for --summary, removed when no summary comes: the
+// summary is whole or absent.
+void remove_summary_placeholder(const std::string& path) {
+  std::error_code ec;
+  if (!path.empty() && std::filesystem::file_size(path, ec) == 0 && !ec)
+    std::filesystem::remove(path, ec);
+}
+
 // The one line of a run that SIGINT/SIGTERM stopped: where, and which files hold what.
 std::string stopped_text(int signal, const Simulation& sim, const std::string& csv,
                          const std::string& dump, int last_frame) {
@@ -123,6 +131,7 @@ int run(const RunCommandOptions& command) {
   });
   sim->on_solver_iteration(nullptr);
   if (const int signal = stop_signal()) {
+    remove_summary_placeholder(command.summary);
     progress.finish(stopped_text(signal, *sim, csv, o.dump, last_frame));
     return stop_exit_code(signal);
   }
@@ -133,7 +142,12 @@ int run(const RunCommandOptions& command) {
         run_summary_json(scene, settings, summary, sim->time(), costs, sim->failure());
     j["outputs"] = {{"csv", csv},
                     {"dump", o.dump.empty() ? nlohmann::json() : nlohmann::json(o.dump)}};
-    write_file_whole(command.summary, j.dump(2) + '\n');
+    try {
+      write_file_whole(command.summary, j.dump(2) + '\n');
+    } catch (const WriteError&) {
+      remove_summary_placeholder(command.summary);
+      throw;
+    }
   }
   if (const auto& failure = sim->failure()) {
     progress.finish("apiclab: " + failure->message + " (diagnostics so far in " + csv + ")");

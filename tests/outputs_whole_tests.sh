@@ -66,7 +66,7 @@ csv_whole "$TMP/b/run.csv" && ok "full diagnostics CSV: it ends with a whole row
 # ---- a summary that does not fit is absent, not empty ---------------------------------------------
 # 2 KiB: the CSV and its sidecar fit (about 1 kB each), the summary (about 2.3 kB) does not.
 limited 2 run rotating-disk --t-end 0.1 --csv "$TMP/c/run.csv" --summary "$TMP/c/summary.json" --quiet
-if [ "$RC" -eq 2 ] && [ ! -s "$TMP/c/summary.json" ] && no_part_files "$TMP/c"; then
+if [ "$RC" -eq 2 ] && [ ! -e "$TMP/c/summary.json" ] && no_part_files "$TMP/c"; then
   ok "run summary too large: exit 2, no partial summary"
 else
   nok "partial run summary" "exit $RC" "$(ls -l "$TMP/c")" "$(tail -n 2 "$ERR")"
@@ -90,7 +90,7 @@ stopped() {
   local sig=$1 code=$2 dir="$TMP/$1"
   ERR="$TMP/stderr-$sig"
   "$APICLAB" run rotating-disk --t-end 5 --csv "$dir/run.csv" --dump "$dir/dump" \
-    >"$TMP/stdout" 2>"$ERR" &
+    --summary "$dir/summary.json" >"$TMP/stdout" 2>"$ERR" &
   local pid=$!
   sleep 1
   kill -s "$sig" "$pid"
@@ -104,8 +104,8 @@ stopped() {
   fi
   csv_whole "$dir/run.csv" && ok "SIG$sig: every CSV row has 18 fields" ||
     nok "SIG$sig: CSV whole" "$(tail -c 300 "$dir/run.csv")"
-  if index_consistent "$dir/dump" csv && no_part_files "$dir"; then
-    ok "SIG$sig: frames.csv lists exactly the frame files present, no .part file"
+  if index_consistent "$dir/dump" csv && no_part_files "$dir" && [ ! -e "$dir/summary.json" ]; then
+    ok "SIG$sig: frames.csv lists exactly the frame files present, no .part file, no summary"
   else
     nok "SIG$sig: index consistent" "$(ls "$dir/dump" | tail -5)" "$(tail -3 "$dir/dump/frames.csv")"
   fi
