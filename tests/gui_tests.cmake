@@ -16,7 +16,8 @@ if(NOT APICLAB_TSAN)
   add_executable(test_gui_worker_tsan test_gui_worker.cpp ${CMAKE_SOURCE_DIR}/app/sim_worker.cpp
                                       ${CMAKE_SOURCE_DIR}/app/lockstep.cpp
                                       ${CMAKE_SOURCE_DIR}/app/thread_pool.cpp
-                                      ${CMAKE_SOURCE_DIR}/app/frame_loop.cpp)
+                                      ${CMAKE_SOURCE_DIR}/app/frame_loop.cpp
+                                      ${CMAKE_SOURCE_DIR}/app/stop_signal.cpp)
   target_include_directories(test_gui_worker_tsan PRIVATE ${CMAKE_SOURCE_DIR})
   target_compile_options(test_gui_worker_tsan PRIVATE -fsanitize=thread -g)
   target_link_options(test_gui_worker_tsan PRIVATE -fsanitize=thread)
