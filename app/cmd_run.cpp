@@ -51,8 +51,7 @@ std::string stopped_text(int signal, const Simulation& sim, const std::string& c
   s << "apiclab: stopped by " << (signal == SIGINT ? "SIGINT" : "SIGTERM") << " at step "
     << sim.steps() << ", t = " << sim.time() << " s; diagnostics in " << csv;
   if (!dump.empty())
-    s << ", frames 0.." << last_frame << " in " << dump << " (listed in " << dump
-      << "/frames.csv)";
+    s << ", frames 0.." << last_frame << " in " << dump << " (listed in " << dump << "/frames.csv)";
   return s.str();
 }
 
