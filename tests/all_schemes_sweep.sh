@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Every scheme in the registry reaches the sweep's error-against-cost chart (issue 15).
+# Every scheme in the registry reaches the sweep's error-against-cost chart.
 #   coarse (default tests): tests/sweeps/all-schemes.json, rotating-disk for 0.1 s at two
 #     resolutions: runs.csv has one completed run per scheme and resolution, the chart's CSV a
 #     point for every scheme;

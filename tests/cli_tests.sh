@@ -116,7 +116,7 @@ expect_error "--set on a missing index (materials.5.E)" "$DISK" "materials.5" --
 expect_error "--set of an unknown key (materials.0.Ee)" "$DISK" "'materials.0.Ee'" -- run "$DISK" --set materials.0.Ee=5
 expect_error "--set of an invalid value (materials.0.nu=0.7)" "$DISK" "'materials.0.nu'" -- run "$DISK" --set materials.0.nu=0.7
 # Flags go through --set, so the registry's range and message apply (sim/parameters.hpp).
-# The message names the option (issue 11), and the scene key it sets, never the scene file.
+# The message names the option, and the scene key it sets, never the scene file.
 expect_error "--dt 0 (fixed step)" "--dt 0" "'time.dt.value'" "(0, inf)" "!$DISK" -- run "$DISK" --dt 0
 expect_error "--flip-alpha 1.5" "--flip-alpha 1.5" "'solver.flip_alpha'" "[0, 1]" "!$DISK" -- run "$DISK" --flip-alpha 1.5
 expect_error "--set of a fractional CG cap" "'solver.cg_max_iterations'" -- run "$DISK" --set solver.cg_max_iterations=2.5
@@ -130,7 +130,7 @@ expect_error "xpic order below 1" "solver.xpic_order" "outside the allowed range
 expect_error "asflip beta above 1" "solver.asflip_beta" "outside the allowed range" -- run rotating-disk --scheme asflip --set solver.asflip_beta=1.5
 expect_error "roundtrip --kernel unknown" "quintic" -- roundtrip --kernel quintic --res 16
 
-# ---- bad input, issue 11: each class with one line naming the real cause -------------------
+# ---- bad input: each class with one line naming the real cause ----------------------------
 # Paths that are not regular files (a fifo would block a plain open).
 expect_error "scene path is a directory" "$TMP" "is a directory" -- run "$TMP"
 mkfifo "$TMP/fifo.json"

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# GUI soak (issue 17, README "GUI soak"): under Xvfb, xdotool drives random clicks, drags, wheel
+# GUI soak (docs/testing.md, GUI soak): under Xvfb, xdotool drives random clicks, drags, wheel
 # turns, key presses and absurd typed values over the viewer for a given time, a share of them
 # aimed at the controls (scene and scheme combos, Play/Step/Reset, pane add/remove, number
 # fields, the Open path field). The viewer must stay alive, draw a frame at least every

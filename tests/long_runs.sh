@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Long runs (issue 17): every shipped 2D scene to 20x its end time with APIC (MPM scenes, the
+# Long runs (docs/testing.md): every shipped 2D scene to 20x its end time with APIC (MPM scenes, the
 # scene's own integrator) or its own method (EoL scenes). Each must finish (exit 0, no blow-up),
 # never gain more than 1 % of its initial energy (none of these scenes is driven), and keep its
 # resident memory flat: RSS at the end within 5 % of RSS a quarter of the way in.

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# What a run hands a person (issue 11), end to end: --dt taken exactly with the frames' real
+# What a run hands a person, end to end: --dt taken exactly with the frames' real
 # times, the JSON run summary, the settings sidecar next to every CSV, compare's exit code when a
 # pane blows up, "1 step", progress without \r or escape codes when stderr is not a terminal,
 # --frames past the scene's end.

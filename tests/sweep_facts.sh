@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The stability map's facts as measured by `apiclab sweep` (issue 13), each on a small, fast
+# The stability map's facts as measured by `apiclab sweep`, each on a small, fast
 # configuration:
 #   stability  (tests/sweeps/stability-facts.json, rotating-disk on a 16x16 grid, 1 s):
 #     symplectic Euler blows up at 4x the explicit limit while the midpoint rule holds there;

@@ -214,7 +214,7 @@ else
   nok "GNU parallel not installed (apt-get install parallel; setup.sh lists it)"
 fi
 
-# Dumps from the sweep's runs (issue 16): asking for them re-runs the runs recorded without them;
+# Dumps from the sweep's runs: asking for them re-runs the runs recorded without them;
 # each run then has dump/series.pvd listing one .vtp per recorded frame, and runs.csv is the same.
 bad_flag "--dump-format xyz" "--dump-format: unknown dump format 'xyz'" "$TINY" --out "$TMP/flag-out" \
   --dump-format xyz

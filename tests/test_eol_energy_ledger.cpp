@@ -1,4 +1,4 @@
-// Issue 14: an object that hits a floor gains energy under eol when its grid lands turned to
+// An object that hits a floor gains energy under eol when its grid lands turned to
 // the floor (and under eulerian). The energy ledger (sim/eol/energy_ledger.hpp) says which
 // stage of the step adds it. Measured with the node-plane rows (solver.contact nodes; the drop
 // below, ledger from t = 0 to the most compressed step of the impact):
@@ -149,7 +149,7 @@ TEST(EolEnergyLedger, DropWithTheGridAlignedToTheFloorNeverGainsEnergy) {
   }
 }
 
-// Issue 14's acceptance test: the surface contact rows (eqs 27-29, the default) at every angle
+// The acceptance test: the surface contact rows (eqs 27-29, the default) at every angle
 // of the grid to the floor, 2D and 3D. With solver.contact nodes (one row per node behind the
 // floor) it fails: 2D +6.5e-02 J at 22°, +1.9e-01 J at 45°, +5.7e-02 J at 70°; 3D at 45°
 // +4.2e-02 J (the table below prints them).
@@ -166,7 +166,7 @@ TEST(EolEnergyLedger, DropWithTheGridTurnedToTheFloorNeverGainsEnergy) {
   check_no_gain<3>(M_PI / 4);
 }
 
-// The measurement behind issue 14's table (README): both contact kinds, eol at 0°, 22°, 45°,
+// The measurement behind the contact table (docs/eol.md): both contact kinds, eol at 0°, 22°, 45°,
 // 70° (2D) and 45° (3D), and the Eulerian baseline. A tool, not a check (it only prints):
 //   build/tests/apiclab_tests --gtest_filter='*ContactTable*' --gtest_also_run_disabled_tests
 TEST(EolEnergyLedger, DISABLED_ContactTable) {

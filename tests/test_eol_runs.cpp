@@ -232,7 +232,7 @@ TEST(EolRuns, DropOnASlipFloorNeverGainsEnergy) {
     // Both methods, with the surface contact rows (eqs 27-29, the default): EoL at most −1e-7 J,
     // the Eulerian baseline +9.4e-4 J of 0.104 J released. With the node rows (contact nodes)
     // the Eulerian baseline gained 0.019 J here (about 19 %: the advection of X against the
-    // floor's staircase of constrained nodes, issue 14, test_eol_energy_ledger.cpp).
+    // floor's staircase of constrained nodes, test_eol_energy_ledger.cpp).
     EXPECT_LE(worst, bound) << method;
   }
 }

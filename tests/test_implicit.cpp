@@ -353,7 +353,7 @@ TEST(Implicit, RingingFlipKeepsNoiseApicAndPicDoNot) {
   EXPECT_LT(apic.target_strain_rms, flip.target_strain_rms);
 }
 
-// Issue 11: in float, Newton's and CG's tolerances are held to what float can resolve
+// In float, Newton's and CG's tolerances are held to what float can resolve
 // (sim/round_off_floor.hpp). One torus of torus-drop at the scene's resolution (8.5k particles;
 // the whole scene stalled: 20 Newton and 2,268 CG iterations, not converged, on one free-fall
 // step) takes one large midpoint step in free fall: it must converge in a few Newton

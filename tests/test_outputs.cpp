@@ -1,4 +1,4 @@
-// What a run hands a person (issue 11): a fixed --dt taken exactly with frames at or just past
+// What a run hands a person: a fixed --dt taken exactly with frames at or just past
 // their times, the GUI's drift series by run's rule (L0 = 0 and L0 at round-off), round-off
 // momenta plotted as zero, the settings sidecar and the JSON run summary.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// The 3D paper scenes (issue 6): sphere-impact-3d(-spin) (Jiang et al. 2017, Sec 6.5),
+// The 3D paper scenes: sphere-impact-3d(-spin) (Jiang et al. 2017, Sec 6.5),
 // torus-drop (Sec 6.6) and bunnies (the Taichi seed). Each loads, samples the particle counts
 // the paper states, and runs its first frames without blowing up. The full scenes are far too
 // big for CI (2 cores): the runs here coarsen the grid and sampling through load_scene

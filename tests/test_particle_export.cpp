@@ -1,4 +1,4 @@
-// --dump formats read back (issue 16): VTK PolyData (header, offsets and sizes checked by a
+// --dump formats read back: VTK PolyData (header, offsets and sizes checked by a
 // reader of our own; every array bit for bit), binary PLY bit for bit, OBJ and CSV to their
 // printed precision (max_digits10 round-trips exactly), series.pvd lists every frame's time.
 #include <gtest/gtest.h>
@@ -206,7 +206,7 @@ TEST(ParticleExport, ZlibBlocksFollowVtksLayout) {
   EXPECT_EQ(array_bytes(empty, 0, true, end), "");
 }
 
-// Issue 16: a 3D run's VTK frame is at most a quarter of the bytes of its CSV frame (zlib; raw
+// A 3D run's VTK frame is at most a quarter of the bytes of its CSV frame (zlib; raw
 // VTK is 140 bytes per particle, the CSV 141 at rest to about 600 fully deformed).
 TEST(ParticleExport, VtkFrameIsAtMostAQuarterOfTheCsv) {
   if (!vtk_zlib_available()) GTEST_SKIP() << "built without zlib: raw VTK is 140 B/particle";

@@ -150,8 +150,8 @@ void expect_fused_equals_oracle(const std::string& scheme, const std::string& ke
   omp_set_num_threads(threads_before);
 }
 
-// Every scheme and kernel on one thread; on two (the threads' slots added in order) the five
-// the issue names, fewer because two threads on a loaded machine wait at every barrier.
+// Every scheme and kernel on one thread; on two (the threads' slots added in order) five
+// schemes, fewer because two threads on a loaded machine wait at every barrier.
 template <class T, int D>
 void all_schemes() {
   for (const char* scheme :

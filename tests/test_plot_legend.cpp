@@ -1,4 +1,4 @@
-// The plot widget's legend never covers a curve (issue 11): the y range leaves a band at the
+// The plot widget's legend never covers a curve: the y range leaves a band at the
 // top for it. Drawn headless (ImGui with its font atlas built and no renderer); the test reads
 // the draw list: no vertex of a curve lies inside the legend's box.
 #include <gtest/gtest.h>

@@ -414,7 +414,7 @@ TEST(AutoScale, NonFiniteSpeedsSetNoScaleAndTicksStayBounded) {
   EXPECT_TRUE(color_bar_ticks(inf).empty());
 }
 
-// Issue 11 (`compare --color noise` went 1, 8e-16, 1.2e-15, 0.4 over a run): a real run's
+// Seen once (`compare --color noise` went 1, 8e-16, 1.2e-15, 0.4 over a run): a real run's
 // scales, as render and compare hold them across frames, never shrink, are shared by the panes,
 // and APIC's velocity noise on a rigid rotation (round-off: APIC transfers rigid motion exactly)
 // sits on the floor relative to the speed scale instead of being stretched to full range.
@@ -472,7 +472,7 @@ TEST(Palette, OneColourPerSchemeAndCategory) {
   EXPECT_EQ(scheme_label(s), "FLIP");
   s.scheme = "pic";
   EXPECT_EQ(scheme_label(s), "PIC");
-  // Compare's pane labels name the parameter of the schemes that have one (issue 15).
+  // Compare's pane labels name the parameter of the schemes that have one.
   s.scheme_parameters = {3, 9, 0.5};
   s.scheme = "xpic";
   EXPECT_EQ(scheme_label(s), "XPIC(3)");

@@ -153,7 +153,7 @@ TEST(Scene, MalformedJson) {
   }
 }
 
-// fuzz_scene (issue 17, tests/fuzz_regressions/scene/newline-in-key*.json): a key holding the
+// fuzz_scene (tests/fuzz_regressions/scene/newline-in-key*.json): a key holding the
 // JSON escape "\n" decodes to a line break, which the message quoted as it was, on two lines.
 // Every text of the input a message quotes has its control characters escaped.
 TEST(Scene, InputTextInMessagesStaysOnOneLine) {
@@ -245,7 +245,7 @@ TEST(Scene, SetOnMissingKey) {
                      {"good.json", "noequals"}, "--set without =");
 }
 
-// Issue 11: each class of bad input gives one line that names the real cause.
+// Each class of bad input gives one line that names the real cause.
 TEST(SceneInput, DuplicateKeysAreRefusedWithTheirPath) {
   const std::string dup =
       std::string(kGood).replace(kGood.find("\"E\": 1000"), 9, "\"E\": 1000, \"E\": 2000");

@@ -1,6 +1,6 @@
 // Switching a live simulation's scheme (GUI panes, SimWorker::set_scheme; the same call
 // rewinds a pane) gives back the arrays only the old scheme used: XPIC(m)'s two node arrays and
-// PolyPIC's modes ("model no more than a scene needs", issue 15). Capacity is checked, not size:
+// PolyPIC's modes ("model no more than a scene needs"). Capacity is checked, not size:
 // clear() keeps the memory. And every label names the parameter of a scheme that has one:
 // XPIC(3), PolyPIC(9 modes), ASFLIP(α, β), from the scene a simulation runs (sim/scheme_label.hpp).
 #include <gtest/gtest.h>

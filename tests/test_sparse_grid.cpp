@@ -1,4 +1,4 @@
-// The grid stores only the active box the particles reach (sim/grid.hpp, issue 12): the same
+// The grid stores only the active box the particles reach (sim/grid.hpp): the same
 // scene in a tight domain and in one 100× the area (2D) or 20× the volume (3D) allocates the same
 // grid and follows the same trajectory bit for bit; a projectile's grid stays the size of its
 // box; the memory estimate predicts the allocation.
@@ -36,7 +36,7 @@ std::vector<std::string> plus(std::vector<std::string> a, const std::vector<std:
 
 // Runs the scene tight and grown for `steps` of its own time-step rule; the particle states must
 // agree exactly (same blocks, same sort, same sums in the same order), and the grid bytes of the
-// grown domain stay within 1.5× of the tight one's (the issue's target; here they are equal).
+// grown domain stay within 1.5× of the tight one's (the target; here they are equal).
 template <int D>
 void same_in_a_larger_domain(const std::string& file, std::vector<std::string> sets, double factor,
                              int steps) {

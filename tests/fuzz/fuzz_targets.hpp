@@ -1,4 +1,4 @@
-// The fuzz targets of issue 17 (README "Tests", Fuzzing): each takes arbitrary bytes and either
+// The fuzz targets (docs/testing.md, Fuzzing): each takes arbitrary bytes and either
 // builds something or fails with one clean SceneError line. Anything else (another exception,
 // a message over several lines or carrying a library's tag) is raised as FuzzFinding, so
 // libFuzzer (tests/fuzz/fuzz_main.cpp) reports it as a crash and the replay test
