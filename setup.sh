@@ -1,10 +1,21 @@
 #!/usr/bin/env bash
-# One-command set-up on a fresh Debian 12 machine (README):
-#   ./setup.sh demo   install, build, then open the viewer (display) or render PNG frames
-#   ./setup.sh test   install, build, run the test suite (the same command CI runs)
+# One-command set-up on a fresh Debian 12 machine (README, docs/testing.md):
+#   ./setup.sh demo       install, build, then open the viewer (display) or render PNG frames
+#   ./setup.sh test       install, build, run the default test tier (CI's first step)
+#   ./setup.sh full       install, build, run the full tier: sanitizers, fuzzing, the GUI soak,
+#                         the slow validations (CI's second step)
+#   ./setup.sh extended   install, build, run the extended tier (by hand: the 30-minute soak,
+#                         VTK's readers)
 set -euo pipefail
 cd "$(dirname "$0")"
 mode="${1:-demo}"
+case "$mode" in
+  demo | test | full | extended) ;;
+  *)
+    echo "usage: ./setup.sh demo|test|full|extended" >&2
+    exit 2
+    ;;
+esac
 
 packages=(
   build-essential cmake ninja-build pkg-config git
@@ -13,9 +24,13 @@ packages=(
   libglfw3-dev libimgui-dev xvfb xauth ffmpeg clang-format
   libnanoflann-dev parallel zlib1g-dev
 )
-# The test set also fuzzes (clang, libFuzzer in libclang-rt-dev, OpenMP for clang) and drives
-# the viewer with random input (xdotool); README "Fuzzing and sanitizers", "GUI soak".
-if [ "$mode" = test ]; then packages+=(clang libclang-rt-dev libomp-dev xdotool); fi
+# The full tier builds with clang's sanitizers and fuzzes (clang, libFuzzer in libclang-rt-dev,
+# OpenMP for clang) and drives the viewer with random input (xdotool); the extended tier reads
+# the exports with VTK (python3-vtk9, about 300 MB). docs/testing.md.
+case "$mode" in
+  full) packages+=(clang libclang-rt-dev libomp-dev xdotool) ;;
+  extended) packages+=(clang libclang-rt-dev libomp-dev xdotool python3-vtk9) ;;
+esac
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -32,9 +47,11 @@ cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build -j "$(nproc)"
 
 case "$mode" in
-  test)
-    # The default test set (slow validations carry the label "slow" and are not run here).
-    ctest --test-dir build -LE slow --output-on-failure -j 2
+  test | full | extended)
+    # One tier: every test carries exactly one of the labels default, full, extended.
+    tier=$mode
+    [ "$mode" = test ] && tier=default
+    ctest --test-dir build -L "^$tier\$" --output-on-failure -j "$(nproc)"
     ;;
   demo)
     app=build/app/apiclab
@@ -46,9 +63,5 @@ case "$mode" in
     else
       $app run rotating-disk
     fi
-    ;;
-  *)
-    echo "usage: ./setup.sh demo|test" >&2
-    exit 2
     ;;
 esac

@@ -1,5 +1,5 @@
-// Definitions of MpmSimulation<T, D>, one concept per file; included by mpm_2d.cpp and
-// mpm_3d.cpp only.
+// Definitions of MpmSimulation<T, D>, one concept per file; included by the explicit
+// instantiations sim/mpm_{2d,3d}_{float,double}.cpp only.
 #pragma once
 #include "g2p.hpp"
 #include "grid_update.hpp"

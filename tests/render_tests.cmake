@@ -1,4 +1,4 @@
-# Renderer tests (label "render"), all headless: Mesa llvmpipe through EGL's surfaceless
+# Renderer tests (label "render", default tier), all headless: Mesa llvmpipe through EGL's surfaceless
 # platform, and once more through OSMesa. Regenerate the golden images after an intended
 # change with:  APICLAB_REGENERATE_GOLDEN=1 ctest --test-dir build -R render
 if(NOT TARGET apiclab_render)
@@ -10,9 +10,9 @@ target_link_libraries(test_render PRIVATE apiclab_render GTest::gtest)
 target_compile_definitions(test_render PRIVATE APICLAB_SOURCE_DIR="${CMAKE_SOURCE_DIR}"
                            APICLAB_BINARY_DIR="${CMAKE_CURRENT_BINARY_DIR}")
 gtest_discover_tests(test_render DISCOVERY_TIMEOUT 60 TEST_PREFIX "render." EXTRA_ARGS --backend egl
-                     PROPERTIES LABELS "render" ENVIRONMENT "EGL_PLATFORM=surfaceless")
+                     PROPERTIES LABELS "render;default" ENVIRONMENT "EGL_PLATFORM=surfaceless")
 gtest_discover_tests(test_render DISCOVERY_TIMEOUT 60 TEST_PREFIX "render_osmesa."
-                     EXTRA_ARGS --backend osmesa PROPERTIES LABELS "render")
+                     EXTRA_ARGS --backend osmesa PROPERTIES LABELS "render;default")
 
 add_executable(render_bench render_bench.cpp)
 target_link_libraries(render_bench PRIVATE apiclab_render)
@@ -20,4 +20,4 @@ target_link_libraries(render_bench PRIVATE apiclab_render)
 # The two commands through the real executable: frames, options, panes, CSVs, errors, video.
 add_test(NAME render.cli COMMAND ${CMAKE_COMMAND} -E env APICLAB=$<TARGET_FILE:apiclab>
          bash ${CMAKE_CURRENT_SOURCE_DIR}/render_cli_tests.sh)
-set_tests_properties(render.cli PROPERTIES LABELS "render" TIMEOUT 300)
+set_tests_properties(render.cli PROPERTIES LABELS "render;default" TIMEOUT 300)

@@ -1,4 +1,4 @@
-# Robustness (issue 17, README "Fuzzing and sanitizers" and "GUI soak").
+# Robustness, all in the full tier (docs/testing.md: sanitizers, fuzzing, the GUI soak).
 #
 # The three libFuzzer targets, 60 s each from their seeds (label "fuzz"): fuzz.build builds
 # them with clang into build/fuzz-build (a fixture), each fuzz.TARGET runs one. Without clang
@@ -8,16 +8,16 @@ set(APICLAB_FUZZ_BUILD_DIR ${CMAKE_BINARY_DIR}/fuzz-build
 set(_fuzz_build ${APICLAB_FUZZ_BUILD_DIR})
 set(_fuzz_script ${CMAKE_CURRENT_SOURCE_DIR}/fuzz/fuzz_test.sh)
 add_test(NAME fuzz.build COMMAND bash ${_fuzz_script} build ${CMAKE_SOURCE_DIR} ${_fuzz_build})
-set_tests_properties(fuzz.build PROPERTIES LABELS "fuzz" TIMEOUT 1500 FIXTURES_SETUP fuzz_targets
+set_tests_properties(fuzz.build PROPERTIES LABELS "fuzz;full" TIMEOUT 1500 FIXTURES_SETUP fuzz_targets
                                            SKIP_REGULAR_EXPRESSION "^SKIP:")
 foreach(_target scene set obj)
   add_test(NAME fuzz.${_target}
            COMMAND bash ${_fuzz_script} run ${_target} 60 ${CMAKE_SOURCE_DIR} ${_fuzz_build})
-  set_tests_properties(fuzz.${_target} PROPERTIES LABELS "fuzz" TIMEOUT 300
+  set_tests_properties(fuzz.${_target} PROPERTIES LABELS "fuzz;full" TIMEOUT 300
                        FIXTURES_REQUIRED fuzz_targets SKIP_REGULAR_EXPRESSION "^SKIP:")
 endforeach()
 
-# The GUI soak: random input for 2 minutes (label "gui"), and the 30-minute one (label "slow").
+# The GUI soak: random input for 2 minutes (full tier), and the 30-minute one (extended tier).
 if(TARGET apiclab_imgui_glfw)
   add_test(NAME gui.soak
            COMMAND ${CMAKE_COMMAND} -E env APICLAB=$<TARGET_FILE:apiclab>
@@ -25,21 +25,21 @@ if(TARGET apiclab_imgui_glfw)
                    --out ${CMAKE_CURRENT_BINARY_DIR}/gui-soak)
   # RUN_SERIAL: the frame-gap bound is wall time, and on CI's 2 cores the clang fuzz build beside
   # it starved the viewer to a 1.09 s frame at load 4.9 (0.37 s worst when it runs alone).
-  set_tests_properties(gui.soak PROPERTIES LABELS "gui" TIMEOUT 300 RUN_SERIAL TRUE
+  set_tests_properties(gui.soak PROPERTIES LABELS "gui;soak;full" TIMEOUT 300 RUN_SERIAL TRUE
                                            SKIP_REGULAR_EXPRESSION "^SKIP:")
   add_test(NAME gui.soak_30min
            COMMAND ${CMAKE_COMMAND} -E env APICLAB=$<TARGET_FILE:apiclab>
                    bash ${CMAKE_CURRENT_SOURCE_DIR}/gui_soak.sh --seconds 1800
                    --out ${CMAKE_CURRENT_BINARY_DIR}/gui-soak-30min)
-  set_tests_properties(gui.soak_30min PROPERTIES LABELS "slow" TIMEOUT 2400 RUN_SERIAL TRUE
+  set_tests_properties(gui.soak_30min PROPERTIES LABELS "gui;soak;slow;extended" TIMEOUT 2400 RUN_SERIAL TRUE
                                                   SKIP_REGULAR_EXPRESSION "^SKIP:")
 endif()
 
-# The job pool (figures' thread pool, app/jobs.cpp) and the frame loop under ThreadSanitizer in
-# the default set, as gui.tsan_worker does for the viewer's worker: app code and test
-# instrumented, the solver library as built (each job's simulation is touched by one thread).
+# The job pool (figures' thread pool, app/jobs.cpp) and the frame loop under ThreadSanitizer,
+# as gui.tsan_worker does for the viewer's worker: app code and test instrumented, the solver
+# library as built (each job's simulation is touched by one thread).
 if(NOT APICLAB_TSAN)
-  add_executable(test_app_core_tsan test_app_core.cpp ${CMAKE_SOURCE_DIR}/app/jobs.cpp
+  add_executable(test_app_core_tsan EXCLUDE_FROM_ALL test_app_core.cpp ${CMAKE_SOURCE_DIR}/app/jobs.cpp
                                     ${CMAKE_SOURCE_DIR}/app/lockstep.cpp
                                     ${CMAKE_SOURCE_DIR}/app/thread_pool.cpp
                                     ${CMAKE_SOURCE_DIR}/app/frame_loop.cpp
@@ -53,11 +53,13 @@ if(NOT APICLAB_TSAN)
                                                         APICLAB_ASSETS_DIR="${APICLAB_ASSETS_DIR}")
   add_test(NAME app.tsan_jobs COMMAND ${CMAKE_COMMAND} -E env TSAN_OPTIONS=halt_on_error=1
                                       $<TARGET_FILE:test_app_core_tsan>)
-  set_tests_properties(app.tsan_jobs PROPERTIES LABELS "unit" TIMEOUT 300)
+  set_tests_properties(app.tsan_jobs PROPERTIES LABELS "sanitizer;full" TIMEOUT 300
+                                                FIXTURES_REQUIRED full_build)
+  list(APPEND APICLAB_FULL_TIER_TARGETS test_app_core_tsan)
 endif()
 
 # Every unit test and the worker's tests under AddressSanitizer + UBSan, in a build of their own
-# (label "slow": the build alone takes longer than CI's margin; tests/asan_tests.sh).
+# (tests/asan_tests.sh).
 add_test(NAME asan.unit_tests COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/asan_tests.sh
                                       ${CMAKE_SOURCE_DIR} ${CMAKE_BINARY_DIR}/asan)
-set_tests_properties(asan.unit_tests PROPERTIES LABELS "slow" TIMEOUT 5400)
+set_tests_properties(asan.unit_tests PROPERTIES LABELS "sanitizer;slow;full" TIMEOUT 5400)
