@@ -62,4 +62,4 @@ endif()
 # (tests/asan_tests.sh).
 add_test(NAME asan.unit_tests COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/asan_tests.sh
                                       ${CMAKE_SOURCE_DIR} ${CMAKE_BINARY_DIR}/asan)
-set_tests_properties(asan.unit_tests PROPERTIES LABELS "sanitizer;slow;full" TIMEOUT 5400)
+set_tests_properties(asan.unit_tests PROPERTIES LABELS "sanitizer;slow;extended" TIMEOUT 5400)
