@@ -19,7 +19,7 @@ esac
 
 packages=(
   build-essential cmake ninja-build pkg-config git
-  libeigen3-dev nlohmann-json3-dev libtinyobjloader-dev libcli11-dev libgtest-dev
+  libeigen3-dev nlohmann-json3-dev libcgal-dev libcli11-dev libgtest-dev
   libegl-dev libgl-dev libegl1 libgl1-mesa-dri libosmesa6-dev libstb-dev fonts-dejavu-core
   libglfw3-dev libimgui-dev xvfb xauth ffmpeg clang-format
   libnanoflann-dev parallel zlib1g-dev

@@ -10,7 +10,6 @@
 #include "eol/rest_shape.hpp"
 #include "grid.hpp"
 #include "kernels.hpp"
-#include "obj_mesh.hpp"
 #include "particles.hpp"
 #include "sampling.hpp"
 #include "stencil.hpp"
@@ -40,7 +39,7 @@ double shape_volume(const SceneDesc& scene, int object_index) {
       return 2 * M_PI * M_PI * R * r * r;
     }
     case ShapeType::mesh:
-      return load_obj_mesh(resolve_mesh_file(scene, object_index)).volume() * std::pow(s.scale, 3);
+      return load_mesh_solid(scene, object_index)->volume();  // placed: scaled, in the domain
   }
   return 0;
 }
@@ -100,9 +99,9 @@ double grid_nodes(const SceneDesc& scene) {
     const ShapeDesc& shape = scene.objects[size_t(o)].shape;
     Vec3d olo{}, ohi{};
     if (shape.type == ShapeType::mesh) {
-      const MeshSolid mesh(resolve_mesh_file(scene, o), shape);
-      olo = mesh.lower();
-      ohi = mesh.upper();
+      const auto mesh = load_mesh_solid(scene, o);
+      olo = mesh->lower();
+      ohi = mesh->upper();
     } else {
       shape_bounds(shape, dim, olo, ohi);
     }
@@ -192,9 +191,9 @@ void eol_estimate(const SceneDesc& scene, MemoryEstimate& e) {
       const ObjectDesc& o = scene.objects[i];
       Vec3d lo{}, hi{};
       if (o.shape.type == ShapeType::mesh) {  // read as the sampler reads it (bounds only)
-        const MeshSolid mesh(resolve_mesh_file(scene, int(i)), o.shape);
-        lo = mesh.lower();
-        hi = mesh.upper();
+        const auto mesh = load_mesh_solid(scene, int(i));
+        lo = mesh->lower();
+        hi = mesh->upper();
       } else {
         eol::rest_bounds(o.shape, scene.dim, lo, hi);
       }

@@ -30,7 +30,7 @@ std::vector<std::string> object_overlaps(const SceneDesc& scene) {
   for (int o = 0; o < n; ++o) {
     const ShapeDesc& s = scene.objects[size_t(o)].shape;
     if (s.type == ShapeType::mesh) {
-      meshes[size_t(o)] = std::make_unique<MeshSolid>(resolve_mesh_file(scene, o), s);
+      meshes[size_t(o)] = load_mesh_solid(scene, o);
       bounds[size_t(o)] = {meshes[size_t(o)]->lower(), meshes[size_t(o)]->upper()};
     } else if (s.type == ShapeType::box &&
                scene.objects[size_t(o)].sampling.type == SamplingType::triangulated) {

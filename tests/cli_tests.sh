@@ -188,6 +188,12 @@ expect_error "mesh without faces" "nofaces.obj" "no faces" -- run "$f"
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 3 2\n' >"$TMP/flat.obj"  # closed, but flat
 mesh_scene "$TMP/flat.obj"
 expect_error "flat mesh (zero volume)" "flat.obj" "no volume" -- run "$f"
+printf 'v nan 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n' >"$TMP/nan.obj"
+mesh_scene "$TMP/nan.obj"
+expect_error "mesh vertex nan" "nan.obj:1:" "vertex 1" "not a finite number" -- run "$f"
+printf '%sf 0 3 2\n' "$tetra_vertices" >"$TMP/zero.obj"
+mesh_scene "$TMP/zero.obj"
+expect_error "mesh face index 0" "zero.obj:5:" "vertex index 0" "!Failed parse" -- run "$f"
 mesh_scene "$TMP"
 expect_error "mesh path is a directory" "'objects.0.shape.file'" "is a directory" -- run "$f"
 

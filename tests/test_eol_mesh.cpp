@@ -160,7 +160,7 @@ TEST(EolMeshDistance, IcosphereMatchesTheBallDistance) {
 // there. A transposed rotation, a scale applied twice or a translation before the rotation
 // moves the faces by centimetres.
 TEST(EolMeshDistance, PlacedBoxMatchesTheBoxShape) {
-  // Half-sides exact in float (tinyobjloader reads floats), so the box is exactly the shape.
+  // Half-sides exact in binary, so the box is exactly the shape.
   const double half[3] = {0.25, 0.125, 0.09375}, scale = 1.5, cell = 0.04;
   const ScratchObj scratch("box.obj");
   const std::string file = scratch.path();

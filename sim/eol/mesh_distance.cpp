@@ -159,12 +159,19 @@ MeshDistance::MeshDistance(const ObjMesh& obj, const ShapeDesc& shape, double ce
   sweep(-1);
   const MeshSolid solid(obj, shape);
 #pragma omp parallel for schedule(static)
-  for (int k = 0; k < nz; ++k)
-    for (int j = 0; j < ny; ++j)
+  for (int k = 0; k < nz; ++k) {
+    std::vector<Vec3d> row(static_cast<std::size_t>(nx));
+    std::vector<char> in;
+    for (int j = 0; j < ny; ++j) {
       for (int i = 0; i < nx; ++i) {
         const Eigen::Vector3d p = origin_ + s_ * Eigen::Vector3d(i, j, k);
-        if (solid.inside({p[0], p[1], p[2]})) phi_[at(i, j, k)] *= -1;
+        row[std::size_t(i)] = {p[0], p[1], p[2]};
       }
+      solid.inside_run(row, in);  // a row at a time: the same answers as inside(), faster
+      for (int i = 0; i < nx; ++i)
+        if (in[std::size_t(i)]) phi_[at(i, j, k)] *= -1;
+    }
+  }
 }
 
 double MeshDistance::operator()(const Vec3d& x) const {

@@ -8,12 +8,9 @@ namespace apiclab::eol {
 RestShape make_rest_shape(const SceneDesc& scene, int object, double cell) {
   RestShape r{scene.objects[std::size_t(object)].shape, nullptr};
   if (r.shape.type != ShapeType::mesh) return r;  // the scene reader checked it is in the domain
-  r.mesh = std::make_shared<const MeshDistance>(load_obj_mesh(resolve_mesh_file(scene, object)),
-                                                r.shape, cell);
-  for (std::size_t a = 0; a < std::size_t(scene.dim); ++a)  // as the MPM sampler (sampling.cpp)
-    if (r.mesh->lower()[a] < scene.domain.min[a] || r.mesh->upper()[a] > scene.domain.max[a])
-      throw SceneError(scene.source + ": key 'objects." + std::to_string(object) +
-                       ".shape': mesh lies outside the domain on axis " + std::string(1, "xyz"[a]));
+  const ObjMesh obj = load_obj_mesh(resolve_mesh_file(scene, object));
+  check_mesh_placement(scene, object, MeshSolid(obj, r.shape));  // before sizing its lattice
+  r.mesh = std::make_shared<const MeshDistance>(obj, r.shape, cell);
   return r;
 }
 

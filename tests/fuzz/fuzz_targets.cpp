@@ -112,7 +112,7 @@ Outcome set_overrides(const std::uint8_t* data, std::size_t size) {
 }
 
 Outcome obj_mesh(const std::uint8_t* data, std::size_t size) {
-  // tinyobjloader reads files: one per process, rewritten for each input.
+  // The OBJ reader reads files: one per process, rewritten for each input.
   static const std::string path = (std::filesystem::temp_directory_path() /
                                    ("apiclab_fuzz_" + std::to_string(getpid()) + ".obj"))
                                       .string();
