@@ -167,7 +167,7 @@ double MeshSolid::volume() const {
   Eigen::Vector3d unit = to_eigen(hi_) - to_eigen(lo_);
   for (int a = 0; a < 3; ++a)
     if (!(unit[a] > 0)) unit[a] = 1;
-  auto local = [&](std::uint32_t i) {
+  auto local = [&](std::uint32_t i) -> Eigen::Vector3d {
     return ((to_eigen(vertices_[i]) - m).array() / unit.array()).matrix();
   };
   double v = 0;
