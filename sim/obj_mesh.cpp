@@ -135,7 +135,7 @@ ObjMesh load_obj_mesh(const std::string& path) {
                            " uses vertex index 0; OBJ numbers vertices from 1 (or from -1 "
                            "backwards)");
         const long long have = static_cast<long long>(mesh.vertices.size());
-        if (i < 0 && -i > have)
+        if (i < -have)
           throw SceneError(at(line_no) + face + " uses vertex " + std::to_string(i) +
                            ", but only " + std::to_string(have) + " vertices precede it");
         if (i > have) ahead.push_back({i, line_no, faces});

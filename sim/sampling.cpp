@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <mutex>
 #include <random>
 
@@ -116,17 +117,18 @@ MeshSolid::MeshSolid(const ObjMesh& obj, const ShapeDesc& shape)
     : vertices_(place_mesh_vertices(shape, obj)),
       triangles_(obj.triangles),
       search_(std::make_unique<Search>()) {
-  lo_ = {1e300, 1e300, 1e300};
-  hi_ = {-1e300, -1e300, -1e300};
+  const double inf = std::numeric_limits<double>::infinity();
+  lo_ = {inf, inf, inf};
+  hi_ = {-inf, -inf, -inf};
+  // Within ±1e307 (NaN fails): the inside test's segments, twice the box long, stay finite.
   for (const auto& t : triangles_)
     for (std::uint32_t i : t)
       for (int a = 0; a < 3; ++a) {
         const double x = vertices_[i][std::size_t(a)];
-        finite_ = finite_ && std::isfinite(x);
+        finite_ = finite_ && std::abs(x) <= 1e307;
         lo_[std::size_t(a)] = std::min(lo_[std::size_t(a)], x);
         hi_[std::size_t(a)] = std::max(hi_[std::size_t(a)], x);
       }
-  for (int a = 0; a < 3; ++a) finite_ = finite_ && std::isfinite(hi_[a] - lo_[a]);
 }
 
 MeshSolid::~MeshSolid() = default;
@@ -187,8 +189,8 @@ void check_mesh_placement(const SceneDesc& scene, int object_index, const MeshSo
       scene.source + ": key 'objects." + std::to_string(object_index) + ".shape': ";
   if (!mesh.finite())
     throw SceneError(where +
-                     "the mesh placed by scale, rotation and translate reaches beyond the range "
-                     "of a double (too large)");
+                     "the mesh placed by scale, rotation and translate is too large: its "
+                     "coordinates reach beyond 1e307 (near a double's range)");
   auto g = [](double x) {
     char b[32];
     std::snprintf(b, sizeof b, "%.6g", x);

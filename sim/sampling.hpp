@@ -57,7 +57,7 @@ class MeshSolid {
   void inside_run(const std::vector<Vec3d>& points, std::vector<char>& in) const;
   Vec3d lower() const { return lo_; }
   Vec3d upper() const { return hi_; }
-  bool finite() const { return finite_; }  // every placed coordinate is a finite number
+  bool finite() const { return finite_; }  // every placed coordinate within ±1e307
   double volume() const;                   // signed-volume sum (divergence theorem)
   std::size_t triangle_count() const { return triangles_.size(); }
 
