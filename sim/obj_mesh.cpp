@@ -74,8 +74,8 @@ double ObjMesh::volume() const {
   return std::abs(scaled_volume6(*this, mid, unit)) / 6.0 * unit[0] * unit[1] * unit[2];
 }
 
-// Our own reader of the two statements a solid needs: tinyobjloader read "nan" and "inf" as 0,
-// coordinates as float (1e300 became inf) and named no line.
+// Our own reader of the two statements a solid needs, in double with the line of each fault
+// (tinyobjloader takes "nan" and "inf" as 0, reads float, where 1e300 is inf, names no line).
 ObjMesh load_obj_mesh(const std::string& path) {
   if (std::string problem = input_file_problem(path, "mesh file"); !problem.empty())
     throw SceneError(path + ": " + problem);
