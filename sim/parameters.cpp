@@ -171,9 +171,10 @@ std::vector<NumericParameter> declare() {
        .label = "Newton iteration cap",
        .unit = "1",
        .range = kAtLeastOne,
-       .default_value = 20,
+       .default_value = 50,
        .integer = true,
-       .help = "implicit solve (Sec 4.1): Newton steps before giving up",
+       .help = "implicit solve (Sec 4.1): Newton steps before giving up (a converging step stops "
+               "at its tolerance first)",
        .get = [](const S& s, int) { return double(s.solver.newton_max_iterations); },
        .set = [](S& s, int, double v) { s.solver.newton_max_iterations = int(std::min(v, 1e9)); }},
       {.key = "solver.cg_tolerance",
