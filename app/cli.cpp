@@ -62,7 +62,8 @@ void add_run_options(CLI::App* cmd, RunOptions& o, RunOptionSet which) {
   add_parameter_option(cmd, "--flip-alpha", o.flip_alpha, "solver.flip_alpha", ", FLIP and ASFLIP");
   cmd->add_option("--kernel", o.kernel, choice_help("interpolation kernel", kernel_choices()));
   cmd->add_option("--integrator", o.integrator, choice_help("grid update", integrator_choices()));
-  add_parameter_option(cmd, "--lambda", o.lambda, "solver.lambda", ", overrides the integrator's");
+  add_parameter_option(cmd, "--lambda", o.lambda, "solver.lambda",
+                       ", runs --integrator lambda (the one integrator that reads it)");
   add_parameter_option(cmd, "--t-end", o.t_end, "time.end");
   if (which.frames)
     cmd->add_option("--frames", o.frames,
@@ -147,7 +148,10 @@ std::vector<std::string> option_overrides(const RunOptions& o) {
     sets.push_back("solver.integrator=" + o.integrator);
   }
   if (o.flip_alpha) sets.push_back("solver.flip_alpha=" + number(*o.flip_alpha));
-  if (o.lambda) sets.push_back("solver.lambda=" + number(*o.lambda));
+  if (o.lambda) {  // check_run_options refused it beside another integrator
+    if (o.integrator.empty()) sets.push_back("solver.integrator=lambda");
+    sets.push_back("solver.lambda=" + number(*o.lambda));
+  }
   if (o.fps) sets.push_back("time.fps=" + number(*o.fps));
   if (o.t_end) sets.push_back("time.end=" + number(*o.t_end));
   if (o.dt) sets.push_back("time.dt={\"rule\":\"fixed\",\"value\":" + number(*o.dt) + "}");
@@ -178,6 +182,7 @@ SceneDesc load_scene_with_options(const RunOptions& o) {
   check_memory(scene, precision_of(o));  // before the overlap check samples anything
   warn_about_overlaps(scene);
   warn_about_scheme(scene);
+  warn_about_integrator(scene);
   return scene;
 }
 

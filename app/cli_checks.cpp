@@ -23,7 +23,7 @@ void check_numeric_option(const std::string& flag, std::string_view key, double 
 
 void check_run_options(const RunOptions& o) {
   if (o.flip_alpha) check_numeric_option("--flip-alpha", "solver.flip_alpha", *o.flip_alpha);
-  if (o.lambda) check_numeric_option("--lambda", "solver.lambda", *o.lambda);
+  if (o.lambda) check_lambda_option(o);
   if (o.t_end) check_numeric_option("--t-end", "time.end", *o.t_end);
   if (o.fps) check_numeric_option("--fps", "time.fps", *o.fps);
   if (o.dt) check_numeric_option("--dt", "time.dt.value", *o.dt);
@@ -31,6 +31,20 @@ void check_run_options(const RunOptions& o) {
     throw UsageError("--frames and --t-end both set the end time (frames / fps); give one of them");
   if (o.frames && *o.frames < 1) throw UsageError("--frames must be at least 1");
   max_memory_gb(o.max_memory);
+}
+
+void check_lambda_option(const RunOptions& o) {
+  const std::string given = "--lambda " + format_value(*o.lambda);
+  // An unknown --integrator is left to its own check.
+  if (o.integrator == "symplectic" || o.integrator == "midpoint" || o.integrator == "backward") {
+    const std::string what = o.integrator == "backward"   ? "is not of the lambda family"
+                             : o.integrator == "midpoint" ? "is lambda = 1/2"
+                                                          : "is lambda = 0";
+    throw UsageError(given + " and --integrator " + o.integrator +
+                     ": --lambda runs the lambda integrator (eqs 27-30) and --integrator " +
+                     o.integrator + " " + what + " (give one of them, or --integrator lambda)");
+  }
+  check_numeric_option("--lambda", "solver.lambda", *o.lambda);
 }
 
 void check_flip_alpha(const RunOptions& o, const std::vector<Scheme>& schemes) {
@@ -78,6 +92,35 @@ void check_memory_for(const SceneDesc& scene, Precision precision, int copies) {
 void warn_about_overlaps(const SceneDesc& scene) {
   for (const std::string& w : object_overlaps(scene))
     std::fprintf(stderr, "apiclab: warning: %s: %s\n", scene.source.c_str(), w.c_str());
+}
+
+// Eqs 27-30 on an oscillator of frequency ω (s = (ω Δt)²) are a map of determinant 1 and trace
+// (2 − s (1 − 2λ + 2λ²)) / (1 + s λ(1 − λ)), stable while the trace is at least −2, i.e. while
+// ω Δt |1 − 2λ| ≤ 2: every step at λ = ½ alone; λ = 0 and λ = 1 (explicit, not backward Euler)
+// only up to the explicit limit. The bound warned at is that limit at the elastic rule's
+// default ν = ½, Δx / 2c, over |1 − 2λ|: on rotating-disk no member blew up below it, and
+// λ = 0.25, 0 and 1 blew up at 1.7, 2 and 4 times it (the λ < ½ members sooner than the
+// oscillator says). The scene's longest step is bounded by the fixed value, else by the cap
+// (time.dt.value), the frame interval and, for the elastic rule, ν Δx / c.
+void warn_about_integrator(const SceneDesc& scene) {
+  if (scene.solver.method != "mpm" || scene.solver.integrator != Integrator::lambda_family) return;
+  const double lambda = scene.solver.integrator_lambda();
+  double c = 0;
+  for (const MaterialDesc& m : scene.materials) c = std::max(c, m.wave_speed());
+  const double dx = scene.domain.dx, limit = dx / (2 * c * std::abs(1 - 2 * lambda));
+  const TimeDesc& t = scene.time;
+  double longest = t.dt;
+  if (t.rule != DtRule::fixed) {
+    longest = std::min(longest, 1 / t.fps);
+    if (t.rule == DtRule::elastic) longest = std::min(longest, t.nu * dx / c);
+  }
+  if (!(longest > limit)) return;
+  std::fprintf(stderr,
+               "apiclab: warning: %s: lambda %g is stable only for steps up to dx / (2 c |1 - 2 "
+               "lambda|) = %.3g s (eqs 27-30 keep every step stable at lambda = 1/2 alone; lambda "
+               "above 1/2 is no backward Euler, lambda = 1 is explicit), and this scene's steps "
+               "may reach %.3g s\n",
+               scene.source.c_str(), lambda, limit, longest);
 }
 
 void warn_about_scheme(const SceneDesc& scene) {

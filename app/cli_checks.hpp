@@ -19,6 +19,13 @@ void check_numeric_option(const std::string& flag, std::string_view key, double 
 // Each numeric option of `o`, and --frames with --t-end.
 void check_run_options(const RunOptions& o);
 
+// --lambda: in range, at most 1/2 (sim/parameters.hpp), and only with --integrator lambda or
+// none (it then implies lambda); beside another integrator an error naming both options.
+void check_lambda_option(const RunOptions& o);
+
+// A lambda integrator whose steps may pass its stability limit Δx / (c |1 − 2λ|): a warning.
+void warn_about_integrator(const SceneDesc& scene);
+
 // --flip-alpha when none of the schemes that will run is FLIP: an error.
 void check_flip_alpha(const RunOptions& o, const std::vector<Scheme>& schemes);
 

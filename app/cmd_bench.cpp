@@ -20,6 +20,7 @@
 #include "sim/memory_estimate.hpp"
 #include "sim/mpm.hpp"
 #include "sim/reference_setup.hpp"
+#include "sim/scheme_label.hpp"
 
 namespace apiclab::cli {
 namespace {
@@ -367,7 +368,7 @@ int bench_scene_frames(const BenchOptions& o, const CLI::App& cmd) {
       "threads\n",
       scene.name.c_str(), scene.dim, ro.precision.c_str(),
       std::string(key_of(scene.solver.scheme)).c_str(),
-      std::string(key_of(scene.solver.integrator)).c_str(), particle_count(*sim), frames,
+      integrator_label(scene.solver).c_str(), particle_count(*sim), frames,
       omp_get_max_threads());
   std::printf("wall: %.3f s for %ld steps to t = %.4g s, %.3f ms/step\n", wall, sim->steps(),
               sim->time(), 1e3 * wall / double(std::max(1L, sim->steps())));

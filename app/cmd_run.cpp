@@ -87,7 +87,7 @@ int run(const RunCommandOptions& command) {
   out.write_row(row_text(first));
   RunSummary summary(first, sim->total_mass(), DriftRule::domain_extent(scene));
   std::string label = scene.name + " [" + run_label(scene) + ", " +
-                      std::string(key_of(scene.solver.integrator)) + ", " + sim->model_size() + "]";
+                      integrator_label(scene.solver) + ", " + sim->model_size() + "]";
   Progress progress(label, scene.time.end, o.quiet);
   progress.update(0, "starting");
   // A long implicit step reports its Newton iterations, so the line never goes quiet.

@@ -100,12 +100,12 @@ double MpmSimulation<T, D>::implicit_energy(const std::vector<Vec<T, D>>& dv, bo
   const auto& st = stencils<K>();
   const T a = imp_.a, b = imp_.b, dt = imp_.dt;
   const std::ptrdiff_t np = std::ptrdiff_t(p_.size());
-  double phi = 0;
+  double phi = 0, phi_terms = 0;  // Σ V Ψ, and the size of the terms it sums (its round-off)
   bool inverted = false;
   const bool mesh = !mesh_.empty();
   if constexpr (D == 2)
     if (mesh) mesh_x_.resize(p_.size());
-#pragma omp parallel for schedule(static) reduction(+ : phi) reduction(|| : inverted) if (parallel_worthwhile())
+#pragma omp parallel for schedule(static) reduction(+ : phi, phi_terms) reduction(|| : inverted) if (parallel_worthwhile())
   for (std::ptrdiff_t q = 0; q < np; ++q) {
     Mat<T, D> G = Mat<T, D>::Zero();
     Vec<T, D> u = Vec<T, D>::Zero();
@@ -123,18 +123,28 @@ double MpmSimulation<T, D>::implicit_energy(const std::vector<Vec<T, D>>& dv, bo
     T psi = energy_density<T, D>(mat.model, F, mat.lame);
     if (!std::isfinite(double(psi))) inverted = true;
     phi += double(p_.volume0[std::size_t(q)]) * double(psi);
+    phi_terms += double(p_.volume0[std::size_t(q)]) *
+                 (double(mat.lame.lambda + 2 * mat.lame.mu) * double(F.squaredNorm() + 1) +
+                  std::abs(double(psi)));
   }
   if constexpr (D == 2)
     if (mesh) {
       if (gradient) mesh_g_.assign(p_.size(), Vec<T, 2>::Zero());
-      phi += mesh_.energy(mesh_x_, index_of_id_, gradient ? &mesh_g_ : nullptr);
+      phi += mesh_.energy(mesh_x_, index_of_id_, gradient ? &mesh_g_ : nullptr, &phi_terms);
       if (!std::isfinite(phi)) inverted = true;
     }
   if (inverted) return std::numeric_limits<double>::infinity();
   double e = b > T(0) ? phi / double(b) : 0.0;
-  for (std::uint32_t i : imp_.active)
-    e += double(grid_.mass[i]) *
-         (0.5 * double(dv[i].squaredNorm()) - double(dt) * double(imp_.gravity.dot(dv[i])));
+  double kinetic_terms = 0;
+  for (std::uint32_t i : imp_.active) {
+    const double half_dv2 = 0.5 * double(dv[i].squaredNorm());
+    const double work = double(dt) * double(imp_.gravity.dot(dv[i]));
+    e += double(grid_.mass[i]) * (half_dv2 - work);
+    kinetic_terms += double(grid_.mass[i]) * (half_dv2 + std::abs(work));
+  }
+  // Each term is off by ε_T of its size (sim/round_off_floor.hpp): E is known to no better.
+  imp_.energy_round_off = double(std::numeric_limits<T>::epsilon()) *
+                          ((b > T(0) ? phi_terms / double(b) : 0.0) + kinetic_terms);
   if (gradient) {
     // g = M Δv − Δt M g − Δt f(y), f_i = −Σ V P(F_y) F^nᵀ ∇w (eq 34).
     for (std::uint32_t i : imp_.active) imp_.grad[i] = grid_.mass[i] * (dv[i] - dt * imp_.gravity);
@@ -324,8 +334,12 @@ void MpmSimulation<T, D>::implicit_velocity_update(T dt) {
       sim.template implicit_hessian_apply<K>(in, out);
     }
     void project(std::vector<Vec<T, D>>& z) const { sim.implicit_project(z); }
+    double energy_round_off() const { return sim.imp_.energy_round_off; }
   } problem{*this};
-  const double vref = std::max({imp_.velocity_ref, double(imp_.gravity.norm() * dt), 1e-12});
+  // The tolerance is relative to the scene's velocity scale, not only this step's: a motion that
+  // has decayed (PIC's damping) would hold the residual to a fraction of its own round-off.
+  const double vref =
+      std::max({imp_.velocity_ref, velocity_scale_, double(imp_.gravity.norm() * dt)});
   const SolverDesc& sv = scene_.solver;
   // Tolerances below the scalar type's round-off are raised to it (sim/round_off_floor.hpp).
   const RoundOffFloor floor = implicit_round_off_floor<T>(vref, double(dt), scene_.domain.dx,

@@ -196,6 +196,9 @@ class MpmSimulation final : public Simulation, public TransferControls {
   std::vector<MaterialParams<T>> materials_;
   BoundaryNodes<T, D> boundary_;  // walls and colliders, resolved on the stored box
   double time_ = 0, kinetic_grid_ = 0, max_grid_speed_ = 0, energy_ref_ = 0, max_wave_speed_ = 0;
+  // The scene's velocity scale, √(2 (K₀ + Ψ₀) / M): the implicit solve's tolerance is relative
+  // to it however far the motion decays (sim/implicit.hpp).
+  double velocity_scale_ = 0;
   long steps_ = 0;
   std::optional<Failure> failure_;
   bool non_finite_ = false;

@@ -6,6 +6,7 @@
 
 #include "kernel_dispatch.hpp"
 #include "mpm.hpp"
+#include "scheme_label.hpp"
 #include "transfer_polypic.hpp"
 #include "transfer_schemes.hpp"
 
@@ -92,7 +93,7 @@ std::shared_ptr<Snapshot> MpmSimulation<T, D>::snapshot() const {
   s->scene_name = scene_.name;
   s->scheme = key_of(scene_.solver.scheme);
   s->kernel = key_of(scene_.solver.kernel);
-  s->integrator = key_of(scene_.solver.integrator);
+  s->integrator = integrator_label(scene_.solver);
   s->flip_alpha = scene_.solver.flip_alpha;
   s->scheme_parameters = scheme_parameters_of(scene_);
   const std::size_t n = p_.size();

@@ -5,6 +5,7 @@
 
 #include "kernel_dispatch.hpp"
 #include "mpm.hpp"
+#include "round_off_floor.hpp"
 #include "sampling.hpp"
 #include "transfer_polypic.hpp"
 
@@ -58,6 +59,9 @@ MpmSimulation<T, D>::MpmSimulation(const SceneDesc& scene) : scene_(scene) {
   rebuild_index_of_id();
   boundary_.init(scene);
   energy_ref_ = energy_reference();
+  const DiagnosticsRow start = measure();
+  velocity_scale_ =
+      std::sqrt(2 * std::max(start.kinetic + start.elastic, 0.0) / std::max(total_mass(), 1e-300));
 }
 
 // PolyPIC's higher modes exist only while the scheme is polypic; its C keeps only the linear
@@ -148,7 +152,8 @@ T MpmSimulation<T, D>::inertia_scale() const {
 }
 
 // Largest energy the scene can hold without a blow-up: initial kinetic + elastic energy plus
-// what gravity can release across the whole domain.
+// what gravity can release across the whole domain, and at least what round-off shows in a body
+// at rest (sim/round_off_floor.hpp), which is no blow-up.
 template <class T, int D>
 double MpmSimulation<T, D>::energy_reference() const {
   DiagnosticsRow r = measure();
@@ -157,7 +162,9 @@ double MpmSimulation<T, D>::energy_reference() const {
     g += scene_.gravity[a] * scene_.gravity[a];
     height += std::pow(scene_.domain.max[a] - scene_.domain.min[a], 2);
   }
-  return std::max(r.kinetic + r.elastic + total_mass() * std::sqrt(g) * std::sqrt(height), 1e-300);
+  const double rest = energy_round_off<T>(total_mass() * max_wave_speed_ * max_wave_speed_, D);
+  return std::max({r.kinetic + r.elastic + total_mass() * std::sqrt(g) * std::sqrt(height), rest,
+                   1e-300});
 }
 
 }  // namespace apiclab

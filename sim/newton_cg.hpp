@@ -4,7 +4,10 @@
 // product <u, w> = Σ_i m_i u_i·w_i (the paper's), with C = the inverse of H's node blocks it
 // is block-Jacobi CG; either way every search direction is velocity-like. The CG stops on
 // the residual's M⁻¹ norm relative to g's. A backtracking (Armijo) line search on E then
-// takes the step, never accepting E = +∞. Only the nodes in `active` are read or written.
+// takes the step, never accepting E = +∞. Near the minimum E's change, ½ g·H⁻¹g, falls below
+// E's own round-off before the residual meets its tolerance: there E cannot judge a step, and
+// the full Newton step is taken when E rose by no more than its round-off and the residual fell.
+// Only the nodes in `active` are read or written.
 #pragma once
 #include <cmath>
 #include <cstdint>
@@ -42,7 +45,8 @@ struct NewtonCgReport {
 // out) → out = H in; project(z) applies P, the constraints; precondition(r, z) → z = C r, C
 // symmetric positive definite on P's range (M⁻¹ for the paper's CG); deflate_translation()
 // whether uniform velocities u are null directions of the forces (H u = M u, no constraints),
-// to be solved exactly. x holds the start and the result.
+// to be solved exactly; energy_round_off() the absolute round-off of the last E evaluated.
+// x holds the start and the result.
 template <class T, int D, class Problem>
 NewtonCgReport newton_cg_minimise(Problem& problem, std::vector<Vec<T, D>>& x,
                                   std::vector<Vec<T, D>>& grad,
@@ -74,11 +78,14 @@ NewtonCgReport newton_cg_minimise(Problem& problem, std::vector<Vec<T, D>>& x,
   double energy = problem.energy(x, true);
   NewtonCgReport report;
   residuals.clear();
+  auto residual_of = [&](std::vector<Vec<T, D>>& g) {  // mass-weighted RMS of M⁻¹ P g
+    problem.project(g);
+    double r2 = 0;
+    for (std::uint32_t i : active) r2 += double(g[i].squaredNorm()) / double(mass[i]);
+    return std::sqrt(r2 / std::max(mass_sum, 1e-300));
+  };
   for (;; ++report.newton_iterations) {
-    problem.project(grad);
-    double r2 = 0;  // residual: mass-weighted RMS of M⁻¹g
-    for (std::uint32_t i : active) r2 += double(grad[i].squaredNorm()) / double(mass[i]);
-    report.residual = std::sqrt(r2 / std::max(mass_sum, 1e-300));
+    report.residual = residual_of(grad);
     residuals.push_back(report.residual);
     if (options.on_iteration)
       (*options.on_iteration)(report.newton_iterations, report.cg_iterations, report.residual);
@@ -135,13 +142,29 @@ NewtonCgReport newton_cg_minimise(Problem& problem, std::vector<Vec<T, D>>& x,
       slope = 0;
       for (std::uint32_t i : active) slope += double(grad[i].dot(dir[i]));
     }
-    double step = 1, trial = 0;
+    double step = 1, trial = 0, full = 0, full_round_off = 0;
     for (int ls = 0; ls < 30; ++ls, step *= 0.5) {
       for (std::uint32_t i : active) v.trial[i] = x[i] + T(step) * dir[i];
       trial = problem.energy(v.trial, false);
+      if (ls == 0) {
+        full = trial;
+        full_round_off = problem.energy_round_off();
+      }
       if (trial <= energy + 1e-4 * step * slope) break;
     }
-    if (!(trial <= energy + 1e-4 * step * slope)) break;  // no progress possible at this precision
+    if (!(trial <= energy + 1e-4 * step * slope)) {
+      // E cannot tell the full step from x within its round-off: the residual judges it.
+      if (!(full <= energy + full_round_off)) break;  // E rose: no progress at this precision
+      for (std::uint32_t i : active) v.trial[i] = x[i] + dir[i];
+      const double e_full = problem.energy(v.trial, true);
+      if (!(residual_of(grad) < report.residual)) {
+        energy = problem.energy(x, true);  // grad back to x's
+        break;
+      }
+      for (std::uint32_t i : active) x[i] = v.trial[i];
+      energy = e_full;
+      continue;
+    }
     for (std::uint32_t i : active) x[i] = v.trial[i];
     energy = problem.energy(x, true);
   }

@@ -13,7 +13,7 @@
 namespace apiclab {
 
 enum class Scheme { pic, flip, apic, rpic, mls, asflip, xpic, tpic, polypic };
-enum class Integrator { symplectic, midpoint, backward };
+enum class Integrator { symplectic, midpoint, backward, lambda_family };
 enum class MaterialModel { neo_hookean, fixed_corotated };
 enum class ShapeType { box, ball, annulus, torus, mesh };
 enum class SamplingType { lattice, ppc, poisson, triangulated };
@@ -80,7 +80,10 @@ inline const std::vector<Choice<Integrator>>& integrator_choices() {
   static const std::vector<Choice<Integrator>> c = {
       {"symplectic", Integrator::symplectic, "symplectic Euler, lambda = 0 (eqs 27-30)"},
       {"midpoint", Integrator::midpoint, "implicit midpoint, lambda = 1/2 (Sec 4.1)"},
-      {"backward", Integrator::backward, "backward Euler (Sec 4.1, E_be), for comparison"}};
+      {"backward", Integrator::backward, "backward Euler (Sec 4.1, E_be), for comparison"},
+      {"lambda", Integrator::lambda_family,
+       "the lambda-family of eqs 27-30 at solver.lambda (--lambda); stable for every step at "
+       "lambda = 1/2 only"}};
   return c;
 }
 inline const std::vector<Choice<MaterialModel>>& material_choices() {

@@ -72,9 +72,11 @@ struct SolverDesc {
   ApicLinearForm apic_linear_form = ApicLinearForm::lagged;
   // PolyPIC (Fu et al. 2017): modes kept per velocity component, 0 = all (9 in 2D, 27 in 3D).
   int polypic_modes = 0;
-  std::optional<double> lambda;  // λ of eqs 27-30; empty: the integrator's
+  std::optional<double> lambda;  // λ of eqs 27-30 for the lambda integrator only
   double newton_tolerance = 1e-6;
-  int newton_max_iterations = 20;
+  // A step that converges stops at its tolerance, so the cap decides only where it would not:
+  // ringing's first backward Euler step at 16x the explicit limit takes 31 damped iterations.
+  int newton_max_iterations = 50;
   double cg_tolerance = 1e-6;
   int cg_max_iterations = 200;
   CgPreconditioner preconditioner = CgPreconditioner::block_jacobi;
@@ -87,9 +89,18 @@ struct SolverDesc {
   // than it saves there). Not a scene key: tests set it to 0 to exercise the parallel paths.
   std::size_t parallel_min_particles = 20000;
   EolSolverDesc eol;  // read only for solver.method eol or eulerian
+  // The λ of eqs 27-30 the step runs: 0 symplectic Euler, ½ midpoint, solver.lambda for the
+  // lambda integrator (½ until one is given); backward Euler moves the grid as λ = 0 does
+  // (x̃ = x + Δt ṽ), so its transfers are λ = 0's.
   double integrator_lambda() const {
-    if (lambda) return *lambda;
-    return integrator == Integrator::midpoint ? 0.5 : 0.0;
+    switch (integrator) {
+      case Integrator::midpoint:
+        return 0.5;
+      case Integrator::lambda_family:
+        return lambda.value_or(0.5);
+      default:
+        return 0.0;
+    }
   }
 };
 

@@ -59,6 +59,15 @@ inline std::string with_scheme_parameter(std::string name, Scheme s, double flip
   return parameter.empty() ? name : name + "(" + parameter + ")";
 }
 
+// The grid update with the λ it runs: "midpoint", "backward", "lambda(0.3)" (solver.lambda is
+// read by the lambda integrator only, so no other label hides a λ).
+inline std::string integrator_label(const SolverDesc& s) {
+  if (s.integrator != Integrator::lambda_family) return std::string(key_of(s.integrator));
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "lambda(%.3g)", s.integrator_lambda());
+  return buf;
+}
+
 // A run's name in terminal lines and sidecars: "xpic(3)", "apic", or the solver method ("eol").
 inline std::string run_label(const SceneDesc& s) {
   if (s.solver.method != "mpm") return s.solver.method;

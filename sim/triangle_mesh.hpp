@@ -5,6 +5,7 @@
 #pragma once
 #include <Eigen/Eigenvalues>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -42,8 +43,11 @@ class TriangleMesh {
 
   // Φ = Σ_t A_t Ψ(F_t) + Σ ½ c |x − x⁰|² at positions x (by particle index, idx maps id → index);
   // adds ∂Φ/∂x_p into g (by index) when g is given. +∞ for an inverted neo-Hookean triangle.
+  // `terms`, when given, gains the size of the terms Φ sums (its round-off over ε, as for the
+  // particles in sim/implicit.hpp): A (λ + 2μ)(|F|² + 1) + A|Ψ| a triangle, c |d| (|d| + |x⁰|)
+  // a spring (d = x − x⁰ cancels to ε |x⁰|).
   double energy(const std::vector<V>& x, const std::vector<std::uint32_t>& idx,
-                std::vector<V>* g) const {
+                std::vector<V>* g, double* terms = nullptr) const {
     double e = 0;
     for (const Triangle& t : tris_) {
       const V& a = x[idx[t.v[0]]];
@@ -51,7 +55,12 @@ class TriangleMesh {
       Ds.col(0) = x[idx[t.v[1]]] - a;
       Ds.col(1) = x[idx[t.v[2]]] - a;
       M F = Ds * t.Dm_inv;
-      e += double(t.area) * double(energy_density<T, 2>(t.model, F, t.lame));
+      const double psi = double(energy_density<T, 2>(t.model, F, t.lame));
+      e += double(t.area) * psi;
+      if (terms)
+        *terms += double(t.area) * (double(t.lame.lambda + 2 * t.lame.mu) *
+                                        double(F.squaredNorm() + 1) +
+                                    std::abs(psi));
       if (g) {
         M H = t.area * first_piola<T, 2>(t.model, F, t.lame) * t.Dm_inv.transpose();  // ∂Φ/∂Ds
         (*g)[idx[t.v[1]]] += H.col(0);
@@ -62,6 +71,7 @@ class TriangleMesh {
     for (const Anchor& s : anchors_) {
       V d = x[idx[s.id]] - s.x0;
       e += 0.5 * double(s.c) * double(d.squaredNorm());
+      if (terms) *terms += double(s.c) * double(d.norm()) * double(d.norm() + s.x0.norm());
       if (g) (*g)[idx[s.id]] += s.c * d;
     }
     return e;

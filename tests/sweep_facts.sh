@@ -7,12 +7,15 @@
 #     B-form blows up at 0.1x where lagged C completes;
 #   noise      (tests/sweeps/ringing-noise.json, Sec 6.7's ringing to 1 s): FLIP is noisy, APIC not;
 #   convergence (tests/sweeps/convergence.json): APIC's reference distance on rotating-disk falls
-#     with resolution at the order stated in README (Sweeps).
-# Usage: APICLAB=/path/to/apiclab sweep_facts.sh SOURCE_DIR stability|noise|convergence
+#     with resolution at the order stated in README (Sweeps);
+#   caps       (tests/sweeps/stability-unconverged.json, the 48 configurations the stability map
+#     once classed not converged): a run is classed not converged only where ten times the
+#     Newton and CG caps do not converge it either.
+# Usage: APICLAB=/path/to/apiclab sweep_facts.sh SOURCE_DIR stability|noise|convergence|caps
 set -u
 APICLAB=${APICLAB:?set APICLAB to the apiclab executable}
 SRC=${1:?usage: sweep_facts.sh SOURCE_DIR WHICH}
-WHICH=${2:?usage: sweep_facts.sh SOURCE_DIR stability|noise|convergence}
+WHICH=${2:?usage: sweep_facts.sh SOURCE_DIR stability|noise|convergence|caps}
 TMP=$(mktemp -d "${TMPDIR:-/tmp}/apiclab-facts.XXXXXX")
 trap 'rm -rf "$TMP"' EXIT
 
@@ -97,6 +100,33 @@ convergence)
     "$([ "$rigid" -eq 0 ] && echo 1)" "$rigid runs above"
   check "APIC's reference distance falls with resolution at order >= 1.2 (measured 1.44)" \
     "$(awk -v s="$slope" 'BEGIN { print (s >= 1.2) ? 1 : 0 }')" "fitted slope $slope"
+  ;;
+caps)
+  sweep stability-unconverged.json >/dev/null
+  mv "$TMP/out" "$TMP/default"
+  # The same runs with ten times the default caps (solver.newton_max_iterations 50,
+  # solver.cg_max_iterations 200).
+  sed 's/"set": {"time.end": 0.5}/"set": {"time.end": 0.5, "solver.newton_max_iterations": 500, "solver.cg_max_iterations": 2000}/' \
+    "$SRC/tests/sweeps/stability-unconverged.json" >"$TMP/caps.json"
+  grep -q '"solver.newton_max_iterations": 500' "$TMP/caps.json" || { echo "FAIL: the caps spec was not made"; exit 1; }
+  if ! "$APICLAB" sweep "$TMP/caps.json" --out "$TMP/caps" --jobs 2 --quiet >"$TMP/log" 2>&1; then
+    echo "FAIL: apiclab sweep with ten times the caps"
+    cat "$TMP/log"
+    exit 1
+  fi
+  # outcome per configuration: scene scheme integrator dt_factor kernel form -> outcome
+  outcomes() {
+    awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+      { print $c["scene"] "/" $c["solver.scheme"] "/" $c["solver.integrator"] "/" $c["dt_factor"] "/" \
+          $c["solver.kernel"] "/" $c["solver.apic_linear_form"], $c["outcome"] }' "$1" | sort
+  }
+  outcomes "$TMP/default/runs.csv" >"$TMP/default.txt"
+  outcomes "$TMP/caps/runs.csv" >"$TMP/caps.txt"
+  total=$(wc -l <"$TMP/default.txt")
+  unconverged=$(awk '$2 == "not_converged"' "$TMP/default.txt" | wc -l)
+  helped=$(join "$TMP/default.txt" "$TMP/caps.txt" | awk '$2 == "not_converged" && $3 != "not_converged" { print $1 }')
+  check "every not-converged verdict stands with ten times the caps" "$([ -z "$helped" ] && echo 1)" \
+    "$unconverged of $total runs not converged at the default caps; ten times the caps converged: ${helped:-none}"
   ;;
 esac
 echo "sweep_facts $WHICH: $pass passed, $fail failed"

@@ -19,6 +19,7 @@
 #include "sim/object_overlap.hpp"
 #include "sim/parameters.hpp"
 #include "sim/scene.hpp"
+#include "sim/scheme_label.hpp"
 #include "sim/simulation.hpp"
 
 namespace apiclab {
@@ -42,8 +43,17 @@ const std::string kGoodEol = [] {
   return j.dump();
 }();
 
+// kGood with the lambda integrator, the one that takes solver.lambda.
+const std::string kGoodLambda = [] {
+  nlohmann::json j = nlohmann::json::parse(kGood);
+  j["solver"]["integrator"] = "lambda";
+  j["solver"]["lambda"] = 0.25;
+  return j.dump();
+}();
+
 // The scene text whose solver section takes p's key.
 const std::string& good_text_for(const NumericParameter& p) {
+  if (p.key == "solver.lambda") return kGoodLambda;
   return p.method.empty() ? kGood : kGoodEol;
 }
 
@@ -559,9 +569,33 @@ TEST(Parameters, LambdaIsOptional) {
   EXPECT_EQ(parse_scene_text(kGood, "good.json", {"solver.integrator=midpoint"})
                 .solver.integrator_lambda(),
             0.5);
-  EXPECT_EQ(parse_scene_text(kGood, "good.json", {"solver.lambda=0.25"}).solver.integrator_lambda(),
+  EXPECT_EQ(parse_scene_text(kGood, "good.json", {"solver.integrator=lambda", "solver.lambda=0.25"})
+                .solver.integrator_lambda(),
             0.25);
   bad("/solver/lambda", -0.5, "solver.lambda");  // once a negative value meant "unset"
+}
+
+// solver.lambda belongs to the lambda integrator alone. Beside symplectic it used to run the
+// λ = 0.25 member under the name symplectic; beside backward Euler it made a hybrid (backward
+// Euler's grid update, λ's transfers). Both are refused now, naming both keys; the lambda
+// integrator needs its λ.
+TEST(Parameters, LambdaOnlyWithTheLambdaIntegrator) {
+  for (const char* integrator : {"symplectic", "midpoint", "backward"})
+    expect_scene_error(
+        [&] {
+          parse_scene_text(kGood, "good.json",
+                           {std::string("solver.integrator=") + integrator, "solver.lambda=0.25"});
+        },
+        {"good.json", "'solver.lambda'", "solver.integrator lambda", integrator}, integrator);
+  expect_scene_error(
+      [] { parse_scene_text(kGood, "good.json", {"solver.integrator=lambda"}); },
+      {"good.json", "'solver.integrator'", "solver.lambda"}, "lambda without its value");
+  // Each label says the λ it runs.
+  EXPECT_EQ(integrator_label(
+                parse_scene_text(kGood, "good.json", {"solver.integrator=lambda", "solver.lambda=0.3"})
+                    .solver),
+            "lambda(0.3)");
+  EXPECT_EQ(integrator_label(parse_scene_text(kGood, "good.json").solver), "symplectic");
 }
 
 }  // namespace

@@ -302,8 +302,14 @@ void solver_section(ViewerState& st, SimWorker& worker) {
   ImGui::PushItemWidth(-170);
   if (choice_combo("kernel", s.solver.kernel, kernel_choices()))
     restart_because(st, worker, "Kernel");
-  if (choice_combo("integrator", s.solver.integrator, integrator_choices()))
+  if (choice_combo("integrator", s.solver.integrator, integrator_choices())) {
+    // solver.lambda belongs to the lambda integrator alone (sim/parameters.cpp).
+    if (s.solver.integrator != Integrator::lambda_family)
+      s.solver.lambda.reset();
+    else if (!s.solver.lambda)
+      s.solver.lambda = 0.5;
     restart_because(st, worker, "Integrator");
+  }
   parameter_field(st, worker, "time.end");
   if (choice_combo("time step", s.time.rule, dt_rule_choices()))
     restart_because(st, worker, "Time-step rule");
@@ -317,10 +323,10 @@ void solver_section(ViewerState& st, SimWorker& worker) {
     parameter_field(st, worker, "time.dt.value");
     parameter_field(st, worker, "time.dt.v_tau");
   }
+  if (s.solver.integrator == Integrator::lambda_family) parameter_field(st, worker, "solver.lambda");
   if (s.solver.integrator != Integrator::symplectic || s.solver.integrator_lambda() != 0) {
-    for (const char* key :
-         {"solver.lambda", "solver.newton_tolerance", "solver.newton_max_iterations",
-          "solver.cg_tolerance", "solver.cg_max_iterations"})
+    for (const char* key : {"solver.newton_tolerance", "solver.newton_max_iterations",
+                            "solver.cg_tolerance", "solver.cg_max_iterations"})
       parameter_field(st, worker, key);
     if (choice_combo("CG preconditioner", s.solver.preconditioner, cg_preconditioner_choices()))
       restart_because(st, worker, "CG preconditioner");
