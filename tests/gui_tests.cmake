@@ -7,7 +7,7 @@
 add_executable(test_gui_worker test_gui_worker.cpp)
 target_link_libraries(test_gui_worker PRIVATE apiclab_app_core GTest::gtest_main)
 target_compile_definitions(test_gui_worker PRIVATE APICLAB_SOURCE_DIR="${CMAKE_SOURCE_DIR}")
-gtest_discover_tests(test_gui_worker DISCOVERY_TIMEOUT 60 TEST_PREFIX "gui." PROPERTIES LABELS default)
+apiclab_discover_tests(test_gui_worker TEST_PREFIX "gui." LABELS gui default)
 
 # The worker's handoff under ThreadSanitizer, cheaply: the worker, the lockstep and the test
 # instrumented, the solver library as built (its code runs on the worker thread alone, and what
@@ -35,12 +35,12 @@ endif()
 add_executable(test_app_core test_app_core.cpp)
 target_link_libraries(test_app_core PRIVATE apiclab_app_core GTest::gtest_main)
 target_compile_definitions(test_app_core PRIVATE APICLAB_SOURCE_DIR="${CMAKE_SOURCE_DIR}")
-gtest_discover_tests(test_app_core DISCOVERY_TIMEOUT 60 TEST_PREFIX "app." PROPERTIES LABELS default)
+apiclab_discover_tests(test_app_core TEST_PREFIX "app." LABELS unit default)
 # What a run hands a person: exact fixed steps, drift series, sidecars, run summary.
 add_executable(test_outputs test_outputs.cpp)
 target_link_libraries(test_outputs PRIVATE apiclab_app_core GTest::gtest_main)
 target_compile_definitions(test_outputs PRIVATE APICLAB_SOURCE_DIR="${CMAKE_SOURCE_DIR}")
-gtest_discover_tests(test_outputs DISCOVERY_TIMEOUT 60 TEST_PREFIX "app." PROPERTIES LABELS default)
+apiclab_discover_tests(test_outputs TEST_PREFIX "app." LABELS unit default)
 
 # --dump formats read back: VTK, PLY, OBJ, CSV, series.pvd.
 add_executable(test_particle_export test_particle_export.cpp)
@@ -50,13 +50,13 @@ if(ZLIB_FOUND)  # the test reads the zlib blocks back itself
   target_link_libraries(test_particle_export PRIVATE ZLIB::ZLIB)
   target_compile_definitions(test_particle_export PRIVATE APICLAB_HAVE_ZLIB)
 endif()
-gtest_discover_tests(test_particle_export DISCOVERY_TIMEOUT 60 TEST_PREFIX "app." PROPERTIES LABELS default)
+apiclab_discover_tests(test_particle_export TEST_PREFIX "app." LABELS unit default)
 
 # The plot widget headless: its legend never covers a curve (ImGui without a renderer).
 if(TARGET apiclab_charts)
   add_executable(test_plot_legend test_plot_legend.cpp)
   target_link_libraries(test_plot_legend PRIVATE apiclab_charts GTest::gtest_main)
-  gtest_discover_tests(test_plot_legend DISCOVERY_TIMEOUT 60 TEST_PREFIX "gui." PROPERTIES LABELS default)
+  apiclab_discover_tests(test_plot_legend TEST_PREFIX "gui." LABELS unit default)
 endif()
 
 if(NOT TARGET apiclab_imgui_glfw)

@@ -9,10 +9,10 @@ add_executable(test_render test_render.cpp)
 target_link_libraries(test_render PRIVATE apiclab_render GTest::gtest)
 target_compile_definitions(test_render PRIVATE APICLAB_SOURCE_DIR="${CMAKE_SOURCE_DIR}"
                            APICLAB_BINARY_DIR="${CMAKE_CURRENT_BINARY_DIR}")
-gtest_discover_tests(test_render DISCOVERY_TIMEOUT 60 TEST_PREFIX "render." EXTRA_ARGS --backend egl
-                     PROPERTIES LABELS default ENVIRONMENT "EGL_PLATFORM=surfaceless")
-gtest_discover_tests(test_render DISCOVERY_TIMEOUT 60 TEST_PREFIX "render_osmesa."
-                     EXTRA_ARGS --backend osmesa PROPERTIES LABELS default)
+apiclab_discover_tests(test_render TEST_PREFIX "render." EXTRA_ARGS --backend egl LABELS render default
+                       PROPERTIES ENVIRONMENT "EGL_PLATFORM=surfaceless")
+apiclab_discover_tests(test_render TEST_PREFIX "render_osmesa." EXTRA_ARGS --backend osmesa
+                       LABELS render default)
 
 add_executable(render_bench render_bench.cpp)
 target_link_libraries(render_bench PRIVATE apiclab_render)
