@@ -367,9 +367,8 @@ int bench_scene_frames(const BenchOptions& o, const CLI::App& cmd) {
       "bench: scene %s, %dD %s, scheme %s, integrator %s, %zu particles, %d frames, %d "
       "threads\n",
       scene.name.c_str(), scene.dim, ro.precision.c_str(),
-      std::string(key_of(scene.solver.scheme)).c_str(),
-      integrator_label(scene.solver).c_str(), particle_count(*sim), frames,
-      omp_get_max_threads());
+      std::string(key_of(scene.solver.scheme)).c_str(), integrator_label(scene.solver).c_str(),
+      particle_count(*sim), frames, omp_get_max_threads());
   std::printf("wall: %.3f s for %ld steps to t = %.4g s, %.3f ms/step\n", wall, sim->steps(),
               sim->time(), 1e3 * wall / double(std::max(1L, sim->steps())));
   std::printf("simulated s per wall s: %.4g\n", sim->time() / wall);

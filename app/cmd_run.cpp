@@ -86,8 +86,8 @@ int run(const RunCommandOptions& command) {
   first.dt = 0;
   out.write_row(row_text(first));
   RunSummary summary(first, sim->total_mass(), DriftRule::domain_extent(scene));
-  std::string label = scene.name + " [" + run_label(scene) + ", " +
-                      integrator_label(scene.solver) + ", " + sim->model_size() + "]";
+  std::string label = scene.name + " [" + run_label(scene) + ", " + integrator_label(scene.solver) +
+                      ", " + sim->model_size() + "]";
   Progress progress(label, scene.time.end, o.quiet);
   progress.update(0, "starting");
   // A long implicit step reports its Newton iterations, so the line never goes quiet.

@@ -15,9 +15,9 @@ struct ImplicitSolveState {
   // Forces at y_i = x_i + Δt (a v_i + b Δv_i) (see implicit.hpp).
   T dt = 0, a = 0, b = 0;
   Vec<T, D> gravity = Vec<T, D>::Zero();
-  double mass_sum = 0, velocity_ref = 0;           // Σ m_i, and the mass-weighted RMS of v_i^n
-  double energy_round_off = 0;  // of the last E evaluated (sim/round_off_floor.hpp)
-  std::vector<std::uint32_t> active;               // nodes with mass
+  double mass_sum = 0, velocity_ref = 0;  // Σ m_i, and the mass-weighted RMS of v_i^n
+  double energy_round_off = 0;            // of the last E evaluated (sim/round_off_floor.hpp)
+  std::vector<std::uint32_t> active;      // nodes with mass
   std::vector<ConstrainedNode<T, D>> constraints;  // constraints acting this step
   std::vector<Vec<T, D>> dv, grad;                 // Δv = ṽ − v, ∇E(Δv)
   std::vector<Mat<T, D>> Fy;                       // F_p at the force position y

@@ -163,8 +163,8 @@ double MpmSimulation<T, D>::energy_reference() const {
     height += std::pow(scene_.domain.max[a] - scene_.domain.min[a], 2);
   }
   const double rest = energy_round_off<T>(total_mass() * max_wave_speed_ * max_wave_speed_, D);
-  return std::max({r.kinetic + r.elastic + total_mass() * std::sqrt(g) * std::sqrt(height), rest,
-                   1e-300});
+  return std::max(
+      {r.kinetic + r.elastic + total_mass() * std::sqrt(g) * std::sqrt(height), rest, 1e-300});
 }
 
 }  // namespace apiclab

@@ -327,10 +327,9 @@ void validate_integrator(const SceneDesc& s) {
     fail(s, "solver.lambda",
          "applies to solver.integrator lambda only (solver.integrator " +
              std::string(key_of(s.solver.integrator)) +
-             (s.solver.integrator == Integrator::backward
-                  ? " is not of the lambda family"
-                  : s.solver.integrator == Integrator::midpoint ? " is lambda = 1/2"
-                                                                : " is lambda = 0") +
+             (s.solver.integrator == Integrator::backward   ? " is not of the lambda family"
+              : s.solver.integrator == Integrator::midpoint ? " is lambda = 1/2"
+                                                            : " is lambda = 0") +
              "; give solver.integrator lambda, or leave solver.lambda out)");
   if (family && !s.solver.lambda)
     fail(s, "solver.integrator", "lambda needs solver.lambda (--lambda), the lambda of eqs 27-30");

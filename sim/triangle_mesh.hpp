@@ -46,8 +46,8 @@ class TriangleMesh {
   // `terms`, when given, gains the size of the terms Φ sums (its round-off over ε, as for the
   // particles in sim/implicit.hpp): A (λ + 2μ)(|F|² + 1) + A|Ψ| a triangle, c |d| (|d| + |x⁰|)
   // a spring (d = x − x⁰ cancels to ε |x⁰|).
-  double energy(const std::vector<V>& x, const std::vector<std::uint32_t>& idx,
-                std::vector<V>* g, double* terms = nullptr) const {
+  double energy(const std::vector<V>& x, const std::vector<std::uint32_t>& idx, std::vector<V>* g,
+                double* terms = nullptr) const {
     double e = 0;
     for (const Triangle& t : tris_) {
       const V& a = x[idx[t.v[0]]];
@@ -58,9 +58,9 @@ class TriangleMesh {
       const double psi = double(energy_density<T, 2>(t.model, F, t.lame));
       e += double(t.area) * psi;
       if (terms)
-        *terms += double(t.area) * (double(t.lame.lambda + 2 * t.lame.mu) *
-                                        double(F.squaredNorm() + 1) +
-                                    std::abs(psi));
+        *terms +=
+            double(t.area) *
+            (double(t.lame.lambda + 2 * t.lame.mu) * double(F.squaredNorm() + 1) + std::abs(psi));
       if (g) {
         M H = t.area * first_piola<T, 2>(t.model, F, t.lame) * t.Dm_inv.transpose();  // ∂Φ/∂Ds
         (*g)[idx[t.v[1]]] += H.col(0);

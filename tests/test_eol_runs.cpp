@@ -251,9 +251,8 @@ TEST(EolRuns, BodyAtRestIsNoBlowUpAndAnExplosionIsOne) {
     auto sim = test::make_eol<2>(spec);
     ASSERT_TRUE(sim);
     double top = 0;
-    const auto failure = sim->advance_to(spec.end, [&](const DiagnosticsRow& r) {
-      top = std::max(top, r.kinetic + r.elastic);
-    });
+    const auto failure = sim->advance_to(
+        spec.end, [&](const DiagnosticsRow& r) { top = std::max(top, r.kinetic + r.elastic); });
     EXPECT_FALSE(failure) << method << ": " << failure->message;
     std::printf("[eol] %s at rest: largest K + Psi %.3g J\n", method.c_str(), top);
 

@@ -483,11 +483,13 @@ TEST(Implicit, BodyAtRestIsNeitherUnconvergedNorBlownUp) {
 // A run that really explodes is still caught: symplectic Euler 20x past the explicit limit on
 // the same resting, rotated disk (round-off grows by a factor each step).
 TEST(Implicit, BlowUpFromRestIsStillCaught) {
-  SceneDesc s = load_scene(scene_path("rotating-disk"),
-                           {"objects.0.angular_velocity=0", "time.end=1", "solver.integrator=symplectic",
-                            R"(time.dt={"rule":"fixed","value":0.025})"});
+  SceneDesc s =
+      load_scene(scene_path("rotating-disk"),
+                 {"objects.0.angular_velocity=0", "time.end=1", "solver.integrator=symplectic",
+                  R"(time.dt={"rule":"fixed","value":0.025})"});
   MpmSimulation<double, 2> sim(s);
-  for (auto& F : sim.particles().F) F << std::cos(0.3), -std::sin(0.3), std::sin(0.3), std::cos(0.3);
+  for (auto& F : sim.particles().F)
+    F << std::cos(0.3), -std::sin(0.3), std::sin(0.3), std::cos(0.3);
   const auto failure = sim.advance_to(s.time.end);
   ASSERT_TRUE(failure) << "no blow-up at 20x the explicit limit";
   EXPECT_NE(failure->message.find("energy"), std::string::npos) << failure->message;

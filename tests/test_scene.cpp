@@ -587,13 +587,13 @@ TEST(Parameters, LambdaOnlyWithTheLambdaIntegrator) {
                            {std::string("solver.integrator=") + integrator, "solver.lambda=0.25"});
         },
         {"good.json", "'solver.lambda'", "solver.integrator lambda", integrator}, integrator);
-  expect_scene_error(
-      [] { parse_scene_text(kGood, "good.json", {"solver.integrator=lambda"}); },
-      {"good.json", "'solver.integrator'", "solver.lambda"}, "lambda without its value");
+  expect_scene_error([] { parse_scene_text(kGood, "good.json", {"solver.integrator=lambda"}); },
+                     {"good.json", "'solver.integrator'", "solver.lambda"},
+                     "lambda without its value");
   // Each label says the λ it runs.
-  EXPECT_EQ(integrator_label(
-                parse_scene_text(kGood, "good.json", {"solver.integrator=lambda", "solver.lambda=0.3"})
-                    .solver),
+  EXPECT_EQ(integrator_label(parse_scene_text(kGood, "good.json",
+                                              {"solver.integrator=lambda", "solver.lambda=0.3"})
+                                 .solver),
             "lambda(0.3)");
   EXPECT_EQ(integrator_label(parse_scene_text(kGood, "good.json").solver), "symplectic");
 }

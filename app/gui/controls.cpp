@@ -323,7 +323,8 @@ void solver_section(ViewerState& st, SimWorker& worker) {
     parameter_field(st, worker, "time.dt.value");
     parameter_field(st, worker, "time.dt.v_tau");
   }
-  if (s.solver.integrator == Integrator::lambda_family) parameter_field(st, worker, "solver.lambda");
+  if (s.solver.integrator == Integrator::lambda_family)
+    parameter_field(st, worker, "solver.lambda");
   if (s.solver.integrator != Integrator::symplectic || s.solver.integrator_lambda() != 0) {
     for (const char* key : {"solver.newton_tolerance", "solver.newton_max_iterations",
                             "solver.cg_tolerance", "solver.cg_max_iterations"})

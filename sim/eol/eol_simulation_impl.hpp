@@ -565,8 +565,8 @@ double EolSimulation<T, D>::energy_reference() const {
   }
   // A body at rest shows round-off energy, no blow-up (sim/round_off_floor.hpp).
   const double rest = energy_round_off<T>(total_mass() * max_wave_speed_ * max_wave_speed_, D);
-  return std::max({r.kinetic + r.elastic + total_mass() * std::sqrt(g) * std::sqrt(height), rest,
-                   1e-300});
+  return std::max(
+      {r.kinetic + r.elastic + total_mass() * std::sqrt(g) * std::sqrt(height), rest, 1e-300});
 }
 
 }  // namespace apiclab::eol
