@@ -18,6 +18,15 @@
 namespace apiclab::gui {
 namespace {
 
+// A pane of `scheme` with the scene's kernel, `integrator` (empty: the scene's) and `method`.
+PaneConfig pane(Scheme scheme, std::optional<Integrator> integrator = {}, std::string method = "") {
+  PaneConfig p;
+  p.scheme = scheme;
+  p.integrator = integrator;
+  p.method = std::move(method);
+  return p;
+}
+
 SceneDesc disk(const std::vector<std::string>& overrides = {}) {
   return load_scene(std::string(APICLAB_SOURCE_DIR) + "/assets/scenes/rotating-disk.json",
                     overrides);
@@ -39,7 +48,7 @@ std::shared_ptr<const Published> run_frames(SimWorker& w, int n) {
 
 TEST(GuiWorker, SchemeSwitchKeepsParticlesPositionsAndTime) {
   SimWorker w;
-  loaded(w, {{Scheme::apic, 1.0, {}, {}}});
+  loaded(w, {pane(Scheme::apic)});
   const auto before = run_frames(w, 3);
   ASSERT_EQ(before->frame, 3);
   const Snapshot& a = *before->panes[0].snapshot;
@@ -63,7 +72,7 @@ TEST(GuiWorker, SchemeSwitchKeepsParticlesPositionsAndTime) {
 
 TEST(GuiWorker, ResetRestoresTheInitialStateExactly) {
   SimWorker w;
-  const auto initial = loaded(w, {{Scheme::pic, 1.0, {}, {}}, {Scheme::apic, 1.0, {}, {}}});
+  const auto initial = loaded(w, {pane(Scheme::pic), pane(Scheme::apic)});
   run_frames(w, 4);
   w.set_scheme(1, Scheme::rpic, 1.0);
   w.play(true);
@@ -95,8 +104,7 @@ TEST(GuiWorker, ResetRestoresTheInitialStateExactly) {
 TEST(GuiWorker, PanesAdvanceInLockstepToFrameTimes) {
   SimWorker w;
   const std::vector<Scheme> schemes{Scheme::pic, Scheme::flip, Scheme::apic};
-  const auto start =
-      loaded(w, {{schemes[0], 1.0, {}, {}}, {schemes[1], 1.0, {}, {}}, {schemes[2], 1.0, {}, {}}});
+  const auto start = loaded(w, {pane(schemes[0]), pane(schemes[1]), pane(schemes[2])});
   const FrameTimes times(*start->scene);
   for (int f = 1; f <= 4; ++f) {
     const auto p = run_frames(w, 1);
@@ -116,8 +124,7 @@ TEST(GuiWorker, PanesAdvanceInLockstepToFrameTimes) {
 // (3.24 frames at 24 fps: frames at 1/24, 2/24 and then 0.135, not 3/24), then stops.
 TEST(GuiWorker, LastFrameLandsOnTimeEnd) {
   SimWorker w;
-  const auto start =
-      loaded(w, {{Scheme::apic, 1.0, {}, {}}, {Scheme::pic, 1.0, {}, {}}}, {"time.end=0.135"});
+  const auto start = loaded(w, {pane(Scheme::apic), pane(Scheme::pic)}, {"time.end=0.135"});
   const FrameTimes times(*start->scene);
   ASSERT_EQ(times.frames, 3);
   const auto p = run_frames(w, 5);  // more frames than the scene has
@@ -137,9 +144,7 @@ TEST(GuiWorker, LastFrameLandsOnTimeEnd) {
 // backward Euler does not; the failed pane freezes while the other reaches every frame time.
 TEST(GuiWorker, BlowUpFreezesOnlyItsPane) {
   SimWorker w;
-  loaded(w,
-         {{Scheme::apic, 1.0, {}, Integrator::symplectic},
-          {Scheme::apic, 1.0, {}, Integrator::backward}},
+  loaded(w, {pane(Scheme::apic, Integrator::symplectic), pane(Scheme::apic, Integrator::backward)},
          {R"(time.dt={"rule":"fixed","value":0.05,"land_on_frames":true})"});
   const auto p = run_frames(w, 6);
   ASSERT_EQ(p->panes.size(), 2u);
@@ -156,11 +161,11 @@ TEST(GuiWorker, BlowUpFreezesOnlyItsPane) {
 
 TEST(GuiWorker, SceneThatCannotBeBuiltKeepsTheRunningOne) {
   SimWorker w;
-  const auto ok = loaded(w, {{Scheme::apic, 1.0, {}, {}}});
+  const auto ok = loaded(w, {pane(Scheme::apic)});
   SceneDesc broken = disk();
   broken.objects[0].shape.type = ShapeType::mesh;
   broken.objects[0].shape.file = "/nonexistent/mesh.obj";
-  w.load(broken, {{Scheme::apic, 1.0, {}, {}}});
+  w.load(broken, {pane(Scheme::apic)});
   w.sync();
   const auto p = w.latest();
   EXPECT_FALSE(p->error.empty());
@@ -175,11 +180,11 @@ TEST(GuiWorker, SceneThatCannotBeBuiltKeepsTheRunningOne) {
 // so the set was only stopped, if at all, by the machine's memory running low).
 TEST(GuiWorker, PanesAreCheckedForMemoryAsAWhole) {
   SimWorker w;
-  const auto ok = loaded(w, {{Scheme::apic, 1.0, {}, {}}});
+  const auto ok = loaded(w, {pane(Scheme::apic)});
   SceneDesc scene = disk();
   const double one = estimate_memory(scene, Precision::dbl).bytes();
   scene.solver.max_memory_gb = 3 * one / 1e9;  // one simulation fits, eight do not
-  std::vector<PaneConfig> four(4, PaneConfig{Scheme::apic, 1.0, {}, {}});
+  std::vector<PaneConfig> four(4, pane(Scheme::apic));
   w.load(scene, four);
   w.sync();
   const auto p = w.latest();
@@ -201,10 +206,8 @@ TEST(GuiWorker, PanesMixMethodsFromOneScene) {
   SimWorker w;
   w.load(load_scene(std::string(APICLAB_SOURCE_DIR) + "/assets/scenes/eol-spin.json",
                     {"time.end=0.3"}),
-         {{Scheme::apic, 1.0, {}, {}, "mpm"},
-          {Scheme::apic, 1.0, {}, {}, "eol"},
-          {Scheme::apic, 1.0, {}, {}, "eulerian"},
-          {Scheme::apic, 1.0, {}, {}}});
+         {pane(Scheme::apic, {}, "mpm"), pane(Scheme::apic, {}, "eol"),
+          pane(Scheme::apic, {}, "eulerian"), pane(Scheme::apic)});
   w.sync();
   const auto p = run_frames(w, 2);
   ASSERT_EQ(p->error, "");
@@ -225,7 +228,7 @@ TEST(GuiWorker, PanesMixMethodsFromOneScene) {
 TEST(GuiWorker, HandoffUnderLoad) {
   SimWorker w;
   w.set_realtime(false);
-  loaded(w, {{Scheme::pic, 1.0, {}, {}}, {Scheme::flip, 1.0, {}, {}}, {Scheme::apic, 1.0, {}, {}}});
+  loaded(w, {pane(Scheme::pic), pane(Scheme::flip), pane(Scheme::apic)});
   w.set_noise(true);
   w.play(true);
   std::mt19937 rng(7);

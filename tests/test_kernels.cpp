@@ -172,8 +172,9 @@ void check_gradient_rows(bool periodic) {
     }
     EXPECT_LE(worst, tol) << "x_p = " << xp.transpose();
     EXPECT_NEAR(dot, double((s.cwiseProduct(rows)).sum()), D * D * tol) << "adjoint";
-    if (!periodic)  // an affine field is not periodic
+    if (!periodic) {  // an affine field is not periodic
       EXPECT_LE(double((st.gradient_gather(affine.data()) - A).norm()), 4 * tol) << "affine";
+    }
   }
 }
 

@@ -154,8 +154,9 @@ TEST(RunOutputs, SidecarHoldsEverySetting) {
   EXPECT_EQ(settings["parameters"]["materials.0.E"], 2000.0);
   EXPECT_EQ(settings["parameters"]["domain.dx"], s.domain.dx);
   for (const NumericParameter& p : numeric_parameters())
-    if (!p.count && (!p.is_set || p.is_set(s, 0)))
+    if (!p.count && (!p.is_set || p.is_set(s, 0))) {
       EXPECT_TRUE(settings["parameters"].contains(std::string(p.key))) << p.key;
+    }
   const auto dir = std::filesystem::temp_directory_path() /
                    ("apiclab-test-outputs-" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);

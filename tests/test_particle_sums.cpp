@@ -249,8 +249,12 @@ void chunk_sums_like_the_formula(int count, bool isotropic) {
     EXPECT_NEAR(got.p[a], expect.p[a], tol * scale.p[a]) << "p" << a;
     EXPECT_NEAR(got.L[a], expect.L[a], tol * scale.L[a]) << "L" << a;
   }
-  if (D == 2) EXPECT_EQ(got.L[0], 0.0);
-  if (count > 0) EXPECT_GT(got.kinetic, 0.0);
+  if (D == 2) {
+    EXPECT_EQ(got.L[0], 0.0);
+  }
+  if (count > 0) {
+    EXPECT_GT(got.kinetic, 0.0);
+  }
 }
 
 TEST(ChunkTerms, SumsAnyCountLikeTheFormula) {

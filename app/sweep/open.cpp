@@ -122,9 +122,9 @@ std::string run_summary(const OpenedSweep& sweep, std::size_t i) {
     s += "\ncost " + number_text(r.cost()) + " s in " + std::to_string(r.rec.steps) + " steps, " +
          std::to_string(r.rec.particles) + " particles";
     s += "\ndx " + number_text(r.run->dx) + (r.run->dt > 0 ? ", dt " + number_text(r.run->dt) : "");
-    for (const std::string& e : {"displacement", "com", "energy", "angular"}) {
+    for (const char* e : {"displacement", "com", "energy", "angular"}) {
       const double v = r.error(e);
-      if (std::isfinite(v)) s += "\n" + e + " error " + number_text(v);
+      if (std::isfinite(v)) s += std::string("\n") + e + " error " + number_text(v);
     }
   }
   s += is_reference(sweep.results, i) ? "\n(the reference run)" : "\nid " + r.run->id;

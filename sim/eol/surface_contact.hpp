@@ -134,7 +134,7 @@ void integrate_piece(const contact_detail::Piece<T, D>& piece, Emit&& emit) {
       const Vec<T, 3>& p2 = piece.p[std::size_t(k + 1)];
       const T area = T(0.5) * (p1 - p0).cross(Vec<T, 3>(p2 - p0)).norm();
       if (!(area > T(0))) continue;
-      for (const auto [a, w] : {std::pair{a1, w1}, std::pair{a2, w2}}) {
+      for (const auto& [a, w] : {std::pair{a1, w1}, std::pair{a2, w2}}) {
         const T b = T(1 - 2 * a);
         emit(Vec<T, 3>(T(a) * p0 + T(a) * p1 + b * p2), T(w) * area);
         emit(Vec<T, 3>(T(a) * p0 + b * p1 + T(a) * p2), T(w) * area);
