@@ -154,7 +154,8 @@ TEST(SweepView, EveryRunRowOpensTheConfigurationItsRunUsed) {
   EXPECT_EQ(dts.size(), 4u);
 }
 
-// The float positions a run recorded at frame f (frames.bin) against a pane's snapshot.
+// The positions a run recorded at frame f (frames.bin, at the run's precision) against a pane's
+// snapshot, which holds them as floats.
 void expect_frame(const metrics::RunFrames& rec, std::size_t f, const Snapshot& s,
                   const std::string& what) {
   SCOPED_TRACE(what + ", frame " + std::to_string(f));
@@ -163,7 +164,7 @@ void expect_frame(const metrics::RunFrames& rec, std::size_t f, const Snapshot& 
   ASSERT_EQ(rec.frames[f].positions.size(), s.positions.size());
   std::size_t differ = 0;
   for (std::size_t k = 0; k < s.positions.size(); ++k)
-    differ += rec.frames[f].positions[k] != double(s.positions[k]);
+    differ += float(rec.frames[f].positions[k]) != s.positions[k];
   EXPECT_EQ(differ, 0u) << "of " << s.positions.size() << " coordinates";
 }
 
