@@ -213,10 +213,28 @@ closest = min((num(x["err_displacement"]), i) for i, x in runs.items()
 check("no run meets it; the closest completed run" in summary and
       ("(run %s), reaches %.3g" % (closest[1], closest[0])) in summary and
       "the reference meets it" not in summary, "target answer")
+# The summary's Pareto table: the same runs by cost, cost and error to 3 digits.
+sec = summary.split("## Pareto front: rotating-disk")[1].split("\n## ")[0]
+got = [tuple(c.strip() for c in l.split("|")[2:4]) for l in sec.splitlines()
+       if l.startswith("| ") and "configuration" not in l]
+want = [("%.3g" % num(runs[i]["step_wall_s"]), "%.3g" % num(runs[i]["err_displacement"]))
+        for i in sorted(front, key=lambda i: num(runs[i]["step_wall_s"]))]
+check(got == want, "summary Pareto table %s against %s" % (got, want))
+# The stability map's cells: rows by resolution, columns by dt_factor.
+table = list(csv.reader(open(os.path.join(out, "stability_rotating-disk.csv"))))
+head = table[0]
+for i, r in runs.items():
+    row = next(t for t in table[1:] if t[0] == r["resolution"])
+    cell = row[head.index("dt_factor=" + r["dt_factor"])]
+    if r["outcome"] == "completed":
+        want_cell = "completed dE %.3g%%" % (100 * float(r["final_energy"]))
+    else:
+        want_cell = "blew_up blew up t=%.2g" % float(r["fail_t"])
+    check(cell == want_cell, "stability cell %s: %s, want %s" % (i, cell, want_cell))
 print("\n".join(fails) if fails else "all")
 PY
   if [ "$(cat "$TMP/py")" = "all" ]; then
-    ok "charts and summary: every point, edge, shape, label, front, slope and the reference recomputed"
+    ok "charts and summary: every point, edge, shape, label, front, slope, map cell and the reference recomputed"
   else
     nok "charts and summary against runs.csv" "$(cat "$TMP/py")"
   fi
