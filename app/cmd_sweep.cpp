@@ -7,6 +7,7 @@
 #include "app/particle_export.hpp"
 #include "app/sweep/open.hpp"
 #include "app/sweep/plan.hpp"
+#include "app/sweep/record.hpp"
 #include "app/sweep/results.hpp"
 #include "app/sweep/runner.hpp"
 #include "app/sweep/spec.hpp"
@@ -71,25 +72,42 @@ int sweep_command(const SweepOptions& o) {
   } else {
     write_spec_copy(o.spec, out);
   }
-  const auto results = collect(spec, plan, out);
+  std::vector<RunResult> results;
+  try {
+    results = collect(spec, plan, out);
+  } catch (const OldFramesError& e) {  // --collect of an older folder: never mix precisions
+    throw UsageError(std::string("sweep: ") + e.what() + "; `apiclab sweep " + o.spec + " --out " +
+                     out + "` records those runs again");
+  }
   const std::string csv = write_runs_csv(spec, results, out);
   std::vector<std::string> charts;
 #ifdef APICLAB_HAVE_FIGURES
   try {
-    charts = write_charts(spec, results, out);
+    charts = write_charts(spec, results, out, o.target_error);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "apiclab: sweep: charts not drawn: %s\n", e.what());
   }
 #endif
   write_summary(spec, results, out, o.target_error, charts);
-  std::size_t missing = 0;
-  for (const RunResult& r : results) missing += r.outcome == "no_result";
+  std::size_t missing = 0, refused = 0;
+  for (const RunResult& r : results) {
+    missing += r.outcome == "no_result";
+    refused += r.outcome == "refused";
+  }
   std::printf("sweep %s: %zu runs; %s, %s/summary.md", spec.name.c_str(), results.size(),
               csv.c_str(), out.c_str());
   for (const std::string& c : charts) std::printf(", %s/%s", out.c_str(), c.c_str());
   std::printf("\n");
   if (missing)
     std::printf("warning: %zu runs have no result yet (rows with outcome no_result)\n", missing);
+  if (refused) {  // a configuration the sweep asked for and did not get: not a result
+    std::fflush(stdout);
+    std::fprintf(stderr,
+                 "apiclab: sweep: %zu of %zu runs refused (outcome refused in runs.csv; the cause "
+                 "in %s/runs/ID/refused.txt and logs/ID.log)\n",
+                 refused, results.size(), out.c_str());
+    return 2;
+  }
   return 0;
 }
 

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -14,6 +15,7 @@
 #include "app/cli.hpp"
 #include "app/lockstep.hpp"
 #include "app/sweep/open.hpp"
+#include "app/sweep/record.hpp"
 #include "sim/parameters.hpp"
 #include "sim/simulation.hpp"
 
@@ -152,7 +154,8 @@ TEST(SweepView, EveryRunRowOpensTheConfigurationItsRunUsed) {
   EXPECT_EQ(dts.size(), 4u);
 }
 
-// The float positions a run recorded at frame f (frames.bin) against a pane's snapshot.
+// The positions a run recorded at frame f (frames.bin, at the run's precision) against a pane's
+// snapshot, which holds them as floats.
 void expect_frame(const metrics::RunFrames& rec, std::size_t f, const Snapshot& s,
                   const std::string& what) {
   SCOPED_TRACE(what + ", frame " + std::to_string(f));
@@ -161,7 +164,7 @@ void expect_frame(const metrics::RunFrames& rec, std::size_t f, const Snapshot& 
   ASSERT_EQ(rec.frames[f].positions.size(), s.positions.size());
   std::size_t differ = 0;
   for (std::size_t k = 0; k < s.positions.size(); ++k)
-    differ += rec.frames[f].positions[k] != double(s.positions[k]);
+    differ += float(rec.frames[f].positions[k]) != s.positions[k];
   EXPECT_EQ(differ, 0u) << "of " << s.positions.size() << " coordinates";
 }
 
@@ -291,6 +294,69 @@ TEST(SweepView, APartialSweepOpensWithItsMissingRuns) {
   const auto sw = open_sweep(dir);
   EXPECT_EQ(sw->missing, 1u);
   EXPECT_EQ(sw->results.back().outcome, "no_result");
+  fs::remove_all(dir);
+}
+
+// Rewrites a frames.bin (ASF2, doubles) in the older format: ASF1, positions as floats.
+void write_float_frames(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string b((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  ASSERT_EQ(b.substr(0, 4), "ASF2");
+  std::int32_t dim = 0, bytes = 0;
+  std::uint64_t n = 0;
+  std::memcpy(&dim, &b[4], 4), std::memcpy(&bytes, &b[8], 4), std::memcpy(&n, &b[12], 8);
+  ASSERT_EQ(bytes, 8);
+  std::string out = "ASF1" + b.substr(4, 4) + b.substr(12, 8) + b.substr(20, 4 * n);
+  for (std::size_t at = 20 + 4 * n; at < b.size(); at += 24 + 8 * n * std::size_t(dim)) {
+    out += b.substr(at, 24);
+    for (std::size_t k = 0; k < n * std::size_t(dim); ++k) {
+      double x;
+      std::memcpy(&x, &b[at + 24 + 8 * k], 8);
+      const float f = float(x);
+      out.append(reinterpret_cast<const char*>(&f), 4);
+    }
+  }
+  std::ofstream(path, std::ios::binary) << out;
+}
+
+TEST(SweepView, FramesAreKeptAtTheRunsPrecision) {
+  // A double run's positions read back bit for bit as its own double dump would give them.
+  const PlannedRun& run = opened()->plan.runs.front();
+  std::ifstream in(fs::path(run_dir(kDir, run)) / "frames.bin", std::ios::binary);
+  char magic[4];
+  std::int32_t dim = 0, bytes = 0;
+  in.read(magic, 4), in.read(reinterpret_cast<char*>(&dim), 4);
+  in.read(reinterpret_cast<char*>(&bytes), 4);
+  EXPECT_EQ(std::string(magic, 4), "ASF2");
+  EXPECT_EQ(bytes, 8) << "a double run's frames hold doubles";
+}
+
+TEST(SweepView, AnOlderFloatRecordIsRefusedNotMixed) {
+  const std::string dir = copy_of_sweep("float");
+  write_float_frames(fs::path(run_dir(dir, opened()->plan.runs.back())) / "frames.bin");
+  const std::string why = refusal(dir);
+  EXPECT_NE(why.find("frames.bin: recorded by an older apiclab with positions as 32-bit floats"),
+            std::string::npos)
+      << why;
+  EXPECT_NE(why.find("records those runs again"), std::string::npos) << why;
+  EXPECT_EQ(why.find('\n'), std::string::npos) << why;
+  fs::remove_all(dir);
+}
+
+TEST(SweepView, ARefusedRunOpensWithItsOutcomeAndCause) {
+  const std::string dir = copy_of_sweep("refused");
+  const std::size_t last = opened()->plan.runs.size() - 1;
+  const std::string run = run_dir(dir, opened()->plan.runs[last]);
+  fs::remove_all(run);
+  write_refusal(run, 2, "apiclab: the scene needs 3 GB, more than the cap");
+  const auto sw = open_sweep(dir);
+  EXPECT_EQ(sw->missing, 0u);
+  EXPECT_EQ(sw->results[last].outcome, "refused");
+  EXPECT_EQ(cell_text(sw->results[last]), "refused, exit 2");
+  const std::string hover = run_summary(*sw, last);
+  EXPECT_NE(hover.find(config_text(sw->spec, *sw->results[last].run)), std::string::npos) << hover;
+  EXPECT_NE(hover.find("refused: exit 2: apiclab: the scene needs 3 GB"), std::string::npos)
+      << hover;
   fs::remove_all(dir);
 }
 

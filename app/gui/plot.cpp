@@ -56,6 +56,42 @@ Range pad(Range r, bool log) {
 
 }  // namespace
 
+void draw_marker(ImDrawList* dl, ImVec2 c, float r, Marker m, ImU32 color) {
+  const float t = std::max(1.5f, 0.45f * r);
+  switch (m) {
+    case Marker::circle:
+      dl->AddCircleFilled(c, r, color, 12);
+      break;
+    case Marker::square:
+      dl->AddRectFilled(ImVec2(c.x - 0.85f * r, c.y - 0.85f * r),
+                        ImVec2(c.x + 0.85f * r, c.y + 0.85f * r), color);
+      break;
+    case Marker::triangle:
+      dl->AddTriangleFilled(ImVec2(c.x, c.y - 1.15f * r), ImVec2(c.x + r, c.y + 0.7f * r),
+                            ImVec2(c.x - r, c.y + 0.7f * r), color);
+      break;
+    case Marker::triangle_down:
+      dl->AddTriangleFilled(ImVec2(c.x, c.y + 1.15f * r), ImVec2(c.x - r, c.y - 0.7f * r),
+                            ImVec2(c.x + r, c.y - 0.7f * r), color);
+      break;
+    case Marker::diamond:
+      dl->AddQuadFilled(ImVec2(c.x, c.y - 1.2f * r), ImVec2(c.x + 1.2f * r, c.y),
+                        ImVec2(c.x, c.y + 1.2f * r), ImVec2(c.x - 1.2f * r, c.y), color);
+      break;
+    case Marker::plus:
+      dl->AddLine(ImVec2(c.x - 1.2f * r, c.y), ImVec2(c.x + 1.2f * r, c.y), color, t);
+      dl->AddLine(ImVec2(c.x, c.y - 1.2f * r), ImVec2(c.x, c.y + 1.2f * r), color, t);
+      break;
+    case Marker::cross:
+      dl->AddLine(ImVec2(c.x - r, c.y - r), ImVec2(c.x + r, c.y + r), color, t);
+      dl->AddLine(ImVec2(c.x - r, c.y + r), ImVec2(c.x + r, c.y - r), color, t);
+      break;
+    case Marker::ring:
+      dl->AddCircle(c, r, color, 12, t);
+      break;
+  }
+}
+
 std::vector<double> nice_ticks(double lo, double hi, int target) {
   std::vector<double> out;
   if (!(hi > lo) || !std::isfinite(hi - lo) || target < 1 || target > 64) return out;
@@ -310,7 +346,13 @@ PlotPick plot(const char* id, ImVec2 size, const PlotOptions& o,
         continue;
       }
       const float x = sx(xv), y = sy(yv);
-      if (s.markers) dl->AddCircleFilled(ImVec2(x, y), s.thickness + 2.0f, s.color, 12);
+      if (s.markers) {
+        draw_marker(dl, ImVec2(x, y), s.thickness + 2.0f, s.marker_of ? s.marker_of(i) : s.marker,
+                    s.color);
+        if (s.point_label)
+          if (const std::string t = s.point_label(i); !t.empty())
+            dl->AddText(ImVec2(x + s.thickness + 5, y - fh + 2), kMuted, t.c_str());
+      }
       if (per_px < 2) {
         pts.push_back(ImVec2(x, y));
       } else if (std::floor(x) != col) {
@@ -369,11 +411,11 @@ PlotPick plot(const char* id, ImVec2 size, const PlotOptions& o,
       const ImVec2 l0(la.x + 4, y + fh / 2), l1(la.x + 22, y + fh / 2);
       if (series[k].dashed)
         add_dashed(dl, {l0, l1}, series[k].color, 2.0f, 6, 3);
-      else
+      else if (series[k].thickness > 0)
         dl->AddLine(l0, l1, series[k].color, 2.5f);
       if (series[k].markers)
-        dl->AddCircleFilled(ImVec2((l0.x + l1.x) / 2, l0.y), series[k].thickness + 2.0f,
-                            series[k].color, 12);
+        draw_marker(dl, ImVec2((l0.x + l1.x) / 2, l0.y), std::max(series[k].thickness, 1.6f) + 2.0f,
+                    series[k].marker, series[k].color);
       dl->AddText(ImVec2(la.x + 28, y), kText, labels[k].c_str());
     }
   }

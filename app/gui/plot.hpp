@@ -13,6 +13,10 @@
 
 namespace apiclab::gui {
 
+// A marker's shape: sweep charts tell configurations apart by it.
+enum class Marker { circle, square, triangle, diamond, triangle_down, plus, cross, ring };
+inline constexpr int kMarkerShapes = 8;
+
 struct PlotSeries {
   std::string label;
   ImU32 color = render::packed_abgr(render::palette_color(0));
@@ -21,7 +25,13 @@ struct PlotSeries {
   float thickness = 1.6f;
   bool dashed = false;   // a dashed line (a second quantity in a scheme's color)
   bool markers = false;  // a dot on every sample (sparse data such as a convergence study)
+  Marker marker = Marker::circle;
+  std::function<Marker(std::size_t)> marker_of;         // per sample, when set (legend: `marker`)
+  std::function<std::string(std::size_t)> point_label;  // a short text beside a sample's marker
 };
+
+// A marker of `radius` pixels centred at c.
+void draw_marker(ImDrawList* dl, ImVec2 c, float radius, Marker m, ImU32 color);
 
 struct PlotOptions {
   std::string title;

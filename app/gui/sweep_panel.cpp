@@ -22,54 +22,48 @@ void run_tooltip(const sweep::OpenedSweep& sw, std::size_t run) {
   ImGui::TextColored(kMuted, "click: open it beside its reference");
 }
 
-// A log-log scatter of series (one per spec.series value, or per method for convergence);
-// returns the run clicked, or -1.
+// The charts' plots of the scene shown, built once per sweep and scene (building reads every
+// run's scene for the legends): the same series as the PNGs (app/sweep/charts.cpp).
+struct PlotsCache {
+  std::shared_ptr<const sweep::OpenedSweep> sweep;  // held, so its address is not reused
+  int scene = -1;
+  sweep::ChartPlots cost, convergence;
+};
+
+const PlotsCache& plots_of(const std::shared_ptr<const sweep::OpenedSweep>& sw, int scene) {
+  static PlotsCache cache;
+  if (cache.sweep != sw || cache.scene != scene) {
+    const std::string& name = sw->charts[std::size_t(scene)].scene;
+    cache.sweep = sw;
+    cache.scene = scene;
+    cache.cost = sweep::cost_plots(sw->spec, sw->results, name, std::nullopt);
+    cache.convergence = sweep::convergence_plots(sw->spec, sw->results, name);
+  }
+  return cache;
+}
+
+// A log-log chart of the sweep's plots; hover names the run's configuration, a click returns
+// the run (or -1).
 long scatter_chart(const char* id, ImVec2 size, const sweep::OpenedSweep& sw,
-                   const std::vector<sweep::Series>& series, const std::vector<std::size_t>* front,
-                   const std::string& title, const std::string& x_label, long open_run) {
-  std::vector<PlotSeries> plots;
-  for (std::size_t k = 0; k < series.size(); ++k) {
-    const sweep::Series& s = series[k];
-    const std::string value =
-        s.runs.empty() ? s.label : sw.results[s.runs.front()].run->value_text(sw.spec.series);
-    const ImU32 color = front ? sweep::series_color(sw.spec, value, k)
-                              : render::packed_abgr(render::palette_color(int(k)));
-    std::string label = s.label;
-    if (!front && std::isfinite(s.slope))
-      label += " (slope " + sweep::number_text(s.slope, 3) + ")";
-    plots.push_back(sweep::scatter(label, color, s.x, s.y));
-  }
-  std::vector<double> fx, fy;
-  if (front) {
-    const std::string& error = sw.spec.errors.front();
-    for (std::size_t i : *front) {
-      fx.push_back(sw.results[i].cost());
-      fy.push_back(sw.results[i].error(error));
-    }
-    PlotSeries p;
-    p.label = "Pareto front";
-    p.color = IM_COL32(40, 40, 40, 255);
-    p.count = fx.size();
-    p.x = [&fx](std::size_t i) { return fx[i]; };
-    p.y = [&fy](std::size_t i) { return fy[i]; };
-    p.dashed = true;
-    p.thickness = 1.4f;
-    plots.push_back(p);
-  }
+                   const sweep::ChartPlots& chart, const std::string& title,
+                   const std::string& x_label, long open_run) {
+  std::vector<PlotSeries> plots = chart.series;
+  std::vector<std::vector<long>> runs = chart.runs;
   // The run whose panes are live: a larger dark disk drawn first, so its own point sits on it as
-  // a ring. Series k of the plot is series k - first of the chart.
+  // a ring.
   std::vector<double> ox, oy;
-  for (const sweep::Series& s : series)
-    for (std::size_t i = 0; i < s.runs.size(); ++i)
-      if (long(s.runs[i]) == open_run) ox.push_back(s.x[i]), oy.push_back(s.y[i]);
-  const std::size_t first = ox.empty() ? 0 : 1;
-  if (first) {
+  for (std::size_t k = 0; k < chart.series.size(); ++k)
+    for (std::size_t i = 0; i < chart.runs[k].size(); ++i)
+      if (chart.series[k].markers && chart.runs[k][i] == open_run && ox.empty())
+        ox.push_back(chart.series[k].x(i)), oy.push_back(chart.series[k].y(i));
+  if (!ox.empty()) {
     PlotSeries ring = sweep::scatter("open in the panes", IM_COL32(20, 20, 20, 255), ox, oy);
     ring.thickness = 5.0f;
     plots.insert(plots.begin(), ring);
+    runs.insert(runs.begin(), std::vector<long>{open_run, -1L});
   }
   auto run_of = [&](std::size_t k, std::size_t i) {
-    return k < first ? std::size_t(open_run) : series[k - first].runs[i / 2];
+    return k < runs.size() && i < runs[k].size() ? runs[k][i] : -1L;
   };
   PlotOptions o;
   o.title = title;
@@ -79,11 +73,14 @@ long scatter_chart(const char* id, ImVec2 size, const sweep::OpenedSweep& sw,
   o.minor_log_grid = true;
   o.legend_corner = PlotOptions::Corner::best;
   o.pick_points = true;
-  // Series k's sample 2 i is its run i (the scatter's NaN gaps sit at odd samples).
-  o.point_tooltip = [&](std::size_t k, std::size_t i) { run_tooltip(sw, run_of(k, i)); };
+  o.point_tooltip = [&](std::size_t k, std::size_t i) {
+    if (const long r = run_of(k, i); r >= 0)
+      run_tooltip(sw, std::size_t(r));
+    else
+      ImGui::TextUnformatted(plots[k].label.c_str());
+  };
   const PlotPick pick = plot(id, size, o, plots);
-  if (pick.hit && pick.clicked && pick.series < series.size() + first)
-    return long(run_of(pick.series, pick.point));
+  if (pick.hit && pick.clicked) return run_of(pick.series, pick.point);
   return -1;
 }
 
@@ -125,7 +122,10 @@ long stability_map(ImVec2 size, const sweep::OpenedSweep& sw, const sweep::Stabi
       const bool hovered = ImGui::IsItemHovered();
       dl->AddRectFilled(a, b,
                         sweep::outcome_color(i < 0 ? "" : sw.results[std::size_t(i)].outcome));
-      if (i < 0) continue;
+      if (i < 0) {
+        dl->AddText(ImVec2(a.x + 4, a.y + 3), IM_COL32(120, 120, 120, 255), "excluded");
+        continue;
+      }
       if (hovered || i == open_run) dl->AddRect(a, b, ink, 0, 0, hovered ? 1.5f : 2.5f);
       const std::string t = sweep::cell_text(sw.results[std::size_t(i)]);
       dl->AddText(ImVec2(a.x + 4, a.y + 3), ink, t.c_str());
@@ -139,11 +139,18 @@ long stability_map(ImVec2 size, const sweep::OpenedSweep& sw, const sweep::Stabi
     ImGui::SetCursorScreenPos(ImVec2(p.x, p.y + cell_h));
   }
   ImGui::Dummy(ImVec2(1, 4));
-  for (const char* o : {"completed", "noisy", "not_converged", "blew_up"}) {
-    ImGui::ColorButton(o, ImGui::ColorConvertU32ToFloat4(sweep::outcome_color(o)),
+  std::vector<std::string> legend = {"completed", "noisy", "not_converged", "blew_up"};
+  for (const std::string o : {"refused", "no_result", ""})  // the kinds this map has
+    for (const auto& row : m.cells)
+      for (long i : row)
+        if ((i < 0 ? "" : sw.results[std::size_t(i)].outcome) == o &&
+            std::find(legend.begin(), legend.end(), o) == legend.end())
+          legend.push_back(o);
+  for (const std::string& o : legend) {
+    ImGui::ColorButton(("##" + o).c_str(), ImGui::ColorConvertU32ToFloat4(sweep::outcome_color(o)),
                        ImGuiColorEditFlags_NoTooltip, ImVec2(12, 12));
     ImGui::SameLine();
-    ImGui::TextUnformatted(std::string(o) == "completed" ? "stable" : o);
+    ImGui::TextUnformatted(o == "completed" ? "stable" : sweep::outcome_legend(o).c_str());
     ImGui::SameLine();
   }
   ImGui::NewLine();
@@ -206,6 +213,11 @@ float draw_sweep_panel(ViewerState& st, SimWorker& worker, ImVec2 pos, ImVec2 si
     ImGui::SameLine();
     ImGui::TextColored(kError, "(%zu without a result yet)", sw.missing);
   }
+  if (const auto refused = std::count_if(sw.results.begin(), sw.results.end(),
+                                         [](const auto& r) { return r.outcome == "refused"; })) {
+    ImGui::SameLine();
+    ImGui::TextColored(kError, "(%ld refused)", long(refused));
+  }
   st.sweep_scene = std::clamp(st.sweep_scene, 0, int(sw.charts.size()) - 1);
   const sweep::SceneCharts& c = sw.charts[std::size_t(st.sweep_scene)];
   if (sw.charts.size() > 1) {
@@ -232,10 +244,11 @@ float draw_sweep_panel(ViewerState& st, SimWorker& worker, ImVec2 pos, ImVec2 si
   const float gap = ImGui::GetStyle().ItemSpacing.x;
   const int parts = 1 + (c.stability != nullptr) + !c.convergence.empty();
   const float w = (avail.x - gap * float(parts - 1)) / float(parts);
-  if (c.cost.empty())
+  const PlotsCache& plots = plots_of(st.sweep, st.sweep_scene);
+  if (plots.cost.series.empty())
     ImGui::Dummy(ImVec2(w, avail.y));  // no run with an error yet
   else
-    clicked = std::max(clicked, scatter_chart("cost", ImVec2(w, avail.y), sw, c.cost, &c.front,
+    clicked = std::max(clicked, scatter_chart("cost", ImVec2(w, avail.y), sw, plots.cost,
                                               "error against cost (" + c.scene + ")",
                                               "cost: wall seconds inside the steps", st.sweep_run));
   if (c.stability) {
@@ -245,7 +258,7 @@ float draw_sweep_panel(ViewerState& st, SimWorker& worker, ImVec2 pos, ImVec2 si
   if (!c.convergence.empty()) {
     ImGui::SameLine();
     clicked = std::max(
-        clicked, scatter_chart("convergence", ImVec2(w, avail.y), sw, c.convergence, nullptr,
+        clicked, scatter_chart("convergence", ImVec2(w, avail.y), sw, plots.convergence,
                                "convergence (" + c.scene + ")", "grid spacing dx", st.sweep_run));
   }
   ImGui::End();

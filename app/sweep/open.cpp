@@ -57,6 +57,9 @@ std::shared_ptr<const OpenedSweep> open_sweep(const std::string& dir) {
                      " has finished yet (runs/ID/result.json)");
   try {  // the sweep's own reading (results.cpp); a damaged record throws, naming its file
     out->results = collect(out->spec, out->plan, dir);
+  } catch (const OldFramesError& e) {
+    throw UsageError(where + ": " + first_line(e.what()) + "; `apiclab sweep SPEC --out " + dir +
+                     "` records those runs again");
   } catch (const std::exception& e) {
     throw UsageError(where + ": a run record is half-written or damaged: " + first_line(e.what()));
   }
@@ -118,6 +121,7 @@ std::string run_summary(const OpenedSweep& sweep, std::size_t i) {
   std::string s = config_text(sweep.spec, *r.run) + "\n" + r.outcome;
   if (r.outcome == "blew_up")
     s += " at t = " + number_text(r.rec.fail_t) + " s (" + r.rec.fail_quantity + ")";
+  if (r.outcome == "refused") s += ": " + r.rec.fail_message;
   if (r.present) {
     s += "\ncost " + number_text(r.cost()) + " s in " + std::to_string(r.rec.steps) + " steps, " +
          std::to_string(r.rec.particles) + " particles";

@@ -3,9 +3,11 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -16,6 +18,7 @@
 #include "app/frame_loop.hpp"
 #include "app/particle_export.hpp"
 #include "app/run_outputs.hpp"
+#include "sim/eol/eol_positions.hpp"
 #include "sim/run_summary.hpp"
 
 namespace apiclab::sweep {
@@ -23,26 +26,30 @@ namespace {
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
-constexpr char kMagic[4] = {'A', 'S', 'F', '1'};
+// ASF1: positions as 32-bit floats (older records); ASF2: at the run's precision.
+constexpr char kMagic[4] = {'A', 'S', 'F', '2'};
+constexpr char kFloatMagic[4] = {'A', 'S', 'F', '1'};
 
 double json_number(const json& j, const char* key) {
   if (!j.contains(key) || j[key].is_null()) return std::numeric_limits<double>::quiet_NaN();
   return j[key].get<double>();
 }
 
-// frames.bin: magic, dim, count, object[count], then per frame t, kinetic, elastic and
-// positions[count·dim] (float, as the snapshot holds them).
+// frames.bin: magic, dim, scalar bytes (4: float run, 8: double run), count, object[count], then
+// per frame t, kinetic, elastic and positions[count·dim] at the run's precision.
 class FrameWriter {
  public:
-  explicit FrameWriter(const std::string& path) : out_(path, std::ios::binary) {
+  FrameWriter(const std::string& path, Precision precision)
+      : out_(path, std::ios::binary), bytes_(precision == Precision::single ? 4 : 8) {
     if (!out_) throw std::runtime_error("cannot write " + path);
   }
-  void add(const Snapshot& s, const DiagnosticsRow& row) {
+  void add(const Snapshot& s, const std::vector<double>& positions, const DiagnosticsRow& row) {
     if (!header_written_) {
       const std::int32_t dim = s.dim;
       const std::uint64_t n = s.count();
       out_.write(kMagic, 4);
       out_.write(reinterpret_cast<const char*>(&dim), sizeof dim);
+      out_.write(reinterpret_cast<const char*>(&bytes_), sizeof bytes_);
       out_.write(reinterpret_cast<const char*>(&n), sizeof n);
       out_.write(reinterpret_cast<const char*>(s.object.data()),
                  std::streamsize(s.object.size() * sizeof(std::int32_t)));
@@ -50,14 +57,32 @@ class FrameWriter {
     }
     const double head[3] = {s.time, row.kinetic, row.elastic};
     out_.write(reinterpret_cast<const char*>(head), sizeof head);
-    out_.write(reinterpret_cast<const char*>(s.positions.data()),
-               std::streamsize(s.positions.size() * sizeof(float)));
+    if (bytes_ == 8) {
+      out_.write(reinterpret_cast<const char*>(positions.data()),
+                 std::streamsize(positions.size() * sizeof(double)));
+    } else {
+      const std::vector<float> x(positions.begin(), positions.end());
+      out_.write(reinterpret_cast<const char*>(x.data()),
+                 std::streamsize(x.size() * sizeof(float)));
+    }
   }
 
  private:
   std::ofstream out_;
+  std::int32_t bytes_;
   bool header_written_ = false;
 };
+
+// The frame's points at the run's precision, by particle id: an MPM run's particle table (its
+// scalar widened), an EoL run's nodes; another family's as its snapshot holds them.
+std::vector<double> positions_of(const Simulation& sim, const Snapshot& snap) {
+  if (const TransferControls* t = sim.transfers()) {
+    const ParticleTable table = t->particle_table();
+    if (const ParticleColumn* x = table.find("position")) return x->values;
+  }
+  if (auto x = eol_node_positions(sim)) return *x;
+  return {snap.positions.begin(), snap.positions.end()};
+}
 
 double rms(const std::vector<float>& v, int components) {
   if (v.empty()) return 0;
@@ -91,9 +116,8 @@ int record_run(const cli::RunOptions& o, const std::string& dir) {
   if (ec) throw cli::UsageError("--record: cannot create '" + tmp.string() + "'");
   std::ofstream csv(tmp / "diagnostics.csv");
   csv << diagnostics_header() << '\n';
-  FrameWriter frames((tmp / "frames.bin").string());
-
   auto sim = make_simulation(scene, precision);
+  FrameWriter frames((tmp / "frames.bin").string(), sim->precision());
   // --dump NAME with --record: the dumps go inside the record (so they appear with it, whole).
   std::unique_ptr<ParticleDump> dump;
   if (!o.dump.empty()) {
@@ -131,7 +155,7 @@ int record_run(const cli::RunOptions& o, const std::string& dir) {
   run_frame_loop(FrameTimes(scene), panes, on_row, [&](int f) {
     if (sim->failure()) return false;
     auto snap = sim->snapshot();
-    frames.add(*snap, rows.back());
+    frames.add(*snap, positions_of(*sim, *snap), rows.back());
     if (dump) {
       dump->write(*sim, f);
       dump_frames.add(f, sim->time(), {sim->steps()});
@@ -205,6 +229,20 @@ bool record_complete(const std::string& dir) {
   return fs::is_regular_file(fs::path(dir) / "result.json");
 }
 
+void write_refusal(const std::string& dir, int exit_status, const std::string& cause) {
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  std::ofstream(fs::path(dir) / "refused.txt")
+      << "exit " << exit_status << (cause.empty() ? "" : ": " + cause) << '\n';
+}
+
+std::string read_refusal(const std::string& dir) {
+  std::ifstream in(fs::path(dir) / "refused.txt");
+  std::string line;
+  std::getline(in, line);
+  return line;
+}
+
 RunRecord read_record(const std::string& dir) {
   const fs::path path = fs::path(dir) / "result.json";
   std::ifstream in(path);
@@ -245,28 +283,47 @@ metrics::RunFrames read_frames(const std::string& dir) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(path.string() + ": cannot open");
   char magic[4];
-  std::int32_t dim = 0;
+  std::int32_t dim = 0, bytes = 0;
   std::uint64_t n = 0;
-  in.read(magic, 4);
-  in.read(reinterpret_cast<char*>(&dim), sizeof dim);
-  in.read(reinterpret_cast<char*>(&n), sizeof n);
   metrics::RunFrames run;
-  if (!in) return run;  // no frame at all (failed before frame 0)
-  if (std::string(magic, 4) != std::string(kMagic, 4) || (dim != 2 && dim != 3))
+  if (!in.read(magic, 4)) return run;  // no frame at all (failed before frame 0)
+  if (std::string(magic, 4) == std::string(kFloatMagic, 4))
+    throw OldFramesError(path.string() +
+                         ": recorded by an older apiclab with positions as 32-bit floats, which "
+                         "would put a floor of about 1e-7 under its errors");
+  if (std::string(magic, 4) != std::string(kMagic, 4))
+    throw std::runtime_error(path.string() + ": not a frames file");
+  in.read(reinterpret_cast<char*>(&dim), sizeof dim);
+  in.read(reinterpret_cast<char*>(&bytes), sizeof bytes);
+  in.read(reinterpret_cast<char*>(&n), sizeof n);
+  if (!in || (dim != 2 && dim != 3) || (bytes != 4 && bytes != 8))
     throw std::runtime_error(path.string() + ": not a frames file");
   run.dim = dim;
   run.object.resize(n);
   in.read(reinterpret_cast<char*>(run.object.data()), std::streamsize(n * sizeof(std::int32_t)));
-  std::vector<float> x(n * std::uint64_t(dim));
+  const std::size_t values = n * std::uint64_t(dim);
+  std::vector<char> raw(values * std::size_t(bytes));
   for (;;) {
     double head[3];
     if (!in.read(reinterpret_cast<char*>(head), sizeof head)) break;
-    if (!in.read(reinterpret_cast<char*>(x.data()), std::streamsize(x.size() * sizeof(float))))
+    if (!in.read(raw.data(), std::streamsize(raw.size())))
       throw std::runtime_error(path.string() + ": truncated frame");
-    metrics::Frame f{head[0], head[1], head[2], std::vector<double>(x.begin(), x.end())};
+    metrics::Frame f{head[0], head[1], head[2], std::vector<double>(values)};
+    if (bytes == 8) {
+      std::memcpy(f.positions.data(), raw.data(), raw.size());
+    } else {
+      const auto* x = reinterpret_cast<const float*>(raw.data());
+      std::copy(x, x + values, f.positions.begin());
+    }
     run.frames.push_back(std::move(f));
   }
   return run;
+}
+
+bool frames_current(const std::string& dir) {
+  std::ifstream in(fs::path(dir) / "frames.bin", std::ios::binary);
+  char magic[4];
+  return !in.read(magic, 4) || std::string(magic, 4) != std::string(kFloatMagic, 4);
 }
 
 }  // namespace apiclab::sweep

@@ -4,6 +4,7 @@
 // written under DIR.tmp-PID and renamed to DIR at the end, so a reader never sees a half-written
 // run and a killed run leaves no DIR.
 #pragma once
+#include <stdexcept>
 #include <string>
 
 #include "app/cli.hpp"
@@ -34,9 +35,23 @@ int record_run(const cli::RunOptions& o, const std::string& dir);
 
 // Whether DIR holds a complete record.
 bool record_complete(const std::string& dir);
+// A run whose process ended without a record (a configuration `run` refuses, exit 2; or a
+// crash): DIR/refused.txt holds its exit status and the last line of its log. A later record
+// of the run replaces DIR whole.
+void write_refusal(const std::string& dir, int exit_status, const std::string& cause);
+// The refusal's text, "exit 2: apiclab: ...", or "" when DIR holds none.
+std::string read_refusal(const std::string& dir);
 // Reads DIR/result.json; throws std::runtime_error naming the file.
 RunRecord read_record(const std::string& dir);
-// Reads DIR/frames.bin; throws std::runtime_error naming the file.
+// A frames.bin of the older format, positions as 32-bit floats whatever the run's precision:
+// read, its distances would mix precisions, so it is refused (the runner records it again).
+struct OldFramesError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+// Reads DIR/frames.bin (positions at the run's precision, widened to double); throws
+// OldFramesError for the older float format and std::runtime_error naming the file otherwise.
 metrics::RunFrames read_frames(const std::string& dir);
+// Whether DIR/frames.bin is not of the older float format (true when there is none).
+bool frames_current(const std::string& dir);
 
 }  // namespace apiclab::sweep

@@ -53,7 +53,8 @@ std::vector<RunResult> collect(const Spec& spec, const Plan& plan, const std::st
     const double nan = kNaN;
     r.ref = {nan, nan, nan, nan, nan};
     if (!record_complete(dir)) {
-      r.outcome = "no_result";
+      r.rec.fail_message = read_refusal(dir);
+      r.outcome = r.rec.fail_message.empty() ? "no_result" : "refused";
       continue;
     }
     r.present = true;

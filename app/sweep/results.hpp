@@ -15,7 +15,9 @@ struct RunResult {
   const PlannedRun* run = nullptr;
   bool present = false;  // a complete record exists
   RunRecord rec;
-  std::string outcome;  // completed | noisy | not_converged | blew_up | no_result
+  // completed | noisy | not_converged | blew_up | refused (its process left no record, its
+  // cause in rec.fail_message) | no_result (not run yet)
+  std::string outcome;
   metrics::ReferenceDistance ref;
   double rigid = std::numeric_limits<double>::quiet_NaN();  // distance to the known answer
   // By name (spec.hpp's error_names()): the reference distances and the conservation errors.
@@ -24,7 +26,8 @@ struct RunResult {
   double cost() const { return rec.step_wall_s; }  // seconds inside the steps
 };
 
-// Reads every run's record under out_dir/runs (missing ones give outcome no_result).
+// Reads every run's record under out_dir/runs (missing ones give outcome no_result, refused ones
+// refused). Throws OldFramesError (record.hpp) for a record of the older float frames format.
 std::vector<RunResult> collect(const Spec& spec, const Plan& plan, const std::string& out_dir);
 
 // out_dir/runs.csv; returns its path.

@@ -36,6 +36,15 @@ pid_t spawn(const std::vector<std::string>& args, const std::string& log) {
   return pid;
 }
 
+// The last non-empty line of a run's log: its refusal, "apiclab: CAUSE".
+std::string last_line_of(const std::string& path) {
+  std::ifstream in(path);
+  std::string line, last;
+  while (std::getline(in, line))
+    if (!line.empty() && line.find_first_not_of(" \r\t") != std::string::npos) last = line;
+  return last;
+}
+
 }  // namespace
 
 std::string self_executable() {
@@ -54,10 +63,14 @@ RunnerReport run_plan(const Plan& plan, const std::string& out_dir, int jobs, bo
     if (entry.path().filename().string().find(".tmp-") != std::string::npos)
       fs::remove_all(entry.path());
   std::vector<const PlannedRun*> todo;
+  std::size_t old_frames = 0;
   for (const PlannedRun& r : plan.runs) {
-    const bool dumped =
-        plan.dump_formats.empty() || fs::is_directory(run_dir(out_dir, r) + "/dump");
-    if (record_complete(run_dir(out_dir, r)) && dumped)
+    const std::string dir = run_dir(out_dir, r);
+    const bool dumped = plan.dump_formats.empty() || fs::is_directory(dir + "/dump");
+    const bool complete = record_complete(dir);
+    const bool current = !complete || frames_current(dir);  // no float frames beside double ones
+    old_frames += !current;
+    if (complete && dumped && current)
       ++report.skipped;
     else
       todo.push_back(&r);
@@ -65,6 +78,11 @@ RunnerReport run_plan(const Plan& plan, const std::string& out_dir, int jobs, bo
   if (!quiet && report.skipped)
     std::fprintf(stderr, "apiclab: sweep: %zu of %zu runs already complete in %s, skipped\n",
                  report.skipped, plan.runs.size(), out_dir.c_str());
+  if (!quiet && old_frames)
+    std::fprintf(stderr,
+                 "apiclab: sweep: %zu runs recorded by an older apiclab (positions as 32-bit "
+                 "floats) run again\n",
+                 old_frames);
   const std::string exe = self_executable();
   std::map<pid_t, const PlannedRun*> running;
   std::size_t next = 0, done = 0;
@@ -86,10 +104,11 @@ RunnerReport run_plan(const Plan& plan, const std::string& out_dir, int jobs, bo
     ++report.ran;
     if (!record_complete(run_dir(out_dir, *r))) {
       ++report.failed_to_record;
-      std::fprintf(stderr, "\napiclab: sweep: run %s (%s) left no record (exit %d); see %s\n",
-                   r->id.c_str(), r->label().c_str(),
-                   WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status),
-                   (logs / (r->id + ".log")).c_str());
+      const int code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+      const std::string log = (logs / (r->id + ".log")).string();
+      write_refusal(run_dir(out_dir, *r), code, last_line_of(log));
+      std::fprintf(stderr, "%sapiclab: sweep: run %s (%s) refused, no record (exit %d); see %s\n",
+                   quiet ? "" : "\n", r->id.c_str(), r->label().c_str(), code, log.c_str());
     }
     if (!quiet) {
       const double elapsed = now_seconds() - start;

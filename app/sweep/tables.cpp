@@ -43,6 +43,9 @@ std::string cell_text(const RunResult& r) {
     std::snprintf(buf, sizeof buf, "noisy %.2g", r.rec.noise);
   } else if (r.outcome == "completed") {
     std::snprintf(buf, sizeof buf, "dE %.3g%%", 100 * r.rec.conservation.final_energy);
+  } else if (r.outcome == "refused") {  // fail_message: "exit N: CAUSE"
+    std::snprintf(buf, sizeof buf, "refused, %s",
+                  r.rec.fail_message.substr(0, r.rec.fail_message.find(':')).c_str());
   } else {
     std::snprintf(buf, sizeof buf, "no result");
   }
@@ -124,7 +127,8 @@ std::vector<Series> cost_series(const Spec& spec, const std::vector<RunResult>& 
   for (std::size_t i = 0; i < results.size(); ++i) {
     const RunResult& r = results[i];
     if (r.run->value_text("scene") != scene) continue;
-    if (is_reference(results, i) || !(r.outcome == "completed" || r.outcome == "noisy")) continue;
+    if (is_reference(results, i)) continue;
+    if (r.outcome != "completed" && r.outcome != "noisy" && r.outcome != "not_converged") continue;
     const double e = r.error(error);
     if (!(e > 0) || !(r.cost() > 0)) continue;
     std::string label = r.run->value_text(spec.series);
@@ -142,27 +146,100 @@ std::vector<Series> cost_series(const Spec& spec, const std::vector<RunResult>& 
   return out;
 }
 
+std::vector<std::string> distinguishing_axes(const Spec& spec,
+                                             const std::vector<std::string>& without) {
+  std::vector<std::string> keys;
+  for (const AxisGroup& g : spec.groups) {
+    std::vector<const Axis*> kept;
+    for (const Axis& a : g.axes) {
+      if (spec.follows_scene(a.key) ||
+          std::find(without.begin(), without.end(), a.key) != without.end())
+        continue;
+      // Kept when it varies and the kept partners do not already fix its value.
+      std::map<std::string, std::string> seen;
+      bool varies = false, determined = true;
+      for (std::size_t i = 0; i < g.size(); ++i) {
+        std::string k;
+        for (const Axis* b : kept) k += b->values[i].text + '\x1f';
+        const auto [it, fresh] = seen.emplace(k, a.values[i].text);
+        determined = determined && (fresh || it->second == a.values[i].text);
+        varies = varies || a.values[i].text != a.values.front().text;
+      }
+      if (varies && !determined) kept.push_back(&a), keys.push_back(a.key);
+    }
+  }
+  return keys;
+}
+
+std::string axes_text(const PlannedRun& run, const std::vector<std::string>& keys) {
+  std::string s;
+  for (const std::string& k : keys) {
+    const Value* v = run.value(k);
+    if (!v) continue;
+    s += (s.empty() ? "" : " ") + (v->is_number ? short_key(k) + "=" + v->text : v->text);
+  }
+  return s;
+}
+
+std::size_t Marking::shape(const PlannedRun& run) const {
+  std::string t;
+  for (const std::string& k : shape_keys)
+    t += (t.empty() ? "" : ", ") + short_key(k) + "=" + run.value_text(k);
+  const auto it = std::find(shapes.begin(), shapes.end(), t);
+  return it == shapes.end() ? 0 : std::size_t(it - shapes.begin());
+}
+
+std::string Marking::label(const PlannedRun& run) const {
+  std::string t;
+  for (const std::string& k : label_keys) t += (t.empty() ? "" : "/") + run.value_text(k);
+  return t;
+}
+
+Marking marking(const Spec& spec, const std::vector<RunResult>& results, const std::string& scene,
+                const std::vector<std::string>& without, std::size_t max_shapes) {
+  std::vector<std::string> keys = distinguishing_axes(spec, without);
+  auto distinct = [&](const std::string& k) {
+    std::vector<std::string> seen;
+    for (const RunResult& r : results)
+      if (r.run->value_text("scene") == scene &&
+          std::find(seen.begin(), seen.end(), r.run->value_text(k)) == seen.end())
+        seen.push_back(r.run->value_text(k));
+    return seen.size();
+  };
+  std::stable_sort(keys.begin(), keys.end(),
+                   [&](const auto& a, const auto& b) { return distinct(a) < distinct(b); });
+  Marking m;
+  std::size_t combos = 1;
+  for (const std::string& k : keys) {
+    const std::size_t n = distinct(k);
+    if (n > 1 && combos * n <= max_shapes && m.label_keys.empty())
+      combos *= n, m.shape_keys.push_back(k);
+    else if (n > 1)
+      m.label_keys.push_back(k);
+  }
+  for (const RunResult& r : results) {
+    if (r.run->value_text("scene") != scene) continue;
+    std::string t;
+    for (const std::string& k : m.shape_keys)
+      t += (t.empty() ? "" : ", ") + short_key(k) + "=" + r.run->value_text(k);
+    if (std::find(m.shapes.begin(), m.shapes.end(), t) == m.shapes.end()) m.shapes.push_back(t);
+  }
+  if (m.shapes.empty()) m.shapes.push_back("");
+  return m;
+}
+
 std::vector<Series> convergence_series(const Spec& spec, const std::vector<RunResult>& results,
                                        const std::string& error, const std::string& scene) {
   std::vector<Series> out;
   const Axis* res = spec.axis("resolution");
   if (!res || res->values.size() < 2 || spec.follows_scene("resolution")) return out;
-  // The label: the values of the other varying axes, one per zipped group (its partners say
-  // nothing more).
-  std::vector<std::string> keys;
-  for (const AxisGroup& g : spec.groups)
-    for (const Axis& a : g.axes)
-      if (a.values.size() > 1 && a.key != "resolution" && !spec.follows_scene(a.key)) {
-        keys.push_back(a.key);
-        break;
-      }
+  const std::vector<std::string> keys = distinguishing_axes(spec, {"resolution"});
   for (std::size_t i = 0; i < results.size(); ++i) {
     const RunResult& r = results[i];
     if (r.run->value_text("scene") != scene) continue;
-    if (is_reference(results, i) || r.outcome == "blew_up" || r.outcome == "no_result") continue;
-    if (!(r.error(error) > 0)) continue;
-    std::string label;
-    for (const std::string& k : keys) label += (label.empty() ? "" : " ") + r.run->value_text(k);
+    if (is_reference(results, i) || !(r.error(error) > 0)) continue;
+    if (r.outcome != "completed" && r.outcome != "noisy" && r.outcome != "not_converged") continue;
+    std::string label = axes_text(*r.run, keys);
     if (label.empty()) label = "all";
     series_named(out, label).runs.push_back(i);
   }

@@ -28,8 +28,8 @@ struct Series {
   std::vector<std::size_t> runs;
   double slope = 0;  // log-log least-squares slope (convergence)
 };
-// Error against cost (seconds in the steps) per value of spec.series for one scene; reference
-// runs left out.
+// Error against cost (seconds in the steps) per value of spec.series for one scene: the runs
+// with an error (completed, noisy, not converged); reference runs left out.
 std::vector<Series> cost_series(const Spec& spec, const std::vector<RunResult>& results,
                                 const std::string& error, const std::string& scene);
 // The scenes of the sweep, in spec order.
@@ -37,8 +37,30 @@ std::vector<std::string> scenes(const Spec& spec);
 // "scheme=apic, kernel=quadratic, resolution=2": the varying axes that do not follow the scene,
 // with their keys' last part.
 std::string config_text(const Spec& spec, const PlannedRun& run);
-// Error against dx per method (every axis but resolution and scene), with the fitted slope;
-// needs a resolution axis with two values or more.
+// The axes that tell a chart's points apart beyond `without` (the series axis, the x axis): the
+// varying axes that do not follow the scene, of a zipped group only the first and the partners
+// that tell its entries apart (integrator and dt_factor zipped: both, as midpoint runs at several
+// dt_factors).
+std::vector<std::string> distinguishing_axes(const Spec& spec,
+                                             const std::vector<std::string>& without);
+// "apic quadratic dt_factor=4": choice values as they are, numbers with their key's last part.
+std::string axes_text(const PlannedRun& run, const std::vector<std::string>& keys);
+
+// How a chart marks each point's configuration: a shape per combination of shape_keys (at most
+// max_shapes of them), and the values of label_keys as a text beside the point. The axes with the
+// fewest values take the shapes; the rest become the text.
+struct Marking {
+  std::vector<std::string> shape_keys, label_keys;
+  std::vector<std::string> shapes;                 // per shape: "kernel=cubic, integrator=midpoint"
+  std::size_t shape(const PlannedRun& run) const;  // index into shapes (0 when none)
+  std::string label(const PlannedRun& run) const;  // "2" or "2/0.5"; "" without label keys
+};
+Marking marking(const Spec& spec, const std::vector<RunResult>& results, const std::string& scene,
+                const std::vector<std::string>& without, std::size_t max_shapes);
+
+// Error against dx per configuration (every distinguishing axis but resolution: the method and
+// its Δt factor or rule, so no line crosses Δt factors), with the fitted slope; needs a
+// resolution axis with two values or more.
 std::vector<Series> convergence_series(const Spec& spec, const std::vector<RunResult>& results,
                                        const std::string& error, const std::string& scene);
 

@@ -2,6 +2,7 @@
 // frame and a grid per object) and `eulerian` (the baseline: the frame locked to the world, one
 // grid over the domain), with the validation of their keys in the scene's `solver` section.
 #include "sim/choice_parameters.hpp"
+#include "sim/eol/eol_positions.hpp"
 #include "sim/eol/eol_simulation.hpp"
 #include "sim/memory_estimate.hpp"
 #include "sim/method_registry.hpp"
@@ -37,7 +38,25 @@ void validate_eol(SceneSection& r, SceneDesc& s) {
   e.grid_extent = r.number("grid_extent", e.grid_extent);
 }
 
+template <int D>
+std::vector<double> node_positions(const eol::EolSimulation<double, D>& sim) {
+  std::vector<double> x;
+  for (const auto& o : sim.objects())
+    for (std::size_t i = 0; i < o.grid.size(); ++i)
+      if (o.grid.fill[i] >= 0.5)  // the snapshot's nodes (sim/eol/eol_snapshot.hpp)
+        for (int a = 0; a < D; ++a) x.push_back(o.x[i][a]);
+  return x;
+}
+
 }  // namespace
+
+std::optional<std::vector<double>> eol_node_positions(const Simulation& sim) {
+  if (const auto* s = dynamic_cast<const eol::EolSimulation<double, 2>*>(&sim))
+    return node_positions(*s);
+  if (const auto* s = dynamic_cast<const eol::EolSimulation<double, 3>*>(&sim))
+    return node_positions(*s);
+  return std::nullopt;
+}
 
 SolverMethod eol_method() {
   return {"eol",
