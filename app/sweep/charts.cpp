@@ -9,10 +9,12 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <sstream>
 
 #include "app/figures/chart_canvas.hpp"
 #include "app/figures/chart_style.hpp"
 #include "app/gui/plot.hpp"
+#include "app/output_file.hpp"
 #include "app/sweep/tables.hpp"
 #include "render/image.hpp"
 #include "render/palette.hpp"
@@ -78,6 +80,15 @@ std::string error_label(const std::string& error) {
 
 namespace {
 
+// A PNG whole or absent; a failed write is the command's "cannot write FILE: REASON".
+void write_chart_png(const render::Image& image, const std::string& path) {
+  try {
+    render::write_png(image, path);
+  } catch (const std::runtime_error& e) {
+    throw WriteError(e.what());
+  }
+}
+
 // A 900×520 log-log chart under a heading, written to DIR/BASE.png; returns "BASE.png".
 std::string write_log_log_chart(ChartCanvas& canvas, const std::string& heading, gui::PlotOptions o,
                                 const std::vector<gui::PlotSeries>& plots, const std::string& dir,
@@ -92,7 +103,7 @@ std::string write_log_log_chart(ChartCanvas& canvas, const std::string& heading,
     ImGui::SetCursorScreenPos(ImVec2(10, top));
     gui::plot(base.c_str(), ImVec2(W - 20, H - top - 6), o, plots);
   });
-  render::write_png(image, (fs::path(dir) / (base + ".png")).string());
+  write_chart_png(image, (fs::path(dir) / (base + ".png")).string());
   return base + ".png";
 }
 
@@ -117,13 +128,14 @@ std::string error_vs_cost(ChartCanvas& canvas, const Spec& spec,
     fy.push_back(results[i].error(error));
   }
   {
-    std::ofstream csv(fs::path(dir) / (base + ".csv"));
+    std::ostringstream csv;
     csv << "id,series,cost_s," << error << "_error,outcome,pareto\n";
     for (const Series& s : series)
       for (std::size_t i : s.runs)
         csv << results[i].run->id << ',' << s.label << ',' << number_text(results[i].cost(), 6)
             << ',' << number_text(results[i].error(error), 6) << ',' << results[i].outcome << ','
             << (std::find(front.begin(), front.end(), i) != front.end() ? 1 : 0) << '\n';
+    write_file_whole((fs::path(dir) / (base + ".csv")).string(), csv.str());
   }
   std::vector<gui::PlotSeries> plots;
   for (std::size_t k = 0; k < series.size(); ++k) {
@@ -166,7 +178,7 @@ std::string stability(ChartCanvas& canvas, const Spec& spec, const std::vector<R
                       const StabilityMap& m, const std::string& dir) {
   const std::string base = "stability_" + file_part(m.scene);
   {
-    std::ofstream csv(fs::path(dir) / (base + ".csv"));
+    std::ostringstream csv;
     csv << "row";
     for (const std::string& c : m.column_labels) csv << ',' << m.column_key << '=' << c;
     csv << '\n';
@@ -178,6 +190,7 @@ std::string stability(ChartCanvas& canvas, const Spec& spec, const std::vector<R
                       : results[std::size_t(i)].outcome + " " + cell_text(results[std::size_t(i)]));
       csv << '\n';
     }
+    write_file_whole((fs::path(dir) / (base + ".csv")).string(), csv.str());
   }
   const float label_w = 230, cell_w = 124, cell_h = 30, legend_h = 34;
   const int W = int(label_w + cell_w * float(m.column_labels.size()) + 20);
@@ -215,7 +228,7 @@ std::string stability(ChartCanvas& canvas, const Spec& spec, const std::vector<R
       lx += 30 + ImGui::CalcTextSize(t.c_str()).x;
     }
   });
-  render::write_png(image, (fs::path(dir) / (base + ".png")).string());
+  write_chart_png(image, (fs::path(dir) / (base + ".png")).string());
   return base + ".png";
 }
 
@@ -227,12 +240,13 @@ std::string convergence(ChartCanvas& canvas, const Spec& spec,
   if (series.empty()) return "";
   const std::string base = "convergence_" + file_part(scene);
   {
-    std::ofstream csv(fs::path(dir) / (base + ".csv"));
+    std::ostringstream csv;
     csv << "id,series,dx," << error << "_error,slope\n";
     for (const Series& s : series)
       for (std::size_t k = 0; k < s.runs.size(); ++k)
         csv << results[s.runs[k]].run->id << ',' << s.label << ',' << number_text(s.x[k], 6) << ','
             << number_text(s.y[k], 6) << ',' << number_text(s.slope, 4) << '\n';
+    write_file_whole((fs::path(dir) / (base + ".csv")).string(), csv.str());
   }
   std::vector<gui::PlotSeries> plots;
   for (std::size_t k = 0; k < series.size(); ++k) {
