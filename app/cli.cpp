@@ -81,6 +81,9 @@ void add_run_options(CLI::App* cmd, RunOptions& o, RunOptionSet which) {
                     "series.pvd for ParaView, zlib-compressed; vtk-raw uncompressed), ply (binary, "
                     "Houdini/Blender), obj (vertices) "
                     "[default: csv]");
+    cmd->add_flag("--overwrite", o.overwrite,
+                  "replace outputs that another run or no apiclab run wrote (without it they are "
+                  "refused; a run's own earlier outputs are always replaced) [default: off]");
   }
   cmd->add_option(
          "--set", o.sets,
@@ -208,10 +211,10 @@ void ensure_writable_dir(const std::string& dir) {
 void ensure_writable_file(const std::string& file) {
   namespace fs = std::filesystem;
   fs::path p(file);
-  if (p.has_parent_path()) ensure_writable_dir(p.parent_path().string());
+  ensure_writable_dir(p.has_parent_path() ? p.parent_path().string() : ".");
   if (fs::is_directory(p)) throw UsageError("output file '" + file + "' is a directory");
-  std::ofstream f(file, std::ios::app);
-  if (!f) throw UsageError("cannot write output file '" + file + "'");
+  if (fs::exists(p) && !std::ofstream(file, std::ios::app))
+    throw UsageError("cannot write output file '" + file + "'");
 }
 
 std::string format_duration(double seconds) {

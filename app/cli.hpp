@@ -31,6 +31,7 @@ struct RunOptions {
   std::vector<std::string> sets;
   int threads = 0;  // 0: OpenMP default
   bool quiet = false;
+  bool overwrite = false;  // --overwrite: replace outputs that are not this run's
   std::string max_memory;  // BYTES|auto|none; empty: auto
 };
 
@@ -60,7 +61,8 @@ void apply_threads(int threads);
 
 // Creates `dir` (and parents) and checks that a file can be written there; throws UsageError.
 void ensure_writable_dir(const std::string& dir);
-// Checks that `file` can be created (its directory is created); throws UsageError.
+// Checks that `file` can be written: its directory is created and writable, an existing file
+// opens for writing; a new file is not created (an output is whole or absent). UsageError.
 void ensure_writable_file(const std::string& file);
 
 // A duration as a person reads it: "12.3s", "4m05s", "3h20m", "2.5 days", "3.1e+143 years"

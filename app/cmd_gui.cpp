@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "app/cli_checks.hpp"
+#include "app/output_owner.hpp"
 #include "app/pane_spec.hpp"
 #include "app/sweep/open.hpp"
 #include "cli.hpp"
@@ -37,6 +38,16 @@ void parse_window_size(const std::string& text, int& width, int& height) {
   width = w, height = h;
 }
 
+// --screenshot FILE: not an input, and an existing FILE replaced only when it is a PNG (or with
+// --overwrite); the PNG itself is written whole (render/image.hpp).
+void claim_screenshot(const std::string& file, bool overwrite, const SceneDesc* scene) {
+  OutputClaims claims(nullptr, overwrite);
+  if (scene) claims.scene_inputs(*scene);
+  claims.plain("--screenshot", file, "\x89PNG\r\n\x1a\n");
+  claims.check_and_clear();
+  ensure_writable_file(file);
+}
+
 }  // namespace
 
 void register_gui(CLI::App& root, CommandTable& table) {
@@ -48,6 +59,7 @@ void register_gui(CLI::App& root, CommandTable& table) {
   auto frames = std::make_shared<std::optional<int>>();
   auto sweep_dir = std::make_shared<std::string>();
   auto sweep_run = std::make_shared<std::string>();
+  auto overwrite = std::make_shared<bool>(false);
   CLI::App* cmd = root.add_subcommand(
       "gui", "Interactive viewer: live scheme switching, vectors, plots, side-by-side panes");
   // The common options of run (scene, scheme, kernel, integrator, dt, t-end, flip-alpha, ...).
@@ -64,6 +76,8 @@ void register_gui(CLI::App& root, CommandTable& table) {
   cmd->add_option("--size", *size, "Window size WxH [default: 1600x900]");
   cmd->add_option("--screenshot", o->screenshot,
                   "Save the window as PNG after --frames frames and exit [default: none]");
+  cmd->add_flag("--overwrite", *overwrite,
+                "with --screenshot: replace FILE even when it is not a PNG [default: off]");
   cmd->add_option("--frames", *frames,
                   "Frames before the screenshot (each one simulated frame); alone: run live N "
                   "frames, print fps, exit [allowed: 1 or more; default: 60 with --screenshot, "
@@ -79,7 +93,7 @@ void register_gui(CLI::App& root, CommandTable& table) {
                   "Rewrite FILE after every frame with 'FRAME SECONDS' (a watchdog's liveness "
                   "check, tests/gui_soak.sh) [default: none]");
   table.push_back(
-      {cmd, [o, run, schemes, size, fast, frames, sweep_dir, sweep_run] {
+      {cmd, [o, run, schemes, size, fast, frames, sweep_dir, sweep_run, overwrite] {
          o->realtime = !*fast;
          o->schemes = split_commas(*schemes);
          if (o->schemes.size() > 4) throw UsageError("--schemes: at most 4 panes");
@@ -103,7 +117,6 @@ void register_gui(CLI::App& root, CommandTable& table) {
            throw UsageError(e.what());
          }
          if (!size->empty()) parse_window_size(*size, o->width, o->height);
-         if (!o->screenshot.empty()) ensure_writable_file(o->screenshot);
          if (!o->heartbeat.empty()) try {
              ensure_writable_file(o->heartbeat);
            } catch (const UsageError& e) {
@@ -118,6 +131,7 @@ void register_gui(CLI::App& root, CommandTable& table) {
              throw UsageError(
                  "--sweep DIR runs its own configurations; give no SCENE, --schemes, --set or "
                  "solver options");
+           if (!o->screenshot.empty()) claim_screenshot(o->screenshot, *overwrite, nullptr);
            o->sweep = sweep::open_sweep(*sweep_dir);  // a bad folder: one line, exit 2
            if (!sweep_run->empty()) o->sweep_run = long(sweep::run_with_id(*o->sweep, *sweep_run));
            const std::size_t first = o->sweep_run >= 0 ? std::size_t(o->sweep_run)
@@ -132,6 +146,7 @@ void register_gui(CLI::App& root, CommandTable& table) {
          RunOptions check = *run;
          check.scene = o->scene;
          SceneDesc scene = load_scene_with_options(check);
+         if (!o->screenshot.empty()) claim_screenshot(o->screenshot, *overwrite, &scene);
          if (panes.empty()) panes.push_back({"", scene.solver.method, scene.solver.scheme});
          // As compare: a scheme that cannot run with this scene, up front.
          if (const std::string why = pane_conflict(panes, scene.solver); !why.empty())

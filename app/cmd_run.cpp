@@ -9,6 +9,7 @@
 #include "app/clock.hpp"
 #include "app/frame_loop.hpp"
 #include "app/output_file.hpp"
+#include "app/output_owner.hpp"
 #include "app/run_outputs.hpp"
 #include "app/stop_signal.hpp"
 #include "app/sweep/record.hpp"
@@ -28,21 +29,6 @@ struct RunCommandOptions {
 };
 
 std::string steps_text(long n) { return std::to_string(n) + (n == 1 ? " step" : " steps"); }
-
-// One diagnostics row as text, newline included: written and checked as a whole.
-std::string row_text(const DiagnosticsRow& r) {
-  std::ostringstream row;
-  write_diagnostics_row(row, r);
-  return row.str();
-}
-
-// The empty file the option check created for --summary, removed when no summary comes: the
-// summary is whole or absent.
-void remove_summary_placeholder(const std::string& path) {
-  std::error_code ec;
-  if (!path.empty() && std::filesystem::file_size(path, ec) == 0 && !ec)
-    std::filesystem::remove(path, ec);
-}
 
 // The one line of a run that SIGINT/SIGTERM stopped: where, and which files hold what.
 std::string stopped_text(int signal, const Simulation& sim, const std::string& csv,
@@ -66,7 +52,16 @@ int run(const RunCommandOptions& command) {
   // The transfer scheme names an MPM run; a method without schemes (eol, eulerian) names itself.
   const std::string scheme =
       scene.solver.method == "mpm" ? std::string(key_of(scene.solver.scheme)) : scene.solver.method;
-  std::string csv = o.csv.empty() ? "apiclab-out/" + scene.name + "-" + scheme + ".csv" : o.csv;
+  // The scene's name as a file name: a name from a scene file never leaves apiclab-out/.
+  const std::string csv =
+      o.csv.empty() ? "apiclab-out/" + safe_file_name(scene.name) + "-" + scheme + ".csv" : o.csv;
+  const nlohmann::json settings = run_settings(scene, precision_of(o), o.sets);
+  OutputClaims claims(settings, o.overwrite);  // before any output: whose files these are
+  claims.scene_inputs(scene);
+  claims.csv(o.csv.empty() ? "the default CSV" : "--csv", csv);
+  if (!command.summary.empty()) claims.summary("--summary", command.summary);
+  if (!o.dump.empty()) claims.frames("--dump", o.dump);
+  claims.check_and_clear();
   ensure_writable_file(csv);
   if (!command.summary.empty()) ensure_writable_file(command.summary);
   auto sim = make_simulation(scene, precision_of(o));
@@ -77,14 +72,13 @@ int run(const RunCommandOptions& command) {
   ParticleDump dump(o.dump, formats);
   RowFile out(csv);
   out.write_row(std::string(diagnostics_header()) + '\n');
-  const nlohmann::json settings = run_settings(scene, precision_of(o), o.sets);
   write_csv_sidecar(csv, settings);
   if (const std::string note = time_step_note(scene); !note.empty() && !o.quiet)
     std::fprintf(stderr, "apiclab: %s\n", note.c_str());
 
   DiagnosticsRow first = sim->measure();
   first.dt = 0;
-  out.write_row(row_text(first));
+  out.write_row(diagnostics_row_text(first));
   RunSummary summary(first, sim->total_mass(), DriftRule::domain_extent(scene));
   std::string label = scene.name + " [" + run_label(scene) + ", " + integrator_label(scene.solver) +
                       ", " + sim->model_size() + "]";
@@ -106,7 +100,7 @@ int run(const RunCommandOptions& command) {
   long unconverged = 0;
   Lockstep panes({sim.get()});
   const auto on_row = [&](std::size_t, const DiagnosticsRow& r) {
-    out.write_row(row_text(r));
+    out.write_row(diagnostics_row_text(r));
     summary.add(r);
     if (!r.converged && unconverged++ == 0)
       std::fprintf(
@@ -130,7 +124,6 @@ int run(const RunCommandOptions& command) {
   });
   sim->on_solver_iteration(nullptr);
   if (const int signal = stop_signal()) {
-    remove_summary_placeholder(command.summary);
     progress.finish(stopped_text(signal, *sim, csv, o.dump, last_frame));
     return stop_exit_code(signal);
   }
@@ -141,12 +134,7 @@ int run(const RunCommandOptions& command) {
         run_summary_json(scene, settings, summary, sim->time(), costs, sim->failure());
     j["outputs"] = {{"csv", csv},
                     {"dump", o.dump.empty() ? nlohmann::json() : nlohmann::json(o.dump)}};
-    try {
-      write_file_whole(command.summary, j.dump(2) + '\n');
-    } catch (const WriteError&) {
-      remove_summary_placeholder(command.summary);
-      throw;
-    }
+    write_file_whole(command.summary, j.dump(2) + '\n');
   }
   if (const auto& failure = sim->failure()) {
     progress.finish("apiclab: " + failure->message + " (diagnostics so far in " + csv + ")");

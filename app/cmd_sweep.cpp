@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <optional>
 
+#include "app/output_file.hpp"
 #include "app/particle_export.hpp"
 #include "app/sweep/open.hpp"
 #include "app/sweep/plan.hpp"
@@ -26,6 +27,7 @@ struct SweepOptions {
   int jobs = 1;
   std::optional<double> target_error;
   bool quiet = false;
+  bool overwrite = false;
 };
 
 int sweep_command(const SweepOptions& o) {
@@ -49,8 +51,17 @@ int sweep_command(const SweepOptions& o) {
         "--export-jobs");
   const std::string out = o.collect.empty() ? o.out : o.collect;
   if (out.empty()) throw UsageError("sweep: --out DIR is required (or --collect DIR)");
-  if (!o.export_jobs.empty()) {
+  if (o.collect.empty())
     ensure_writable_dir(out);
+  else if (!std::filesystem::is_directory(out))
+    throw UsageError("sweep: --collect '" + out + "': no such folder");
+  claim_sweep_folder(o.spec, out, o.overwrite);  // another spec's folder: refused
+  if (!o.export_jobs.empty()) {
+    std::error_code ec;
+    if (std::filesystem::equivalent(o.export_jobs, o.spec, ec))
+      throw UsageError("sweep: --export-jobs " + o.export_jobs +
+                       " is the spec this sweep reads: an output never replaces an input; give "
+                       "another path");
     write_spec_copy(o.spec, out);  // the folder reopens in the viewer (gui --sweep)
     export_jobs(plan, out, o.export_jobs);
     std::printf(
@@ -61,14 +72,11 @@ int sweep_command(const SweepOptions& o) {
     return 0;
   }
   if (o.collect.empty()) {
-    ensure_writable_dir(out);
     if (!o.quiet)
       std::fprintf(stderr, "apiclab: sweep %s: %zu runs, %d at a time, into %s\n",
                    spec.name.c_str(), plan.runs.size(), o.jobs, out.c_str());
     write_spec_copy(o.spec, out);
     run_plan(plan, out, o.jobs, o.quiet);
-  } else if (!std::filesystem::is_directory(out)) {
-    throw UsageError("sweep: --collect '" + out + "': no such folder");
   } else {
     write_spec_copy(o.spec, out);
   }
@@ -84,6 +92,8 @@ int sweep_command(const SweepOptions& o) {
 #ifdef APICLAB_HAVE_FIGURES
   try {
     charts = write_charts(spec, results, out, o.target_error);
+  } catch (const WriteError&) {
+    throw;  // a chart that cannot be written: "cannot write FILE: REASON", exit 2
   } catch (const std::exception& e) {
     std::fprintf(stderr, "apiclab: sweep: charts not drawn: %s\n", e.what());
   }
@@ -132,6 +142,9 @@ void register_sweep(CLI::App& root, CommandTable& table) {
                   "also dump every run's particles per frame into runs/ID/dump/ in these formats "
                   "(csv,vtk,vtk-raw,ply,obj, as run --dump-format) [default: no dumps]");
   cmd->add_flag("--quiet", o->quiet, "no progress on stderr");
+  cmd->add_flag("--overwrite", o->overwrite,
+                "use a folder that holds another spec's sweep: its spec, runs.csv, summary and "
+                "charts are replaced, its run records kept [default: off]");
   table.push_back({cmd, [o] { return sweep_command(*o); }});
 }
 

@@ -15,6 +15,8 @@ namespace apiclab {
 struct WriteError : std::runtime_error {
   // REASON is strerror(errno_value).
   WriteError(const std::string& file, int errno_value);
+  // A writer that says it in its own words: "cannot write FILE: REASON".
+  explicit WriteError(const std::string& message) : std::runtime_error(message) {}
 };
 
 // The temporary name of `path` while it is written: `path.part`, in the same folder.

@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
+#include <utility>
 
 #include "app/cli_checks.hpp"
 #include "app/clock.hpp"
@@ -124,7 +125,8 @@ RenderSession::RenderSession(const RenderOptions& o) {
   renderer = std::make_unique<render::Renderer>();
 }
 
-void RenderSession::draw(const std::vector<const Snapshot*>& panes, const std::string& path) {
+void RenderSession::draw(const std::vector<const Snapshot*>& panes, const std::string& path,
+                         std::function<void()> written) {
   // The first frame's particles frame the whole run, so that the video does not jitter.
   if (fit_particles && !style.frame) style.frame = particle_frame(panes);
   const double t0 = now_seconds();
@@ -134,6 +136,7 @@ void RenderSession::draw(const std::vector<const Snapshot*>& panes, const std::s
   // The first frame also compiles the shaders (llvmpipe JITs them): timed apart.
   (frames_drawn++ == 0 ? first_draw_seconds : draw_seconds) += now_seconds() - t0;
   flush();
+  pending_written = std::move(written);
   pending_png = std::async(std::launch::async, [this, image, path] {
     const double t = now_seconds();
     try {
@@ -146,7 +149,10 @@ void RenderSession::draw(const std::vector<const Snapshot*>& panes, const std::s
 }
 
 void RenderSession::flush() {
-  if (pending_png.valid()) pending_png.get();
+  if (!pending_png.valid()) return;
+  const std::function<void()> written = std::exchange(pending_written, nullptr);
+  pending_png.get();  // a failed write throws here, and its frame is not indexed
+  if (written) written();
 }
 
 std::string RenderSession::timing() const {

@@ -2,6 +2,7 @@
 // starts (size, colours, backend, ffmpeg, the output folder), the offscreen GL objects, and
 // drawing one frame of panes with the PNG written while the next frame simulates.
 #pragma once
+#include <functional>
 #include <future>
 #include <memory>
 #include <string>
@@ -39,14 +40,17 @@ struct RenderSession {
   std::unique_ptr<render::Renderer> renderer;
   render::FigureState state;
   bool fit_particles = false;
-  std::future<void> pending_png;  // PNGs are written while the next frame simulates
+  std::future<void> pending_png;          // PNGs are written while the next frame simulates
+  std::function<void()> pending_written;  // what follows the pending PNG (its frames.csv row)
   double first_draw_seconds = 0, draw_seconds = 0, png_seconds = 0, sim_seconds = 0;
   int frames_drawn = 0;
 
   explicit RenderSession(const RenderOptions& o);
-  // Draws the panes and writes the PNG in the background.
-  void draw(const std::vector<const Snapshot*>& panes, const std::string& path);
-  void flush();  // waits for the last PNG
+  // Draws the panes and writes the PNG in the background; `written` runs on this thread once
+  // the PNG is whole (in the next draw or flush), so an index lists only PNGs present.
+  void draw(const std::vector<const Snapshot*>& panes, const std::string& path,
+            std::function<void()> written = nullptr);
+  void flush();  // waits for the last PNG, then runs its `written`
   std::string timing() const;
 };
 

@@ -41,6 +41,12 @@ nlohmann::json run_settings(const SceneDesc& scene, Precision precision,
       {"parameters", parameters}};
 }
 
+std::string diagnostics_row_text(const DiagnosticsRow& r) {
+  std::ostringstream row;
+  write_diagnostics_row(row, r);
+  return row.str();
+}
+
 void write_csv_sidecar(const std::string& csv_path, const nlohmann::json& settings) {
   const nlohmann::json sidecar{{"csv", std::filesystem::path(csv_path).filename().string()},
                                {"settings", settings}};

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "app/output_file.hpp"
+#include "sim/diagnostics.hpp"
 #include "sim/run_summary.hpp"
 #include "sim/scene.hpp"
 #include "sim/snapshot.hpp"
@@ -23,6 +24,9 @@ std::string apiclab_version();
 // sim/parameters.hpp), so the run can be repeated from it.
 nlohmann::json run_settings(const SceneDesc& scene, Precision precision,
                             const std::vector<std::string>& overrides);
+
+// One diagnostics row as text, newline included: a RowFile writes and checks it as a whole.
+std::string diagnostics_row_text(const DiagnosticsRow& r);
 
 // Writes `csv_path`.json whole: {"csv": the CSV's file name, "settings": settings}. Throws
 // WriteError naming the file when it cannot be written.

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# run's outputs are whole or absent (docs/outputs.md, "Whole or absent"): a full disk (a file
-# size limit, `ulimit -f`, makes writes fail with EFBIG) stops the run with exit 2 and one line
-# "apiclab: cannot write FILE: REASON", leaving no partial frame and no partial CSV row; SIGINT
-# and SIGTERM stop it with 130 / 143 and every index consistent with the files present.
+# Outputs are whole or absent (docs/outputs.md, "Whole or absent"): a full disk (a file size
+# limit, `ulimit -f`, makes writes fail with EFBIG) stops run, render, compare and a gui
+# screenshot with exit 2 and one line "apiclab: cannot write FILE: REASON", leaving no partial
+# frame, PNG or CSV row; SIGINT and SIGTERM stop run, render and compare with 130 / 143 and
+# every index consistent with the files present.
 # Usage: APICLAB=/path/to/apiclab outputs_whole_tests.sh
 set -u
 APICLAB=${APICLAB:?set APICLAB to the apiclab executable}
@@ -84,6 +85,57 @@ if "$APICLAB" render --help >/dev/null 2>&1; then
   fi
 fi
 
+# ---- render and compare: a diagnostics CSV that does not fit ------------------------------------
+if "$APICLAB" render --help >/dev/null 2>&1; then
+  # 4 KiB holds a 16x16 PNG, frames.csv and the sidecars, not two seconds of CSV rows.
+  limited 4 render rotating-disk --out "$TMP/rc" --t-end 2 --size 16x16 --quiet
+  if [ "$RC" -eq 2 ] && [ "$(last_line)" = "apiclab: cannot write $TMP/rc/apic.csv: File too large" ] &&
+    csv_whole "$TMP/rc/apic.csv" && index_consistent "$TMP/rc" png && no_part_files "$TMP/rc"; then
+    ok "render: a full CSV stops with exit 2, the CSV ends with a whole row, frames.csv lists the PNGs present"
+  else
+    nok "render CSV whole" "exit $RC" "$(tail -n 2 "$ERR")" "$(tail -c 200 "$TMP/rc/apic.csv")"
+  fi
+  limited 4 compare rotating-disk --schemes pic,apic --out "$TMP/cc" --t-end 2 --size 32x16 --quiet
+  if [ "$RC" -eq 2 ] && last_line | grep -Eq "^apiclab: cannot write $TMP/cc/(pic|apic).csv: File too large$" &&
+    csv_whole "$TMP/cc/pic.csv" && csv_whole "$TMP/cc/apic.csv" && index_consistent "$TMP/cc" png; then
+    ok "compare: a full CSV stops with exit 2, every CSV ends with a whole row, frames.csv lists the PNGs present"
+  else
+    nok "compare CSV whole" "exit $RC" "$(tail -n 2 "$ERR")"
+  fi
+fi
+
+# ---- gui --screenshot that does not fit ----------------------------------------------------------
+if ! command -v xvfb-run >/dev/null; then
+  echo "SKIP: gui --screenshot under a file size limit (no xvfb-run)"
+elif "$APICLAB" gui --help >/dev/null 2>&1; then
+  ERR="$TMP/stderr-gui"
+  # The limit applies to apiclab alone, not to the X server.
+  xvfb-run -a -s "-screen 0 800x600x24" bash -c 'ulimit -f 4 && exec "$0" gui rotating-disk --screenshot "$1" --frames 2 --size 400x300' \
+    "$APICLAB" "$TMP/shot.png" >"$TMP/stdout" 2>"$ERR"
+  RC=$?
+  if [ "$RC" -eq 2 ] && grep -qx "apiclab: cannot write $TMP/shot.png: File too large" "$ERR" &&
+    [ ! -e "$TMP/shot.png" ] && [ ! -e "$TMP/shot.png.part" ]; then
+    ok "gui --screenshot too large: exit 2 naming the file, no partial PNG"
+  else
+    nok "gui --screenshot whole or absent" "exit $RC" "$(tail -n 3 "$ERR")" "$(ls -l "$TMP" | grep shot)"
+  fi
+fi
+
+# ---- sweep: a chart PNG that does not fit ----------------------------------------------------------
+TINY="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/sweeps/tiny.json"
+if "$APICLAB" sweep "$TINY" --out "$TMP/sw" --jobs 2 --quiet >/dev/null 2>&1 &&
+  ls "$TMP/sw"/*.png >/dev/null 2>&1; then
+  rm -f "$TMP/sw"/*.png
+  # 16 KiB holds runs.csv and the chart CSVs, not a 900x520 chart.
+  limited 16 sweep "$TINY" --collect "$TMP/sw" --quiet
+  if [ "$RC" -eq 2 ] && last_line | grep -Eq "^apiclab: cannot write $TMP/sw/[^ ]+\.png: File too large$" &&
+    [ -z "$(cd "$TMP/sw" && ls ./*.png ./*.part 2>/dev/null)" ]; then
+    ok "sweep: a chart PNG that does not fit stops with exit 2 and one line, no partial PNG"
+  else
+    nok "sweep chart PNG whole or absent" "exit $RC" "$(tail -n 2 "$ERR")" "$(ls "$TMP/sw")"
+  fi
+fi
+
 # ---- SIGINT and SIGTERM --------------------------------------------------------------------------
 # stopped SIGNAL CODE: a long run with dumps, stopped after about a second.
 stopped() {
@@ -112,5 +164,37 @@ stopped() {
 }
 stopped INT 130
 stopped TERM 143
+
+# stopped_render SIGNAL CODE COMMAND ARGS...: render or compare stopped after a second and a half.
+stopped_render() {
+  local sig=$1 code=$2 cmd=$3 dir="$TMP/$3-$1"
+  shift 3
+  ERR="$TMP/stderr-$cmd-$sig"
+  "$APICLAB" "$cmd" rotating-disk "$@" --out "$dir" --t-end 60 --size 64x48 --quiet >"$TMP/stdout" 2>"$ERR" &
+  local pid=$!
+  sleep 1.5
+  kill -s "$sig" "$pid"
+  wait "$pid"
+  RC=$?
+  if [ "$RC" -eq "$code" ] &&
+    last_line | grep -Eq "^apiclab: stopped by SIG$sig after frame [0-9]+, t = [^ ]+ s; frames 0\.\.[0-9]+ in $dir \(listed in $dir/frames.csv\), diagnostics in $dir/"; then
+    ok "$cmd SIG$sig: exit $code and one line saying where it stopped"
+  else
+    nok "$cmd SIG$sig stops it" "exit $RC" "$(tail -n 2 "$ERR")"
+  fi
+  local csv whole=1
+  for csv in "$dir"/*.csv; do
+    [ "$(basename "$csv")" = frames.csv ] || csv_whole "$csv" || whole=0
+  done
+  if [ "$whole" = 1 ] && index_consistent "$dir" png && no_part_files "$dir"; then
+    ok "$cmd SIG$sig: frames.csv lists exactly the PNGs present, CSVs end with whole rows"
+  else
+    nok "$cmd SIG$sig: index consistent" "$(ls "$dir" | tail -5)" "$(tail -3 "$dir/frames.csv")"
+  fi
+}
+if "$APICLAB" render --help >/dev/null 2>&1; then
+  stopped_render INT 130 render
+  stopped_render TERM 143 compare --schemes pic,apic
+fi
 
 finish outputs_whole_tests

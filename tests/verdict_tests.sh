@@ -35,16 +35,18 @@ summary_field() {
 expect_converged() {
   local name=$1
   shift
-  run_cli run "$@" --summary "$TMP/summary.json" --csv "$TMP/run.csv" --quiet
+  CASE=$((${CASE:-0} + 1))  # each case its own outputs (another run's are refused)
+  local summary="$TMP/summary-$CASE.json"
+  run_cli run "$@" --summary "$summary" --csv "$TMP/run-$CASE.csv" --quiet
   local problems=() n
   [ "$RC" -eq 0 ] || problems+=("exit code $RC")
   if grep -q "did not converge\|non-converged" "$ERR" "$OUT"; then
     problems+=("a non-convergence warning: $(grep -h "converge" "$ERR" "$OUT" | head -2)")
   fi
-  n=$(summary_field "$TMP/summary.json" unconverged_implicit_steps)
+  n=$(summary_field "$summary" unconverged_implicit_steps)
   [ "$n" = 0 ] || problems+=("unconverged_implicit_steps = '$n'")
   if [ ${#problems[@]} -eq 0 ]; then
-    ok "$name ($(summary_field "$TMP/summary.json" steps) steps, all converged)"
+    ok "$name ($(summary_field "$summary" steps) steps, all converged)"
   else
     nok "$name" "apiclab run $*" "${problems[@]}" "stderr: $(head -c 600 "$ERR")"
   fi
@@ -76,7 +78,7 @@ expect_converged "PIC midpoint at small steps converges as its velocities decay"
 # ---- blown up -----------------------------------------------------------------------------------
 for method in eol eulerian; do
   run_cli run eol-translation --set solver.method="$method" 'objects.0.velocity=[0,0]' \
-    --t-end 0.1 --csv "$TMP/rest.csv" --quiet
+    --t-end 0.1 --csv "$TMP/rest-$method.csv" --quiet
   if [ "$RC" -eq 0 ] && ! grep -q "blew up" "$ERR"; then
     ok "a body at rest under $method is not blown up"
   else

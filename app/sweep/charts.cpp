@@ -10,10 +10,12 @@
 #include <fstream>
 #include <limits>
 #include <memory>
+#include <sstream>
 
 #include "app/figures/chart_canvas.hpp"
 #include "app/figures/chart_style.hpp"
 #include "app/gui/plot.hpp"
+#include "app/output_file.hpp"
 #include "app/sweep/tables.hpp"
 #include "render/image.hpp"
 #include "render/palette.hpp"
@@ -305,6 +307,15 @@ ChartPlots convergence_plots(const Spec& spec, const std::vector<RunResult>& res
 
 namespace {
 
+// A PNG whole or absent; a failed write is the command's "cannot write FILE: REASON".
+void write_chart_png(const render::Image& image, const std::string& path) {
+  try {
+    render::write_png(image, path);
+  } catch (const std::runtime_error& e) {
+    throw WriteError(e.what());
+  }
+}
+
 // A log-log chart under a heading, written to DIR/BASE.png, tall enough for its legend; returns
 // "BASE.png".
 std::string write_log_log_chart(ChartCanvas& canvas, const std::string& heading, gui::PlotOptions o,
@@ -322,7 +333,7 @@ std::string write_log_log_chart(ChartCanvas& canvas, const std::string& heading,
     ImGui::SetCursorScreenPos(ImVec2(10, top));
     gui::plot(base.c_str(), ImVec2(W - 20, H - top - 6), o, plots);
   });
-  render::write_png(image, (fs::path(dir) / (base + ".png")).string());
+  write_chart_png(image, (fs::path(dir) / (base + ".png")).string());
   return base + ".png";
 }
 
@@ -344,7 +355,7 @@ std::string error_vs_cost(ChartCanvas& canvas, const Spec& spec,
   const Marking mark = marking(spec, results, scene, {spec.series}, gui::kMarkerShapes);
   const auto front = pareto_front(results, error, scene);
   {
-    std::ofstream csv(fs::path(dir) / (base + ".csv"));
+    std::ostringstream csv;
     // One row per point drawn: its run, where it is drawn and why ("; " between axes, so
     // that no field needs quotes).
     auto plain = [](std::string t) {
@@ -372,6 +383,7 @@ std::string error_vs_cost(ChartCanvas& canvas, const Spec& spec,
       }
     }
     if (target_error) csv << "target,,,,,," << number_text(*target_error, 6) << ",,,,\n";
+    write_file_whole((fs::path(dir) / (base + ".csv")).string(), csv.str());
   }
   gui::PlotOptions o;
   o.title = "each point one run; reference runs left out";
@@ -389,7 +401,7 @@ std::string stability(ChartCanvas& canvas, const Spec& spec, const std::vector<R
                       const StabilityMap& m, const std::string& dir) {
   const std::string base = "stability_" + file_part(m.scene);
   {
-    std::ofstream csv(fs::path(dir) / (base + ".csv"));
+    std::ostringstream csv;
     csv << "row";
     for (const std::string& c : m.column_labels) csv << ',' << m.column_key << '=' << c;
     csv << '\n';
@@ -401,6 +413,7 @@ std::string stability(ChartCanvas& canvas, const Spec& spec, const std::vector<R
                       : results[std::size_t(i)].outcome + " " + cell_text(results[std::size_t(i)]));
       csv << '\n';
     }
+    write_file_whole((fs::path(dir) / (base + ".csv")).string(), csv.str());
   }
   // The legend: the four outcomes, and the kinds of grey and blue cells this map has.
   std::vector<std::string> legend = {"completed", "noisy", "not_converged", "blew_up"};
@@ -448,7 +461,7 @@ std::string stability(ChartCanvas& canvas, const Spec& spec, const std::vector<R
       lx += 30 + ImGui::CalcTextSize(t.c_str()).x;
     }
   });
-  render::write_png(image, (fs::path(dir) / (base + ".png")).string());
+  write_chart_png(image, (fs::path(dir) / (base + ".png")).string());
   return base + ".png";
 }
 
@@ -461,13 +474,14 @@ std::string convergence(ChartCanvas& canvas, const Spec& spec,
   const ChartPlots c = convergence_plots(spec, results, scene);
   const std::string base = "convergence_" + file_part(scene);
   {
-    std::ofstream csv(fs::path(dir) / (base + ".csv"));
+    std::ostringstream csv;
     csv << "id,series,dx," << error << "_error,slope\n";
     for (const Series& s : series)
       for (std::size_t k = 0; k < s.runs.size(); ++k)
         csv << results[s.runs[k]].run->id << ',' << csv_text(s.label) << ','
             << number_text(s.x[k], 6) << ',' << number_text(s.y[k], 6) << ','
             << number_text(s.slope, 4) << '\n';
+    write_file_whole((fs::path(dir) / (base + ".csv")).string(), csv.str());
   }
   gui::PlotOptions o;
   o.title = "error against grid spacing, one line per configuration, fitted log-log slopes";

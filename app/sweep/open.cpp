@@ -3,9 +3,14 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <sstream>
 #include <stdexcept>
 
 #include "app/cli.hpp"
+#include "app/output_file.hpp"
 #include "app/sweep/record.hpp"
 
 namespace apiclab::sweep {
@@ -13,6 +18,27 @@ namespace {
 
 namespace fs = std::filesystem;
 using cli::UsageError;
+
+std::optional<std::string> read_text(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// The files a sweep writes at the top of its folder (docs/sweeps.md, Outputs).
+bool is_sweep_file_name(const std::string& name) {
+  const std::string base = name.size() > 5 && name.compare(name.size() - 5, 5, ".part") == 0
+                               ? name.substr(0, name.size() - 5)
+                               : name;
+  if (base == kSpecCopy || base == "runs.csv" || base == "summary.md") return true;
+  const bool chart_file = base.size() > 4 && (base.compare(base.size() - 4, 4, ".png") == 0 ||
+                                              base.compare(base.size() - 4, 4, ".csv") == 0);
+  for (const char* prefix : {"error_vs_cost_", "stability_", "convergence_"})
+    if (chart_file && base.rfind(prefix, 0) == 0) return true;
+  return false;
+}
 
 // A message cut to its first line: the viewer and the command line show one line.
 std::string first_line(const std::string& s) { return s.substr(0, s.find('\n')); }
@@ -33,8 +59,35 @@ void write_spec_copy(const std::string& spec_path, const std::string& out_dir) {
   const fs::path copy = fs::path(out_dir) / kSpecCopy;
   std::error_code ec;
   if (fs::exists(copy, ec) && fs::equivalent(spec_path, copy, ec)) return;  // --collect DIR/spec
-  fs::copy_file(spec_path, copy, fs::copy_options::overwrite_existing, ec);
-  if (ec) throw UsageError("sweep: cannot write '" + copy.string() + "': " + ec.message());
+  const std::optional<std::string> text = read_text(spec_path);
+  if (!text) throw UsageError("sweep: cannot read '" + spec_path + "'");
+  write_file_whole(copy.string(), *text);
+}
+
+void claim_sweep_folder(const std::string& spec_path, const std::string& out_dir, bool overwrite) {
+  const fs::path copy = fs::path(out_dir) / kSpecCopy;
+  std::error_code ec;
+  if (!fs::exists(copy, ec) || fs::equivalent(spec_path, copy, ec)) return;
+  const std::optional<std::string> ours = read_text(spec_path), theirs = read_text(copy);
+  const nlohmann::json a = nlohmann::json::parse(ours.value_or(""), nullptr, false),
+                       b = nlohmann::json::parse(theirs.value_or(""), nullptr, false);
+  if (!a.is_discarded() && a == b) return;  // the same spec: a rerun resumes
+  if (!overwrite) {
+    const std::string name = b.is_object() && b.contains("name") && b["name"].is_string()
+                                 ? b["name"].get<std::string>()
+                                 : std::string();
+    const std::string owner =
+        name.empty() ? copy.string() + " is no spec of this sweep"
+                     : "sweep '" + name + "': " + copy.string() + " differs from " + spec_path;
+    throw UsageError("sweep: " + out_dir + " holds another sweep (" + owner +
+                     "); give another folder, or --overwrite to replace its spec, runs.csv, "
+                     "summary and charts (run records stay: each is named by its "
+                     "configuration)");
+  }
+  for (const auto& e : fs::directory_iterator(out_dir, ec)) {
+    const std::string f = e.path().filename().string();
+    if (is_sweep_file_name(f) && e.is_regular_file(ec)) fs::remove(e.path(), ec);
+  }
 }
 
 std::shared_ptr<const OpenedSweep> open_sweep(const std::string& dir) {

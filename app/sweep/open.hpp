@@ -41,6 +41,13 @@ inline constexpr const char* kSpecCopy = "spec.json";
 // `apiclab sweep` keeps its spec as DIR/spec.json, byte for byte, so the folder can be reopened.
 void write_spec_copy(const std::string& spec_path, const std::string& out_dir);
 
+// Whose folder `out_dir` is: none yet (no spec.json) or the same spec as `spec_path` (as JSON,
+// whatever its layout) is this sweep's, and a rerun resumes there. Another spec's folder is
+// refused with one line naming its sweep, or with `overwrite` its spec-level files (spec.json,
+// runs.csv, summary.md, the charts) are removed; run records stay, each named by its
+// configuration.
+void claim_sweep_folder(const std::string& spec_path, const std::string& out_dir, bool overwrite);
+
 // Reads a sweep folder; throws cli::UsageError with one line naming the cause: no such folder,
 // not a sweep (no spec.json), a spec the checks refuse, no finished run yet, a damaged record.
 std::shared_ptr<const OpenedSweep> open_sweep(const std::string& dir);

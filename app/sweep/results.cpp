@@ -7,7 +7,9 @@
 #include <fstream>
 #include <limits>
 #include <map>
+#include <sstream>
 
+#include "app/output_file.hpp"
 #include "sim/scene.hpp"
 #include "sim/scheme_label.hpp"
 
@@ -114,7 +116,7 @@ std::string scheme_label_of(const PlannedRun& run) {
 std::string write_runs_csv(const Spec& spec, const std::vector<RunResult>& results,
                            const std::string& out_dir) {
   const std::string path = (std::filesystem::path(out_dir) / "runs.csv").string();
-  std::ofstream out(path);
+  std::ostringstream out;  // written whole (app/output_file.hpp)
   const std::vector<std::string> axes = spec.axis_keys();
   out << "id";
   for (const std::string& k : axes) out << ',' << k;
@@ -146,6 +148,7 @@ std::string write_runs_csv(const Spec& spec, const std::vector<RunResult>& resul
         << number_text(r.ref.displacement_rms, 6) << ',' << number_text(r.rigid, 6) << ','
         << results[p.reference].run->id << ',' << csv_field(scheme_label_of(p)) << '\n';
   }
+  write_file_whole(path, out.str());
   return path;
 }
 

@@ -8,8 +8,10 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <sstream>
 
 #include "app/cli.hpp"
+#include "app/output_file.hpp"
 #include "app/sweep/record.hpp"
 
 namespace apiclab::sweep {
@@ -122,7 +124,7 @@ RunnerReport run_plan(const Plan& plan, const std::string& out_dir, int jobs, bo
 
 void export_jobs(const Plan& plan, const std::string& out_dir, const std::string& file) {
   cli::ensure_writable_file(file);
-  std::ofstream out(file);
+  std::ostringstream out;  // written whole (app/output_file.hpp)
   const std::string exe = self_executable();
   const std::string dir = fs::absolute(out_dir).string();
   for (const PlannedRun& r : plan.runs) {
@@ -131,7 +133,7 @@ void export_jobs(const Plan& plan, const std::string& out_dir, const std::string
       line += (line.empty() ? "" : " ") + shell_quote(a);
     out << line << '\n';
   }
-  if (!out) throw cli::UsageError("cannot write '" + file + "'");
+  write_file_whole(file, out.str());
 }
 
 }  // namespace apiclab::sweep

@@ -7,6 +7,7 @@
 #include <map>
 #include <sstream>
 
+#include "app/output_file.hpp"
 #include "app/sweep/tables.hpp"
 
 namespace apiclab::sweep {
@@ -154,7 +155,7 @@ std::string write_summary(const Spec& spec, const std::vector<RunResult>& result
       target_line(md, spec, results, *target_error, scene);
   }
   const std::string text = md.str();
-  std::ofstream(std::filesystem::path(out_dir) / "summary.md") << text;
+  write_file_whole((std::filesystem::path(out_dir) / "summary.md").string(), text);
   return text;
 }
 
