@@ -73,7 +73,7 @@ int render(const RenderOptions& o) {
 
   auto sim = make_simulation(scene, precision_of(o.run));
   const bool noise = session.style.color == render::ColorMode::noise;
-  const FrameTimes times(scene);
+  const FrameTimes times(scene, o.run.max_steps);
   DiagnosticsRow first = sim->measure();
   first.dt = 0;
   write_diagnostics_row(csv, first);
@@ -177,7 +177,7 @@ int compare(const RenderOptions& o) {
   }
   const SceneDesc& scene = session.scene;
   const bool noise = session.style.color == render::ColorMode::noise;
-  const FrameTimes times(scene);
+  const FrameTimes times(scene, o.run.max_steps);
   print_time_step_note(scene, o.run.quiet);
   std::vector<std::string> keys;
   for (const Pane& p : panes) keys.push_back(p.key);

@@ -41,13 +41,21 @@ struct RenderSession {
   bool fit_particles = false;
   std::future<void> pending_png;  // PNGs are written while the next frame simulates
   double first_draw_seconds = 0, draw_seconds = 0, png_seconds = 0, sim_seconds = 0;
+  double scale_pass_seconds = 0;  // the first pass that fixes the scales (0: none needed)
   int frames_drawn = 0;
 
+  // Checks everything, then, when a scale is automatic, simulates the panes once through every
+  // frame to fix the colour and arrow scales for the whole sequence (fix_scales).
   explicit RenderSession(const RenderOptions& o);
   // Draws the panes and writes the PNG in the background.
   void draw(const std::vector<const Snapshot*>& panes, const std::string& path);
   void flush();  // waits for the last PNG
   std::string timing() const;
+
+ private:
+  // The first pass: the panes' scenes simulated to every frame time without drawing, the
+  // scales grown over all frames and then held fixed; says the scales found on stderr.
+  void fix_scales(const std::vector<SceneDesc>& panes, const RunOptions& run);
 };
 
 }  // namespace apiclab::cli

@@ -38,6 +38,22 @@ TEST(FrameTimes, LastFrameIsTimeEnd) {
   EXPECT_EQ(short_end.time_of(1), 0.01);
 }
 
+// 0.1 s at 24 fps is 2.4 frames: frames at 1/24 and 2/24, then one at 0.1 (rounding 2.4 to 2
+// frames put the second at 0.1 and lost 2/24). A whole number of frames gets no extra one.
+TEST(FrameTimes, EveryFrameTimeBeforeTheEndHasItsFrame) {
+  const FrameTimes t(disk({"time.end=0.1", "time.fps=24"}));
+  EXPECT_EQ(t.frames, 3);
+  EXPECT_EQ(t.time_of(1), 1 / 24.0);
+  EXPECT_EQ(t.time_of(2), 2 / 24.0);
+  EXPECT_EQ(t.time_of(3), 0.1);
+  for (const char* end : {"time.end=1", "time.end=0.08333333333333333", "time.end=0.125"}) {
+    const FrameTimes whole(disk({end, "time.fps=24"}));
+    EXPECT_EQ(whole.frames, int(std::lround(whole.end * 24))) << end;
+    EXPECT_EQ(whole.time_of(whole.frames), whole.end) << end;
+  }
+  EXPECT_EQ(FrameTimes(disk({"time.end=0.135"})).frames, 4);  // 3.24 frames: 3 whole, then 0.135
+}
+
 TEST(FrameLoop, VisitsEveryFrameWithEveryPaneAtItsTime) {
   const SceneDesc scene = disk({"time.end=0.135"});
   auto a = make_simulation(scene);
@@ -60,7 +76,7 @@ TEST(FrameLoop, VisitsEveryFrameWithEveryPaneAtItsTime) {
         EXPECT_EQ(b->time(), times.time_of(f));
         return true;
       });
-  EXPECT_EQ(frames, (std::vector<int>{0, 1, 2, 3}));
+  EXPECT_EQ(frames, (std::vector<int>{0, 1, 2, 3, 4}));  // 3/24 = 0.125, then 0.135
   EXPECT_EQ(rows[0], a->steps());
   EXPECT_EQ(rows[1], b->steps());
   EXPECT_EQ(a->time(), 0.135);
