@@ -15,6 +15,7 @@
 #include "app/gui/view_limits.hpp"
 #include "app/jobs.hpp"
 #include "app/lockstep.hpp"
+#include "app/run_length.hpp"
 #include "sim/run_summary.hpp"
 #include "sim/scene.hpp"
 
@@ -52,6 +53,28 @@ TEST(FrameTimes, EveryFrameTimeBeforeTheEndHasItsFrame) {
     EXPECT_EQ(whole.time_of(whole.frames), whole.end) << end;
   }
   EXPECT_EQ(FrameTimes(disk({"time.end=0.135"})).frames, 4);  // 3.24 frames: 3 whole, then 0.135
+}
+
+// The run-length caps (app/run_length.hpp): the fewest steps each rule must take, the first
+// steps' prediction, and the stop past --max-steps.
+TEST(RunLength, FewestStepsAndTheBudgetDuringARun) {
+  EXPECT_EQ(fewest_steps(disk({"time.dt={\"rule\":\"fixed\",\"value\":0.001}"})).steps, 2000);
+  EXPECT_EQ(fewest_steps(disk()).steps, 48);  // cfl: one step per frame, 2 s at 24 fps
+  const SceneDesc stiff =
+      disk({"time.dt={\"rule\":\"elastic\",\"nu\":0.5}", "materials.0.E=1e308"});
+  EXPECT_GT(fewest_steps(stiff).steps, 1e100);
+  EXPECT_THROW(check_run_length(stiff, kDefaultMaxSteps, kDefaultMaxFrames), SceneError);
+  EXPECT_NO_THROW(check_run_length(disk(), 48, 48));
+  EXPECT_THROW(check_run_length(disk(), 47, 48), SceneError);
+  EXPECT_THROW(check_run_length(disk(), 48, 47), SceneError);
+  DiagnosticsRow r;
+  r.step = 1, r.t = 1e-9, r.dt = 1e-9;  // 2e9 steps to 2 s
+  EXPECT_THROW(check_step_budget(r, 2.0, 1e8), SceneError);
+  EXPECT_NO_THROW(check_step_budget(r, 2.0, 3e9));
+  r.step = kPredictingSteps + 1;  // past the first steps: a short step is no prediction
+  EXPECT_NO_THROW(check_step_budget(r, 2.0, 1e8));
+  r.step = 101;  // past the cap itself: the run stops
+  EXPECT_THROW(check_step_budget(r, 2.0, 100), SceneError);
 }
 
 TEST(FrameLoop, VisitsEveryFrameWithEveryPaneAtItsTime) {
