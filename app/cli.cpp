@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "app/cli_checks.hpp"
+#include "app/set_conflicts.hpp"
 #include "sim/memory_estimate.hpp"
 #include "sim/parameters.hpp"
 
@@ -99,6 +100,15 @@ void add_run_options(CLI::App* cmd, RunOptions& o, RunOptionSet which) {
                   "refuse a scene whose estimated memory exceeds this: BYTES (e.g. 8G, 512M), "
                   "auto or none [default: the scene's solver.max_memory_gb, else auto = the "
                   "available memory]");
+  cmd->add_option("--max-steps", o.max_steps,
+                  "refuse a run whose time-step rule must take more steps than this, or whose "
+                  "first steps predict more; a run that passes it stops [allowed: > 0; default: "
+                  "1e8]")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--max-frames", o.max_frames,
+                  "refuse a run of more frames than this (time.end x fps) [allowed: > 0; "
+                  "default: 1e6]")
+      ->check(CLI::PositiveNumber);
   if (which.quiet) cmd->add_flag("--quiet", o.quiet, "no progress line [default: off]");
   cmd->footer(scheme_table() + parameter_table());
 }
@@ -130,7 +140,10 @@ static std::string number(double d) {
 
 std::vector<std::string> option_overrides(const RunOptions& o) {
   check_run_options(o);
-  std::vector<std::string> sets;
+  std::vector<Assignment> given;  // options first, then the --sets, in the order applied
+  auto add = [&](const std::string& option, const std::string& shown, const std::string& text) {
+    given.push_back({option + " " + shown, text});
+  };
   auto check = [](const auto& choices, const std::string& key, const char* what) {
     try {
       parse_choice(choices, key, what);
@@ -140,27 +153,39 @@ std::vector<std::string> option_overrides(const RunOptions& o) {
   };
   if (!o.scheme.empty()) {
     check(scheme_choices(), o.scheme, "scheme");
-    sets.push_back("solver.scheme=" + o.scheme);
+    add("--scheme", o.scheme, "solver.scheme=" + o.scheme);
   }
   if (!o.kernel.empty()) {
     check(kernel_choices(), o.kernel, "kernel");
-    sets.push_back("solver.kernel=" + o.kernel);
+    add("--kernel", o.kernel, "solver.kernel=" + o.kernel);
   }
   if (!o.integrator.empty()) {
     check(integrator_choices(), o.integrator, "integrator");
-    sets.push_back("solver.integrator=" + o.integrator);
+    add("--integrator", o.integrator, "solver.integrator=" + o.integrator);
   }
-  if (o.flip_alpha) sets.push_back("solver.flip_alpha=" + number(*o.flip_alpha));
+  auto add_number = [&](const std::string& option, const std::string& key, double v) {
+    add(option, format_value(v), key + "=" + number(v));
+  };
+  if (o.flip_alpha) add_number("--flip-alpha", "solver.flip_alpha", *o.flip_alpha);
   if (o.lambda) {  // check_run_options refused it beside another integrator
-    if (o.integrator.empty()) sets.push_back("solver.integrator=lambda");
-    sets.push_back("solver.lambda=" + number(*o.lambda));
+    if (o.integrator.empty()) add("--lambda", format_value(*o.lambda), "solver.integrator=lambda");
+    add_number("--lambda", "solver.lambda", *o.lambda);
   }
-  if (o.fps) sets.push_back("time.fps=" + number(*o.fps));
-  if (o.t_end) sets.push_back("time.end=" + number(*o.t_end));
-  if (o.dt) sets.push_back("time.dt={\"rule\":\"fixed\",\"value\":" + number(*o.dt) + "}");
-  if (auto gb = max_memory_gb(o.max_memory)) sets.push_back("solver.max_memory_gb=" + number(*gb));
+  if (o.fps) add_number("--fps", "time.fps", *o.fps);
+  if (o.t_end) add_number("--t-end", "time.end", *o.t_end);
+  if (o.frames)  // applied once the scene's fps is known (load_scene_with_options)
+    given.push_back({"--frames " + std::to_string(*o.frames), "time.end=0", true});
+  if (o.dt)
+    add("--dt", format_value(*o.dt),
+        "time.dt={\"rule\":\"fixed\",\"value\":" + number(*o.dt) + "}");
+  if (auto gb = max_memory_gb(o.max_memory))
+    add("--max-memory", o.max_memory, "solver.max_memory_gb=" + number(*gb));
   precision_of(o);
-  for (auto& s : o.sets) sets.push_back(s);
+  for (const std::string& s : o.sets) given.push_back({"--set " + s, s});
+  check_assignments(given);
+  std::vector<std::string> sets;
+  for (const Assignment& a : given)
+    if (!a.any_other_disagrees) sets.push_back(a.text);
   return sets;
 }
 
@@ -182,7 +207,8 @@ SceneDesc load_scene_with_options(const RunOptions& o) {
                    *o.frames, end, scene.time.end);
     apply_parameter(scene, "time.end", end);
   }
-  check_memory(scene, precision_of(o));  // before the overlap check samples anything
+  check_run_length(scene, o.max_steps, o.max_frames);  // before anything is sampled or written
+  check_memory(scene, precision_of(o));                // before the overlap check samples anything
   warn_about_overlaps(scene);
   warn_about_scheme(scene);
   warn_about_integrator(scene);

@@ -10,6 +10,7 @@
 #include "app/assets.hpp"
 #include "app/clock.hpp"  // now_seconds
 #include "app/particle_export.hpp"
+#include "app/run_length.hpp"
 #include "sim/scene.hpp"
 #include "sim/simulation.hpp"
 
@@ -33,6 +34,8 @@ struct RunOptions {
   bool quiet = false;
   bool overwrite = false;  // --overwrite: replace outputs that are not this run's
   std::string max_memory;  // BYTES|auto|none; empty: auto
+  // Refuse runs longer than these (app/run_length.hpp): --max-steps, --max-frames.
+  double max_steps = kDefaultMaxSteps, max_frames = kDefaultMaxFrames;
 };
 
 // Which of the common options a subcommand takes (gui has its own --frames and no outputs).
@@ -52,7 +55,8 @@ void add_run_options(CLI::App* cmd, RunOptions& o, RunOptionSet which = {});
 std::vector<std::string> option_overrides(const RunOptions& o);
 
 // Loads the scene and applies the options as `--set` overrides. Throws SceneError /
-// UsageError; warns about overlapping objects.
+// UsageError (a run longer than --max-steps or --max-frames included); warns about overlapping
+// objects.
 SceneDesc load_scene_with_options(const RunOptions& o);
 Precision precision_of(const RunOptions& o);
 // --dump-format as a list; UsageError for an unknown or repeated format, or formats without --dump.

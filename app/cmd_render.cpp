@@ -123,7 +123,7 @@ int render(const RenderOptions& o) {
 
   auto sim = make_simulation(scene, precision_of(o.run));
   const bool noise = session.style.color == render::ColorMode::noise;
-  const FrameTimes times(scene);
+  const FrameTimes times(scene, o.run.max_steps);
   DiagnosticsRow first = sim->measure();
   first.dt = 0;
   csv.write_row(diagnostics_row_text(first));
@@ -260,7 +260,7 @@ int compare(const RenderOptions& o) {
   }
   const SceneDesc& scene = session.scene;
   const bool noise = session.style.color == render::ColorMode::noise;
-  const FrameTimes times(scene);
+  const FrameTimes times(scene, o.run.max_steps);
   print_time_step_note(scene, o.run.quiet);
   // Panes step in lockstep: one time per frame.
   FrameIndex frame_times = open_frame_index(o.out, settings, keys);

@@ -113,7 +113,7 @@ int run(const RunCommandOptions& command) {
     progress.update(r.t, extra.str());
   };
   int last_frame = -1;
-  run_frame_loop(FrameTimes(scene), panes, on_row, [&](int f) {
+  run_frame_loop(FrameTimes(scene, o.max_steps), panes, on_row, [&](int f) {
     if (sim->failure()) return false;
     if (!o.dump.empty()) {
       dump.write(*sim, f);  // the frame's files first, then its row in the index

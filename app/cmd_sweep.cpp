@@ -22,9 +22,22 @@
 namespace apiclab::cli {
 namespace {
 
+// A sweep larger than this is refused unless --max-runs raises it: planning and running that
+// many configurations is rarely what was meant.
+constexpr double kDefaultMaxRuns = 10000;
+// A spec of more runs says its count before planning them (a smaller one plans at once).
+constexpr double kAnnounceRuns = 1000;
+
+std::string format_count(double n) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.15g", n);
+  return buf;
+}
+
 struct SweepOptions {
   std::string spec, out, export_jobs, collect, dump_format;
   int jobs = 1;
+  double max_runs = kDefaultMaxRuns;
   std::optional<double> target_error;
   bool quiet = false;
   bool overwrite = false;
@@ -36,6 +49,14 @@ int sweep_command(const SweepOptions& o) {
   if (o.target_error && !(*o.target_error > 0))
     throw UsageError("sweep: --target-error must be positive");
   const Spec spec = load_spec(o.spec);
+  // The size first, and a refusal above the cap before any planning.
+  const std::size_t runs = count_runs(spec);
+  if (!o.quiet && double(runs) > kAnnounceRuns)
+    std::fprintf(stderr, "apiclab: sweep %s: %zu runs; planning\n", spec.name.c_str(), runs);
+  if (double(runs) > o.max_runs)
+    throw UsageError("sweep " + o.spec + ": " + std::to_string(runs) +
+                     " runs, more than --max-runs " + format_count(o.max_runs) +
+                     " (raise --max-runs to plan and run them all, or narrow the axes)");
   Plan plan = make_plan(spec);  // every check before any run
   if (!o.dump_format.empty()) {
     try {
@@ -141,6 +162,10 @@ void register_sweep(CLI::App& root, CommandTable& table) {
   cmd->add_option("--dump-format", o->dump_format,
                   "also dump every run's particles per frame into runs/ID/dump/ in these formats "
                   "(csv,vtk,vtk-raw,ply,obj, as run --dump-format) [default: no dumps]");
+  cmd->add_option("--max-runs", o->max_runs,
+                  "refuse a spec of more runs than this, before planning it [allowed: > 0; "
+                  "default: 10000]")
+      ->check(CLI::PositiveNumber);
   cmd->add_flag("--quiet", o->quiet, "no progress on stderr");
   cmd->add_flag("--overwrite", o->overwrite,
                 "use a folder that holds another spec's sweep: its spec, runs.csv, summary and "

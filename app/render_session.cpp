@@ -8,6 +8,7 @@
 
 #include "app/cli_checks.hpp"
 #include "app/clock.hpp"
+#include "app/frame_loop.hpp"
 #include "app/pane_spec.hpp"
 #include "app/particle_frame.hpp"
 #include "app/video.hpp"
@@ -23,6 +24,13 @@ std::pair<int, int> parse_size(const std::string& s) {
   if (!(in >> w >> x >> h) || x != 'x' || in >> extra || w < 16 || h < 16 || w > 16384 || h > 16384)
     throw UsageError("invalid --size '" + s + "' (expected WxH, e.g. 1280x720, each 16..16384)");
   return {w, h};
+}
+
+// A float as an option value that reads back to the same float.
+std::string exact_text(float v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.9g", double(v));
+  return buf;
 }
 
 }  // namespace
@@ -123,6 +131,64 @@ RenderSession::RenderSession(const RenderOptions& o) {
         context->egl_problem.empty() ? "" : (" (EGL: " + context->egl_problem + ")").c_str());
   target = std::make_unique<render::RenderTarget>(width, height);
   renderer = std::make_unique<render::Renderer>();
+  const bool automatic = (render::is_scalar(style.color) && !(style.color_max > 0)) ||
+                         ((style.vectors || style.surface_vectors) && !(style.vector_scale > 0));
+  if (!automatic) return;
+  std::vector<SceneDesc> pane_scenes;
+  for (const PaneSpec& p : panes) {
+    pane_scenes.push_back(scene);
+    pane_scenes.back().solver.method = p.method;
+    pane_scenes.back().solver.scheme = p.scheme;
+  }
+  fix_scales(pane_scenes, o.run);
+}
+
+void RenderSession::fix_scales(const std::vector<SceneDesc>& panes, const RunOptions& run) {
+  const double start = now_seconds();
+  std::vector<std::unique_ptr<Simulation>> sims;
+  std::vector<Simulation*> stepped;
+  for (const SceneDesc& s : panes) {
+    sims.push_back(make_simulation(s, precision_of(run)));
+    stepped.push_back(sims.back().get());
+  }
+  Lockstep lockstep(stepped);
+  const FrameTimes times(scene, run.max_steps);
+  Progress progress("scales of " + scene.name + " (first pass)", times.frames + 1, run.quiet);
+  const bool noise = style.color == render::ColorMode::noise;
+  state.reset();
+  state.hold = render::ScaleHold::grow;
+  std::vector<std::shared_ptr<Snapshot>> first;  // frame 0: the layout the arrows are sized for
+  float radius = 0;
+  run_frame_loop(times, lockstep, {}, [&](int f) {
+    std::vector<std::shared_ptr<Snapshot>> snapshots;
+    std::vector<const Snapshot*> views;
+    bool all_failed = true;
+    for (const auto& sim : sims) {
+      snapshots.push_back(sim->snapshot());
+      if (noise && sim->transfers()) sim->transfers()->fill_velocity_noise(*snapshots.back());
+      views.push_back(snapshots.back().get());
+      all_failed = all_failed && sim->failure();
+    }
+    render::update_scales(state, views);
+    if (f == 0) first = snapshots, radius = state.radius;
+    progress.update(f + 1, "frame " + std::to_string(f) + "/" + std::to_string(times.frames));
+    return !all_failed;  // the drawing stops there too
+  });
+  state.radius = radius;  // arrows spaced as on frame 0, in every frame
+  state.hold = render::ScaleHold::fixed;
+  scale_pass_seconds = now_seconds() - start;
+  if (run.quiet || first.empty()) return;
+  std::vector<const Snapshot*> views;
+  for (const auto& s : first) views.push_back(s.get());
+  const auto rects =
+      render::figure_scene_rects(*renderer, width, height, int(views.size()), *views[0], style);
+  const render::SceneStyle resolved = render::resolve_scene_style(style, views, rects[0], state);
+  std::string text = "apiclab: one scale for all " + std::to_string(times.frames + 1) +
+                     " frames (a first pass over them): --color-max " +
+                     exact_text(resolved.color_max);
+  if (style.vectors || style.surface_vectors)
+    text += " --vector-scale " + exact_text(resolved.vector_scale);
+  progress.finish(text);
 }
 
 void RenderSession::draw(const std::vector<const Snapshot*>& panes, const std::string& path,
@@ -163,6 +229,7 @@ std::string RenderSession::timing() const {
     << " ms/frame (first " << 1000 * first_draw_seconds << " ms), PNG "
     << 1000 * png_seconds / std::max(frames_drawn, 1) << " ms/frame, simulation " << sim_seconds
     << " s";
+  if (scale_pass_seconds > 0) s << ", scale pass " << scale_pass_seconds << " s";
   return s.str();
 }
 

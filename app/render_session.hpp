@@ -43,8 +43,11 @@ struct RenderSession {
   std::future<void> pending_png;          // PNGs are written while the next frame simulates
   std::function<void()> pending_written;  // what follows the pending PNG (its frames.csv row)
   double first_draw_seconds = 0, draw_seconds = 0, png_seconds = 0, sim_seconds = 0;
+  double scale_pass_seconds = 0;  // the first pass that fixes the scales (0: none needed)
   int frames_drawn = 0;
 
+  // Checks everything, then, when a scale is automatic, simulates the panes once through every
+  // frame to fix the colour and arrow scales for the whole sequence (fix_scales).
   explicit RenderSession(const RenderOptions& o);
   // Draws the panes and writes the PNG in the background; `written` runs on this thread once
   // the PNG is whole (in the next draw or flush), so an index lists only PNGs present.
@@ -52,6 +55,11 @@ struct RenderSession {
             std::function<void()> written = nullptr);
   void flush();  // waits for the last PNG, then runs its `written`
   std::string timing() const;
+
+ private:
+  // The first pass: the panes' scenes simulated to every frame time without drawing, the
+  // scales grown over all frames and then held fixed; says the scales found on stderr.
+  void fix_scales(const std::vector<SceneDesc>& panes, const RunOptions& run);
 };
 
 }  // namespace apiclab::cli

@@ -25,6 +25,7 @@ float hold(ScaleHold how, float held, float now) {
 }  // namespace
 
 void update_scales(ScaleState& state, const std::vector<const Snapshot*>& panes) {
+  if (state.hold == ScaleHold::fixed) return;
   float speed = 0, noise = 0;
   const std::vector<const Snapshot*> healthy = healthy_panes(panes);
   if (healthy.empty()) return;

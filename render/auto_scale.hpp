@@ -17,8 +17,9 @@ inline constexpr float kArrowSpacings = 2.5f;      // an arrow at the speed scal
 inline constexpr float kPixelsPerArrow = 12 * 12;  // about one arrow per 12 x 12 pixels of scene
 
 // How the scales follow a run: `grow` only ever raises them (colours keep their meaning and
-// arrows only shorten), `first_frame` keeps the first non-zero values for the whole run.
-enum class ScaleHold { grow, first_frame };
+// arrows only shorten), `first_frame` keeps the first non-zero values for the whole run, `fixed`
+// keeps the values already held (render and compare: found by a first pass over every frame).
+enum class ScaleHold { grow, first_frame, fixed };
 
 // The scales of a run, shared by all its panes; hold one across frames.
 struct ScaleState {
@@ -31,7 +32,7 @@ struct ScaleState {
 using FigureState = ScaleState;  // the name the frame loops know it by
 
 // Updates `state` from the panes; panes that failed are left out unless all did (a blow-up
-// would swamp the scales of the others).
+// would swamp the scales of the others). A fixed hold changes nothing.
 void update_scales(ScaleState& state, const std::vector<const Snapshot*>& panes);
 
 // The top of the colour scale for `mode` (1 where nothing moves; unused for categories).

@@ -37,10 +37,11 @@ std::string reason_of(const std::string& what) {
 }
 
 // Forwards every event to nlohmann's DOM builder; keeps the path of the value being read and
-// the keys seen in each open object.
+// the keys seen in each open object. J: nlohmann::json, or ordered_json where key order counts.
+template <class J>
 class StrictSax {
  public:
-  StrictSax(json& out, const std::string& text) : dom_(out, false), text_(text) {}
+  StrictSax(J& out, const std::string& text) : dom_(out, false), text_(text) {}
 
   bool null() { return value() && dom_.null(); }
   bool boolean(bool v) { return value() && dom_.boolean(v); }
@@ -121,7 +122,7 @@ class StrictSax {
     return p;
   }
 
-  nlohmann::detail::json_sax_dom_parser<json> dom_;
+  nlohmann::detail::json_sax_dom_parser<J> dom_;
   const std::string& text_;
   std::vector<Frame> frames_;
   JsonError error_;
@@ -139,14 +140,27 @@ std::string JsonError::text() const {
          ": " + cause;
 }
 
-bool parse_json_strict(const std::string& text, json& out, JsonError& error) {
-  out = json();
-  StrictSax sax(out, text);
-  if (json::sax_parse(text, &sax)) return true;
+namespace {
+
+template <class J>
+bool parse_strict(const std::string& text, J& out, JsonError& error) {
+  out = J();
+  StrictSax<J> sax(out, text);
+  if (J::sax_parse(text, &sax)) return true;
   error = sax.error();
   if (error.cause.empty()) error.cause = "malformed JSON";
-  out = json();
+  out = J();
   return false;
+}
+
+}  // namespace
+
+bool parse_json_strict(const std::string& text, json& out, JsonError& error) {
+  return parse_strict(text, out, error);
+}
+
+bool parse_json_strict(const std::string& text, nlohmann::ordered_json& out, JsonError& error) {
+  return parse_strict(text, out, error);
 }
 
 }  // namespace apiclab

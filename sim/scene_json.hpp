@@ -18,7 +18,9 @@ struct JsonError {
   std::string text() const;
 };
 
-// Parses `text` into `out`. On failure returns false and fills `error`.
+// Parses `text` into `out`. On failure returns false and fills `error`. The ordered_json form
+// keeps the keys in the order written (sweep specs: the axes' order).
 bool parse_json_strict(const std::string& text, nlohmann::json& out, JsonError& error);
+bool parse_json_strict(const std::string& text, nlohmann::ordered_json& out, JsonError& error);
 
 }  // namespace apiclab

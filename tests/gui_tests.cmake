@@ -18,6 +18,7 @@ if(NOT APICLAB_TSAN)
                                       ${CMAKE_SOURCE_DIR}/app/lockstep.cpp
                                       ${CMAKE_SOURCE_DIR}/app/thread_pool.cpp
                                       ${CMAKE_SOURCE_DIR}/app/frame_loop.cpp
+                                      ${CMAKE_SOURCE_DIR}/app/run_length.cpp
                                       ${CMAKE_SOURCE_DIR}/app/stop_signal.cpp)
   target_include_directories(test_gui_worker_tsan PRIVATE ${CMAKE_SOURCE_DIR})
   target_compile_options(test_gui_worker_tsan PRIVATE -fsanitize=thread -g)
@@ -68,6 +69,13 @@ add_test(NAME gui.smoke
          COMMAND ${CMAKE_COMMAND} -E env APICLAB=$<TARGET_FILE:apiclab> CHECK=$<TARGET_FILE:gui_screenshot_check>
                  bash ${CMAKE_CURRENT_SOURCE_DIR}/test_gui_smoke.sh ${CMAKE_CURRENT_BINARY_DIR}/gui-smoke)
 set_tests_properties(gui.smoke PROPERTIES LABELS "gui;default" TIMEOUT 120 SKIP_REGULAR_EXPRESSION "^SKIP:")
+# A 25,000-character scene description: shown cut to a few lines, the viewer does not abort.
+add_test(NAME gui.long_description
+         COMMAND ${CMAKE_COMMAND} -E env APICLAB=$<TARGET_FILE:apiclab>
+                 bash ${CMAKE_CURRENT_SOURCE_DIR}/test_gui_long_text.sh ${CMAKE_SOURCE_DIR}
+                 ${CMAKE_CURRENT_BINARY_DIR}/gui-long-text)
+set_tests_properties(gui.long_description PROPERTIES LABELS "gui;default" TIMEOUT 150
+                                                     SKIP_REGULAR_EXPRESSION "^SKIP:")
 # gui --sweep: bad folders (one line, exit 2) and, under Xvfb, a run beside its reference.
 add_test(NAME gui.sweep
          COMMAND ${CMAKE_COMMAND} -E env APICLAB=$<TARGET_FILE:apiclab> CHECK=$<TARGET_FILE:gui_screenshot_check>

@@ -23,9 +23,9 @@ check "render writes the diagnostics CSV" "head -1 $tmp/plain/apic.csv | grep -q
 check "render logs the backend" "grep -q 'rendering with EGL' $tmp/plain.log"
 check "render reports progress and cost" "grep -q 'ms/frame' $tmp/plain.log"
 
-# A scene end that is not a whole frame (3.24 frames): the last frame lands on time.end.
+# A scene end that is not a whole frame (3.24 frames): frame 3 at 3/24, frame 4 on time.end.
 "$app" render rotating-disk --out "$tmp/end" --t-end 0.135 "${small[@]}"
-check "render: last frame (frame_0003) at time.end" "[ -s $tmp/end/frame_0003.png ] && [ ! -e $tmp/end/frame_0004.png ] && last_t_is $tmp/end/apic.csv 0.135"
+check "render: last frame (frame_0004) at time.end" "[ -s $tmp/end/frame_0004.png ] && [ ! -e $tmp/end/frame_0005.png ] && last_t_is $tmp/end/apic.csv 0.135"
 
 # Options change the picture.
 "$app" render rotating-disk --out "$tmp/vectors" --frames 1 --vectors "${small[@]}"
@@ -52,7 +52,7 @@ check "compare writes frames" "[ -s $tmp/cmp/frame_0000.png ] && [ -s $tmp/cmp/f
 check "compare writes one CSV per scheme" "[ -s $tmp/cmp/pic.csv ] && [ -s $tmp/cmp/flip.csv ] && [ -s $tmp/cmp/apic.csv ]"
 check "compare schemes reach the same time" "[ \"\$(tail -1 $tmp/cmp/pic.csv | cut -d, -f2)\" = \"\$(tail -1 $tmp/cmp/apic.csv | cut -d, -f2)\" ]"
 "$app" compare rotating-disk --schemes pic,apic --out "$tmp/cmp-end" --t-end 0.135 --size 320x120 --quiet
-check "compare: every scheme's last frame at time.end" "[ -s $tmp/cmp-end/frame_0003.png ] && [ ! -e $tmp/cmp-end/frame_0004.png ] && last_t_is $tmp/cmp-end/pic.csv 0.135 && last_t_is $tmp/cmp-end/apic.csv 0.135"
+check "compare: every scheme's last frame at time.end" "[ -s $tmp/cmp-end/frame_0004.png ] && [ ! -e $tmp/cmp-end/frame_0005.png ] && last_t_is $tmp/cmp-end/pic.csv 0.135 && last_t_is $tmp/cmp-end/apic.csv 0.135"
 check "compare schemes start from the same state" "[ \"\$(sed -n 2p $tmp/cmp/pic.csv | cut -d, -f8,9)\" = \"\$(sed -n 2p $tmp/cmp/flip.csv | cut -d, -f8,9)\" ]"
 
 # Clear one-line errors, before any simulation.

@@ -21,3 +21,8 @@ target_link_libraries(render_bench PRIVATE apiclab_render)
 add_test(NAME render.cli COMMAND ${CMAKE_COMMAND} -E env APICLAB=$<TARGET_FILE:apiclab>
          bash ${CMAKE_CURRENT_SOURCE_DIR}/render_cli_tests.sh)
 set_tests_properties(render.cli PROPERTIES LABELS "render;default" TIMEOUT 300)
+# One colour and arrow scale per sequence: the first pass's scales given back as options draw
+# the same frames.
+add_test(NAME render.scales COMMAND ${CMAKE_COMMAND} -E env APICLAB=$<TARGET_FILE:apiclab>
+         bash ${CMAKE_CURRENT_SOURCE_DIR}/render_scale_tests.sh)
+set_tests_properties(render.scales PROPERTIES LABELS "render;default" TIMEOUT 300)

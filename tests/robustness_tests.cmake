@@ -43,6 +43,7 @@ if(NOT APICLAB_TSAN)
                                     ${CMAKE_SOURCE_DIR}/app/lockstep.cpp
                                     ${CMAKE_SOURCE_DIR}/app/thread_pool.cpp
                                     ${CMAKE_SOURCE_DIR}/app/frame_loop.cpp
+                                    ${CMAKE_SOURCE_DIR}/app/run_length.cpp
                                     ${CMAKE_SOURCE_DIR}/app/stop_signal.cpp
                                     ${CMAKE_SOURCE_DIR}/app/assets.cpp)
   target_include_directories(test_app_core_tsan PRIVATE ${CMAKE_SOURCE_DIR})

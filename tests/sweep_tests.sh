@@ -59,7 +59,7 @@ bad_spec "reference excluded" "key 'reference': the reference configuration" \
 bad_spec "combination the scene rejects" "key 'solver.kernel'" \
   "{$D, \"axes\": {\"solver.kernel\": [\"quadratic\", \"linear\"]}}"
 bad_spec "bad fixed override" "key 'solver.cg_tolerance'" \
-  "{$D, \"set\": {\"time.end\": 0.1, \"solver.cg_tolerance\": -1}}"
+  "{\"scene\": \"rotating-disk\", \"set\": {\"time.end\": 0.1, \"solver.cg_tolerance\": -1}}"
 bad_spec "malformed JSON" "malformed JSON" '{"scene": '
 bad_spec "unknown error name" "key 'errors'" "{$D, \"errors\": [\"accuracy\"]}"
 

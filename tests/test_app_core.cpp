@@ -15,6 +15,7 @@
 #include "app/gui/view_limits.hpp"
 #include "app/jobs.hpp"
 #include "app/lockstep.hpp"
+#include "app/run_length.hpp"
 #include "sim/run_summary.hpp"
 #include "sim/scene.hpp"
 
@@ -36,6 +37,44 @@ TEST(FrameTimes, LastFrameIsTimeEnd) {
   const FrameTimes short_end(disk({"time.end=0.01"}));  // less than a frame: one frame, at end
   EXPECT_EQ(short_end.frames, 1);
   EXPECT_EQ(short_end.time_of(1), 0.01);
+}
+
+// 0.1 s at 24 fps is 2.4 frames: frames at 1/24 and 2/24, then one at 0.1 (rounding 2.4 to 2
+// frames put the second at 0.1 and lost 2/24). A whole number of frames gets no extra one.
+TEST(FrameTimes, EveryFrameTimeBeforeTheEndHasItsFrame) {
+  const FrameTimes t(disk({"time.end=0.1", "time.fps=24"}));
+  EXPECT_EQ(t.frames, 3);
+  EXPECT_EQ(t.time_of(1), 1 / 24.0);
+  EXPECT_EQ(t.time_of(2), 2 / 24.0);
+  EXPECT_EQ(t.time_of(3), 0.1);
+  for (const char* end : {"time.end=1", "time.end=0.08333333333333333", "time.end=0.125"}) {
+    const FrameTimes whole(disk({end, "time.fps=24"}));
+    EXPECT_EQ(whole.frames, int(std::lround(whole.end * 24))) << end;
+    EXPECT_EQ(whole.time_of(whole.frames), whole.end) << end;
+  }
+  EXPECT_EQ(FrameTimes(disk({"time.end=0.135"})).frames, 4);  // 3.24 frames: 3 whole, then 0.135
+}
+
+// The run-length caps (app/run_length.hpp): the fewest steps each rule must take, the first
+// steps' prediction, and the stop past --max-steps.
+TEST(RunLength, FewestStepsAndTheBudgetDuringARun) {
+  EXPECT_EQ(fewest_steps(disk({"time.dt={\"rule\":\"fixed\",\"value\":0.001}"})).steps, 2000);
+  EXPECT_EQ(fewest_steps(disk()).steps, 48);  // cfl: one step per frame, 2 s at 24 fps
+  const SceneDesc stiff =
+      disk({"time.dt={\"rule\":\"elastic\",\"nu\":0.5}", "materials.0.E=1e308"});
+  EXPECT_GT(fewest_steps(stiff).steps, 1e100);
+  EXPECT_THROW(check_run_length(stiff, kDefaultMaxSteps, kDefaultMaxFrames), SceneError);
+  EXPECT_NO_THROW(check_run_length(disk(), 48, 48));
+  EXPECT_THROW(check_run_length(disk(), 47, 48), SceneError);
+  EXPECT_THROW(check_run_length(disk(), 48, 47), SceneError);
+  DiagnosticsRow r;
+  r.step = 1, r.t = 1e-9, r.dt = 1e-9;  // 2e9 steps to 2 s
+  EXPECT_THROW(check_step_budget(r, 2.0, 1e8), SceneError);
+  EXPECT_NO_THROW(check_step_budget(r, 2.0, 3e9));
+  r.step = kPredictingSteps + 1;  // past the first steps: a short step is no prediction
+  EXPECT_NO_THROW(check_step_budget(r, 2.0, 1e8));
+  r.step = 101;  // past the cap itself: the run stops
+  EXPECT_THROW(check_step_budget(r, 2.0, 100), SceneError);
 }
 
 TEST(FrameLoop, VisitsEveryFrameWithEveryPaneAtItsTime) {
@@ -60,7 +99,7 @@ TEST(FrameLoop, VisitsEveryFrameWithEveryPaneAtItsTime) {
         EXPECT_EQ(b->time(), times.time_of(f));
         return true;
       });
-  EXPECT_EQ(frames, (std::vector<int>{0, 1, 2, 3}));
+  EXPECT_EQ(frames, (std::vector<int>{0, 1, 2, 3, 4}));  // 3/24 = 0.125, then 0.135
   EXPECT_EQ(rows[0], a->steps());
   EXPECT_EQ(rows[1], b->steps());
   EXPECT_EQ(a->time(), 0.135);

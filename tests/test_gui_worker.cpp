@@ -126,16 +126,16 @@ TEST(GuiWorker, LastFrameLandsOnTimeEnd) {
   SimWorker w;
   const auto start = loaded(w, {pane(Scheme::apic), pane(Scheme::pic)}, {"time.end=0.135"});
   const FrameTimes times(*start->scene);
-  ASSERT_EQ(times.frames, 3);
-  const auto p = run_frames(w, 5);  // more frames than the scene has
-  EXPECT_EQ(p->frame, 3);
+  ASSERT_EQ(times.frames, 4);       // 3.24 frames: 3/24, then 0.135
+  const auto p = run_frames(w, 6);  // more frames than the scene has
+  EXPECT_EQ(p->frame, 4);
   EXPECT_FALSE(p->busy);
   for (const PaneState& pane : p->panes) {
     EXPECT_EQ(pane.snapshot->time, 0.135);
     EXPECT_EQ(pane.history.back().t, 0.135);
   }
   w.play(true);  // at the end, play does not run past it
-  w.sync(4);
+  w.sync(times.frames + 1);
   EXPECT_EQ(w.latest()->panes[0].snapshot->time, 0.135);
   EXPECT_FALSE(w.latest()->playing);
 }

@@ -55,6 +55,56 @@ bool optional_combo(const char* label, std::optional<E>& value,
   return changed;
 }
 
+// The longest start of `text` (cut at a character boundary, with "..." when cut) that wraps at
+// `width` into at most `lines` lines; measured, not drawn.
+std::size_t fitting_length(const std::string& text, float width, int lines) {
+  const float room = float(lines) * ImGui::GetTextLineHeight() + 0.5f;
+  const auto height = [&](std::size_t n) {
+    const std::string shown = text.substr(0, n) + (n < text.size() ? "..." : "");
+    return ImGui::CalcTextSize(shown.c_str(), nullptr, false, width).y;
+  };
+  if (height(text.size()) <= room) return text.size();
+  std::size_t lo = 0, hi = std::min<std::size_t>(text.size(), 4000);  // height(lo) fits
+  while (hi - lo > 1) {
+    const std::size_t mid = (lo + hi) / 2;
+    (height(mid) <= room ? lo : hi) = mid;
+  }
+  while (lo > 0 && (static_cast<unsigned char>(text[lo]) & 0xC0) == 0x80) --lo;  // UTF-8
+  return lo;
+}
+
+// The scene's description in a few wrapped lines, cut with "..." and whole (up to a few
+// thousand characters) in a tooltip: a 25,000-character description drawn whole overflowed
+// ImGui's 16-bit vertex indices (an assertion, exit 134) and pushed every control off the panel.
+void description_text(ViewerState& st) {
+  constexpr int kLines = 4;
+  constexpr std::size_t kTooltipChars = 3000;
+  const std::string& text = st.scene.description;
+  const float width = ImGui::GetContentRegionAvail().x;
+  const std::size_t n = fitting_length(text, width, kLines);
+  const float top = ImGui::GetCursorPosY();
+  ImGui::PushStyleColor(ImGuiCol_Text, kMuted);
+  ImGui::PushTextWrapPos(0);
+  const std::string shown = text.substr(0, n) + (n < text.size() ? "..." : "");
+  ImGui::TextUnformatted(shown.c_str(), shown.c_str() + shown.size());
+  ImGui::PopTextWrapPos();
+  ImGui::PopStyleColor();
+  st.description_shown = n;
+  st.description_px = ImGui::GetCursorPosY() - top;
+  if (n == text.size() || !ImGui::IsItemHovered()) return;
+  ImGui::BeginTooltip();
+  ImGui::PushTextWrapPos(40 * ImGui::GetFontSize());
+  std::size_t cut = std::min(text.size(), kTooltipChars);
+  while (cut > 0 && cut < text.size() && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80)
+    --cut;
+  ImGui::TextUnformatted(text.c_str(), text.c_str() + cut);
+  if (cut < text.size())
+    ImGui::TextDisabled("... (%zu characters in all; the whole text is in the scene file)",
+                        text.size());
+  ImGui::PopTextWrapPos();
+  ImGui::EndTooltip();
+}
+
 void section(const char* title) {
   ImGui::Spacing();
   ImGui::TextColored(ImVec4(0.15f, 0.30f, 0.55f, 1), "%s", title);
@@ -168,11 +218,7 @@ void scene_section(ViewerState& st, SimWorker& worker) {
     st.notice = "sweep closed: the panes run the reference's scene, from t = 0";
     restart(st, worker);
   }
-  if (st.scene_loaded && !st.scene.description.empty()) {
-    ImGui::PushStyleColor(ImGuiCol_Text, kMuted);
-    ImGui::TextWrapped("%s", st.scene.description.c_str());
-    ImGui::PopStyleColor();
-  }
+  if (st.scene_loaded && !st.scene.description.empty()) description_text(st);
 }
 
 void playback_section(ViewerState& st, const Published& pub, SimWorker& worker) {

@@ -268,6 +268,9 @@ int run_viewer(const ViewerOptions& opt) {
           for (std::size_t k = 0; k < rects.size(); ++k)
             std::printf("pane %zu: %.0f %.0f %.0f %.0f\n", k, rects[k].x, rects[k].y, rects[k].w,
                         rects[k].h);
+        if (const char* e = std::getenv("APICLAB_PRINT_LAYOUT"); e && std::string(e) == "1")
+          std::printf("description: %zu of %zu characters, %.0f px\n", st.description_shown,
+                      st.scene.description.size(), st.description_px);
         try {
           render::write_png(render::read_window_pixels(fw, fh), opt.screenshot);
           std::printf("screenshot: %s (%dx%d, %ld frames, t = %.4g s)\n", opt.screenshot.c_str(),

@@ -58,6 +58,10 @@ struct ViewerState {
   int momentum_component = 0;  // x, y, z
   int angular_component = 2;   // x, y, z (2D: z only)
 
+  // The scene description as last drawn: characters shown of all, and its height (pixels).
+  std::size_t description_shown = 0;
+  float description_px = 0;
+
   // Frame timing (GUI thread), exponential averages.
   double frame_ms = 0, frame_cpu_ms = 0;
 };

@@ -6,9 +6,12 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <unordered_map>
 
 #include "app/assets.hpp"
 #include "app/cli.hpp"
+#include "app/run_length.hpp"
+#include "sim/input_file.hpp"
 #include "sim/parameters.hpp"
 #include "sim/simulation.hpp"
 
@@ -35,12 +38,65 @@ std::string hash_hex(const std::string& text) {
   return buf;
 }
 
+// Each base scene's text, read once: a plan parses it a few times per run.
+class SceneTexts {
+ public:
+  const std::string& of(const std::string& path) {
+    auto it = texts_.find(path);
+    if (it == texts_.end()) it = texts_.emplace(path, read_input_file(path, "scene file")).first;
+    return it->second;
+  }
+
+ private:
+  std::map<std::string, std::string> texts_;
+};
+
 SceneDesc parse_for(const Spec& spec, const PlannedRun& run,
-                    const std::vector<std::string>& overrides) {
+                    const std::vector<std::string>& overrides, SceneTexts& texts) {
   try {
-    return load_scene(run.scene_path, overrides);
+    return parse_scene_text(texts.of(run.scene_path), run.scene_path, overrides);
   } catch (const SceneError& e) {
     throw UsageError(spec.source + ": run " + run.label() + ": " + e.what());
+  }
+}
+
+// A configuration as one string: the key of the map that finds a run by its configuration.
+std::string config_key(const std::vector<std::pair<std::string, Value>>& config) {
+  std::string key;
+  for (const auto& [k, v] : config) key += k + '=' + v.text + '\n';
+  return key;
+}
+
+// Calls fn(config) for each configuration of the Cartesian product over the groups (the first
+// group slowest) that no exclusion matches.
+template <class Fn>
+void for_each_config(const Spec& spec, Fn fn) {
+  std::vector<std::size_t> at(spec.groups.size(), 0);
+  std::vector<std::pair<std::string, Value>> config;
+  for (bool more = true; more;) {
+    config.clear();
+    for (std::size_t g = 0; g < spec.groups.size(); ++g)
+      for (const Axis& a : spec.groups[g].axes) config.push_back({a.key, a.values[at[g]]});
+    more = false;  // next index (odometer)
+    for (std::size_t g = spec.groups.size(); g-- > 0;) {
+      if (++at[g] < spec.groups[g].size()) {
+        more = true;
+        break;
+      }
+      at[g] = 0;
+    }
+    const auto value = [&](const std::string& key) -> const Value* {
+      for (auto& [k, v] : config)
+        if (k == key) return &v;
+      return nullptr;
+    };
+    const bool excluded = std::any_of(spec.exclude.begin(), spec.exclude.end(), [&](auto& m) {
+      return std::all_of(m.begin(), m.end(), [&](auto& kv) {
+        const Value* v = value(kv.first);
+        return v && std::find(kv.second.begin(), kv.second.end(), *v) != kv.second.end();
+      });
+    });
+    if (!excluded) fn(config);
   }
 }
 
@@ -143,34 +199,21 @@ std::vector<std::string> PlannedRun::command(const std::string& exe, const std::
 
 SceneDesc scene_of(const PlannedRun& run) { return cli::load_scene_with_options(run.options()); }
 
+std::size_t count_runs(const Spec& spec) {
+  std::size_t n = 0;
+  for_each_config(spec, [&](const auto&) { ++n; });
+  return n;
+}
+
 Plan make_plan(const Spec& spec) {
   Plan plan;
-  std::vector<double> frame_interval;  // per planned run: 1 / its scene's time.fps
-  // The Cartesian product over the groups, the first group slowest.
-  std::vector<std::size_t> at(spec.groups.size(), 0);
+  std::vector<double> frame_interval;             // per planned run: 1 / its scene's time.fps
   std::map<std::string, double> speed_cache;      // max |v0| per scene and resolution
   std::map<std::string, std::string> own_method;  // each base scene's solver.method
-  for (bool more = true; more;) {
+  SceneTexts texts;
+  for_each_config(spec, [&](const std::vector<std::pair<std::string, Value>>& config) {
     PlannedRun run;
-    for (std::size_t g = 0; g < spec.groups.size(); ++g)
-      for (const Axis& a : spec.groups[g].axes) run.config.push_back({a.key, a.values[at[g]]});
-    // Next index (odometer).
-    more = false;
-    for (std::size_t g = spec.groups.size(); g-- > 0;) {
-      if (++at[g] < spec.groups[g].size()) {
-        more = true;
-        break;
-      }
-      at[g] = 0;
-    }
-    const bool excluded = std::any_of(spec.exclude.begin(), spec.exclude.end(), [&](auto& m) {
-      return std::all_of(m.begin(), m.end(), [&](auto& kv) {
-        const Value* v = run.value(kv.first);
-        return v && std::find(kv.second.begin(), kv.second.end(), *v) != kv.second.end();
-      });
-    });
-    if (excluded) continue;
-
+    run.config = config;
     run.scene_path = resolve_scene_path(run.value_text("scene"));
     if (const Value* p = run.value("precision")) run.precision = p->text;
     if (const Value* t = run.value("threads")) run.threads = int(t->number);
@@ -180,7 +223,8 @@ Plan make_plan(const Spec& spec) {
     if (const Value* m = run.value("solver.method")) {
       auto own = own_method.find(run.scene_path);
       if (own == own_method.end())
-        own = own_method.emplace(run.scene_path, parse_for(spec, run, {}).solver.method).first;
+        own =
+            own_method.emplace(run.scene_path, parse_for(spec, run, {}, texts).solver.method).first;
       if (m->text != own->second)
         run.overrides.push_back("solver={\"method\":\"" + m->text + "\"}");
     }
@@ -195,7 +239,7 @@ Plan make_plan(const Spec& spec) {
       if (dt_factor) o.insert(o.end(), {"time.dt.rule=fixed", "time.dt.value=1"});
       return o;
     };
-    SceneDesc scene = parse_for(spec, run, with_fixed_rule());
+    SceneDesc scene = parse_for(spec, run, with_fixed_rule(), texts);
     run.dx = scene.domain.dx;
     if (const Value* r = run.value("resolution")) {
       // dx / r, and the sampling follows, so particles per cell stay fixed (ppc sampling needs
@@ -210,7 +254,7 @@ Plan make_plan(const Spec& spec) {
         else if (s.type == SamplingType::poisson)
           run.overrides.push_back(key + "radius=" + exact(s.radius / r->number));
       }
-      scene = parse_for(spec, run, with_fixed_rule());
+      scene = parse_for(spec, run, with_fixed_rule(), texts);
     }
     if (const Value* f = dt_factor) {
       // Fixed Δt = factor · Δx / (c + max|v₀|), c of the stiffest material.
@@ -232,11 +276,16 @@ Plan make_plan(const Spec& spec) {
       // Steps that would pass a frame time are shortened to land on it, so every run records
       // its frames at the reference's times and the errors against it are defined.
       run.overrides.push_back("time.dt.land_on_frames=true");
-      scene = parse_for(spec, run, run.overrides);
+      scene = parse_for(spec, run, run.overrides, texts);
+    }
+    try {  // the run's own `apiclab run` would refuse it: refused here, before any run starts
+      check_run_length(scene, kDefaultMaxSteps, kDefaultMaxFrames);
+    } catch (const SceneError& e) {
+      throw UsageError(spec.source + ": run " + run.label() + ": " + e.what());
     }
     frame_interval.push_back(1 / scene.time.fps);
     plan.runs.push_back(std::move(run));
-  }
+  });
   if (plan.runs.empty())
     throw UsageError(spec.source + ": key 'exclude': every configuration is excluded");
 
@@ -249,7 +298,11 @@ Plan make_plan(const Spec& spec) {
   for (std::size_t i = 0; i < plan.runs.size(); ++i) {
     PlannedRun& run = plan.runs[i];
     const double longest = longest_dt[run.scene_path];
-    if (longest > frame_interval[i]) run.overrides.push_back("time.fps=" + exact(1 / longest));
+    if (longest > frame_interval[i]) {  // replaces a time.fps of `set`, which it overrides
+      std::erase_if(run.overrides,
+                    [](const std::string& o) { return o.rfind("time.fps=", 0) == 0; });
+      run.overrides.push_back("time.fps=" + exact(1 / longest));
+    }
     std::string canonical = "scene=" + run.value_text("scene") + "\nprecision=" + run.precision +
                             "\nthreads=" + std::to_string(run.threads);
     for (const std::string& o : run.overrides) canonical += "\n" + o;
@@ -258,13 +311,16 @@ Plan make_plan(const Spec& spec) {
 
   // References: the named values; otherwise the finest resolution, the smallest dt_factor, the
   // run's own scene and, for other axes, the base scene's own value where the axis has it.
-  std::map<std::string, SceneDesc> base;  // per scene, with the fixed overrides only
+  std::map<std::string, SceneDesc> base;               // per scene, with the fixed overrides only
+  std::unordered_map<std::string, std::size_t> index;  // configuration -> run
+  for (std::size_t i = 0; i < plan.runs.size(); ++i)
+    index.emplace(config_key(plan.runs[i].config), i);
   for (PlannedRun& run : plan.runs) {
     if (!base.count(run.scene_path)) {
       std::vector<std::string> fixed = spec.set;
       if (spec.axis("dt_factor"))
         fixed.insert(fixed.end(), {"time.dt.rule=fixed", "time.dt.value=1"});
-      base.emplace(run.scene_path, parse_for(spec, run, fixed));
+      base.emplace(run.scene_path, parse_for(spec, run, fixed, texts));
     }
     const SceneDesc& scene = base.at(run.scene_path);
     std::vector<std::pair<std::string, Value>> want;
@@ -288,15 +344,14 @@ Plan make_plan(const Spec& spec) {
         }
         want.push_back({a.key, v});
       }
-    auto match = std::find_if(plan.runs.begin(), plan.runs.end(),
-                              [&](const PlannedRun& r) { return r.config == want; });
-    if (match == plan.runs.end()) {
+    const auto match = index.find(config_key(want));
+    if (match == index.end()) {
       std::string text;
       for (auto& [k, v] : want) text += (text.empty() ? "" : ", ") + k + "=" + v.text;
       throw UsageError(spec.source + ": key 'reference': the reference configuration (" + text +
                        ") is not in the sweep (excluded, or not a zipped combination)");
     }
-    run.reference = std::size_t(match - plan.runs.begin());
+    run.reference = match->second;
   }
   return plan;
 }

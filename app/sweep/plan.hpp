@@ -47,8 +47,13 @@ struct Plan {
   std::string dump_formats;  // `sweep --dump-format`: not part of a run's configuration (its id)
 };
 
-// Throws cli::UsageError naming the spec and the key for a configuration the scene rejects or a
-// reference that is not in the sweep.
+// The number of runs: the configurations that no exclusion leaves out, counted without
+// planning them (a sweep says its size before it plans, and refuses one too large).
+std::size_t count_runs(const Spec& spec);
+
+// Throws cli::UsageError naming the spec and the key for a configuration the scene rejects, a
+// run longer than the default --max-steps or --max-frames, or a reference that is not in the
+// sweep. Linear in the number of runs.
 Plan make_plan(const Spec& spec);
 
 // The folder of a run's record inside a sweep folder.

@@ -152,7 +152,7 @@ int record_run(const cli::RunOptions& o, const std::string& dir) {
   };
   double rms_speed0 = 0;
   const TransferControls* transfers = sim->transfers();
-  run_frame_loop(FrameTimes(scene), panes, on_row, [&](int f) {
+  run_frame_loop(FrameTimes(scene, o.max_steps), panes, on_row, [&](int f) {
     if (sim->failure()) return false;
     auto snap = sim->snapshot();
     frames.add(*snap, positions_of(*sim, *snap), rows.back());

@@ -11,6 +11,7 @@
 #include "sim/method_registry.hpp"
 #include "sim/parameters.hpp"
 #include "sim/registry.hpp"
+#include "sim/scene_json.hpp"
 
 namespace apiclab::sweep {
 namespace {
@@ -140,6 +141,44 @@ class Checker {
   std::string source_;
 };
 
+// The scene keys an axis sets: its own, or for a derived axis those it writes
+// (app/sweep/plan.cpp); '*' stands for any one part of a key.
+std::vector<std::string> keys_set_by(const std::string& axis) {
+  if (axis == "dt_factor") return {"time.dt.rule", "time.dt.value"};
+  if (axis == "resolution")
+    return {"domain.dx", "objects.*.sampling.spacing", "objects.*.sampling.radius"};
+  if (axis == "scene" || axis == "precision" || axis == "threads") return {};
+  return {axis};
+}
+
+std::vector<std::string> parts_of(const std::string& key) {
+  std::vector<std::string> parts;
+  std::stringstream in(key);
+  for (std::string part; std::getline(in, part, '.');) parts.push_back(part);
+  return parts;
+}
+
+// A key and the section holding it ("time.dt" and "time.dt.value") name the same value.
+bool overlaps(const std::string& a, const std::string& b) {
+  const std::vector<std::string> x = parts_of(a), y = parts_of(b);
+  for (std::size_t i = 0; i < std::min(x.size(), y.size()); ++i)
+    if (x[i] != y[i] && x[i] != "*" && y[i] != "*") return false;
+  return true;
+}
+
+// A key in `set` that an axis also sets: the axis would override it silently in every run.
+void check_set_against_axes(const Spec& s, const Checker& check) {
+  for (const std::string& assignment : s.set) {
+    const std::string key = assignment.substr(0, assignment.find('='));
+    for (const std::string& axis : s.axis_keys())
+      for (const std::string& k : keys_set_by(axis))
+        if (overlaps(key, k))
+          check.fail(key, "in both \"set\" and the axis '" + axis +
+                              "' (set fixes one value, the axis runs each of its values; "
+                              "remove it from one)");
+  }
+}
+
 }  // namespace
 
 bool is_derived_key(const std::string& key) {
@@ -180,9 +219,11 @@ bool Spec::follows_scene(const std::string& key) const {
 }
 
 Spec parse_spec(const std::string& text, const std::string& source) {
-  json j = json::parse(text, nullptr, false);
-  if (j.is_discarded() || !j.is_object())
-    throw UsageError(source + ": malformed JSON (expected an object)");
+  // Strict: a key written twice is refused (nlohmann would keep the last one silently).
+  json j;
+  JsonError error;
+  if (!parse_json_strict(text, j, error)) throw UsageError(source + ": " + error.text());
+  if (!j.is_object()) throw UsageError(source + ": malformed JSON (expected an object)");
   const Checker check(source);
   Spec s;
   s.source = source;
@@ -245,6 +286,7 @@ Spec parse_spec(const std::string& text, const std::string& source) {
     }
   }
   if (!s.axis("scene")) check.fail("scene", "missing (a shipped scene name or a path)");
+  check_set_against_axes(s, check);
   // A value an exclusion or the reference names must be one of its axis's values.
   auto member = [&](const std::string& where, const std::string& key, const json& v) {
     const Axis* a = s.axis(key);
