@@ -30,6 +30,7 @@ refused() {
 accepted() {
   local name=$1
   shift
+  rm -f "$TMP/ok.csv" "$TMP/ok.csv.json"  # each case a run of its own (outputs are owned)
   if timeout 60 "$APICLAB" "$@" --csv "$TMP/ok.csv" --quiet >/dev/null 2>"$TMP/err"; then
     ok "$name"
   else
@@ -96,7 +97,7 @@ spec_refused "resolution and set domain.dx" "{$S, \"set\": {\"domain.dx\": 0.05}
 frames_at() {
   local name=$1 want=$2
   shift 2
-  rm -rf "$TMP/dump"
+  rm -rf "$TMP/dump" "$TMP/f.csv" "$TMP/f.csv.json"  # each case a run of its own
   if ! "$APICLAB" run rotating-disk "$@" --dump "$TMP/dump" --csv "$TMP/f.csv" \
     --quiet >/dev/null 2>"$TMP/err"; then
     nok "$name (rc $?)" "$(cat "$TMP/err")"

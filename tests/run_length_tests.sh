@@ -70,6 +70,7 @@ if timeout 60 "$APICLAB" run rotating-disk --t-end 0.01 --dt 1e-4 --max-steps 10
 else
   nok "--max-steps 100" "$(cat "$TMP/err")"
 fi
+rm -f "$TMP/ok.csv" "$TMP/ok.csv.json"  # another run's outputs are refused
 if timeout 60 "$APICLAB" run rotating-disk --t-end 0.125 --max-frames 3 --csv "$TMP/ok.csv" \
   --quiet 2>"$TMP/err" >/dev/null; then
   ok "--max-frames 3 runs the 3 frames"
