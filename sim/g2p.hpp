@@ -451,8 +451,10 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
     reduction(max                                          \
               : max_move) if (parallel_worthwhile())
   for (std::ptrdiff_t c = 0; c < chunks; ++c) {
-    const auto moves = pass.run_chunk(c * chunk, std::min(n, (c + 1) * chunk),
-                                      sums ? &chunk_sums_[std::size_t(c)] : nullptr);
+    // A copy of the pass in the chunk's own frame, which no store to the particles may alias.
+    const G2pPass<T, D, K, S> own = pass;
+    const auto moves = own.run_chunk(c * chunk, std::min(n, (c + 1) * chunk),
+                                     sums ? &chunk_sums_[std::size_t(c)] : nullptr);
     max_move = std::max(max_move, double(moves.largest));
     bad = bad || moves.bad;
   }
