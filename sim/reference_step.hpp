@@ -257,7 +257,8 @@ void step(const Setup<T, D>& s, ParticleState<T, D>& ps, T dt) {
     }
   }
 
-  // G2P. With λ = 0 the moved node is x̃_i = x_i + Δt ṽ_i (eq 30).
+  // G2P. With λ = 0 the moved node is x̃_i = x_i + Δt ṽ_i (eq 30). Its blocks have the names of
+  // the fast step's (sim/g2p.hpp): gather, the particle update, move the particle.
   constexpr int S = D == 2 ? 1 : 3;  // components of an angular velocity
   for (std::size_t p = 0; p < ps.x.size(); ++p) {
     const Vec<T, D> xp = ps.x[p];
@@ -265,6 +266,7 @@ void step(const Setup<T, D>& s, ParticleState<T, D>& ps, T dt) {
     Mat<T, D> grad_v = Mat<T, D>::Zero(), Dp = grad_v;
     Vec<T, S> l = Vec<T, S>::Zero();
     Mat<T, S> K = Mat<T, S>::Zero();
+    // Gather: the sums over the stencil.
     for_each_node(s, g, xp, [&](std::size_t i, T w, const Vec<T, D>& grad, const Vec<T, D>& xi) {
       const Vec<T, D> r = xi - xp, vt = g.v_new[i];
       v_pic += w * vt;                   // eqs 2, 37, 44
@@ -282,6 +284,7 @@ void step(const Setup<T, D>& s, ParticleState<T, D>& ps, T dt) {
       }
     });
 
+    // The particle update: velocity and affine matrix per scheme.
     const Vec<T, D> v_old = v_pic - flip_change;  // Σ w v_i^n
     const Vec<T, D> v_n = ps.v[p];
     if (s.scheme == Scheme::pic) {
@@ -336,7 +339,7 @@ void step(const Setup<T, D>& s, ParticleState<T, D>& ps, T dt) {
         ps.C[p] << 0, -omega[2], omega[1], omega[2], 0, -omega[0], -omega[1], omega[0], 0;
     }
 
-    // eq 40; MLS-MPM: the new C is the velocity gradient
+    // Move the particle. F by eq 40; MLS-MPM: the new C is the velocity gradient
     ps.F[p] = (Mat<T, D>::Identity() + dt * (mls ? ps.C[p] : grad_v)) * ps.F[p];
 
     // ASFLIP's position correction: x += Δt β α (v_p^n − Σ w v_i^n) for a particle that is not
