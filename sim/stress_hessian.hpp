@@ -96,16 +96,4 @@ Eigen::Matrix<T, D * D, D * D> projected_stress_hessian(MaterialModel model, con
   return eig.eigenvectors() * ev.asDiagonal() * eig.eigenvectors().transpose();
 }
 
-// Compiled once, in sim/stress_hessian.cpp: the D²×D² eigensolver is slow to compile, and the
-// solver and the tests would each compile it again.
-#define APICLAB_STRESS_HESSIAN(EXTERN, T, D)                                                      \
-  EXTERN template Eigen::Matrix<T, D * D, D * D> stress_hessian<T, D>(MaterialModel,              \
-                                                                      const Mat<T, D>&, Lame<T>); \
-  EXTERN template Eigen::Matrix<T, D * D, D * D> projected_stress_hessian<T, D>(                  \
-      MaterialModel, const Mat<T, D>&, Lame<T>);
-APICLAB_STRESS_HESSIAN(extern, float, 2)
-APICLAB_STRESS_HESSIAN(extern, float, 3)
-APICLAB_STRESS_HESSIAN(extern, double, 2)
-APICLAB_STRESS_HESSIAN(extern, double, 3)
-
 }  // namespace apiclab
