@@ -2,6 +2,8 @@
 #   ok NAME             a passed check
 #   nok NAME [LINE...]  a failed check, with lines of detail
 #   finish SCRIPT       prints "SCRIPT: N passed, M failed"; the exit status is 1 on any failure
+#   run_cli ARGS...     runs $APICLAB in $TMP/cwd within CLI_TIMEOUT s (default 120); sets RC,
+#                       OUT and ERR (files)
 pass=0
 fail=0
 ok() {
@@ -17,4 +19,9 @@ nok() {
 finish() {
   echo "$1: $pass passed, $fail failed"
   [ "$fail" -eq 0 ]
+}
+run_cli() {
+  OUT="$TMP/stdout" ERR="$TMP/stderr"
+  (cd "$TMP/cwd" && exec timeout "${CLI_TIMEOUT:-120}" "$APICLAB" "$@") >"$OUT" 2>"$ERR"
+  RC=$?
 }

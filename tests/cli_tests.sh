@@ -14,13 +14,6 @@ mkdir -p "$TMP/cwd"  # commands run here, so default outputs never land in the s
 
 source "$(dirname "${BASH_SOURCE[0]}")/check_lib.sh"
 
-# run_cli ARGS...: runs apiclab in $TMP/cwd; sets RC, OUT and ERR (files).
-run_cli() {
-  OUT="$TMP/stdout" ERR="$TMP/stderr"
-  (cd "$TMP/cwd" && exec timeout 120 "$APICLAB" "$@") >"$OUT" 2>"$ERR"
-  RC=$?
-}
-
 # expect_error NAME NEEDLE... -- ARGS...: exit 2, one stderr line holding every needle (a needle
 # "!TEXT" must not appear), never the JSON library's raw exception text.
 expect_error() {

@@ -19,12 +19,7 @@ mkdir -p "$TMP/cwd"
 
 source "$(dirname "${BASH_SOURCE[0]}")/check_lib.sh"
 
-# run_cli ARGS...: runs apiclab in $TMP/cwd; sets RC, OUT and ERR (files).
-run_cli() {
-  OUT="$TMP/stdout" ERR="$TMP/stderr"
-  (cd "$TMP/cwd" && exec timeout 300 "$APICLAB" "$@") >"$OUT" 2>"$ERR"
-  RC=$?
-}
+CLI_TIMEOUT=300  # run_cli's limit (check_lib.sh)
 
 # summary_field FILE KEY: a top-level number of a run --summary JSON.
 summary_field() {
