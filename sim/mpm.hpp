@@ -227,4 +227,11 @@ class MpmSimulation final : public Simulation, public TransferControls {
   SolverIterationObserver on_solver_iteration_;
 };
 
+// Compiled once, in sim/mpm_{2d,3d}_{float,double}.cpp: a file that uses the solver does not
+// instantiate its inline members and virtual functions again.
+extern template class MpmSimulation<float, 2>;
+extern template class MpmSimulation<double, 2>;
+extern template class MpmSimulation<float, 3>;
+extern template class MpmSimulation<double, 3>;
+
 }  // namespace apiclab

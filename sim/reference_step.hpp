@@ -361,4 +361,10 @@ void step(const Setup<T, D>& s, ParticleState<T, D>& ps, T dt) {
   }
 }
 
+// Compiled once, in sim/reference_step.cpp, for the tests and `apiclab bench --reference`.
+extern template void step<float, 2>(const Setup<float, 2>&, ParticleState<float, 2>&, float);
+extern template void step<double, 2>(const Setup<double, 2>&, ParticleState<double, 2>&, double);
+extern template void step<float, 3>(const Setup<float, 3>&, ParticleState<float, 3>&, float);
+extern template void step<double, 3>(const Setup<double, 3>&, ParticleState<double, 3>&, double);
+
 }  // namespace apiclab::reference

@@ -14,7 +14,8 @@ apiclab_discover_tests(test_render TEST_PREFIX "render." EXTRA_ARGS --backend eg
 apiclab_discover_tests(test_render TEST_PREFIX "render_osmesa." EXTRA_ARGS --backend osmesa
                        LABELS render default)
 
-add_executable(render_bench render_bench.cpp)
+# Not a test, and not built by default: cmake --build build --target render_bench
+add_executable(render_bench EXCLUDE_FROM_ALL render_bench.cpp)
 target_link_libraries(render_bench PRIVATE apiclab_render)
 
 # The two commands through the real executable: frames, options, panes, CSVs, errors, video.
