@@ -339,7 +339,7 @@ fi
 run_cli run --help
 help_problems=()
 [ "$RC" -eq 0 ] || help_problems+=("exit code $RC")
-for needle in "allowed [0, 1]; default 1]" "materials.*.nu" "allowed (-1, 0.5)" "time.dt.value" "default: double"; do
+for needle in "dimensionless; allowed: [0, 1]; default: 1]" "materials.*.nu" "allowed: (-1, 0.5)" "time.dt.value" "default: double"; do
   grep -qF -- "$needle" "$OUT" || help_problems+=("help lacks '$needle'")
 done
 flip_line=$(grep -F -- "--flip-alpha" "$OUT" | head -n 1)
