@@ -35,6 +35,17 @@ std::string expected_text(const std::string& what) {
   return e.size() <= 40 ? e : "";
 }
 
+// What the parser met instead, from its "unexpected '}'" part, else the token it stopped at.
+std::string unexpected_text(const std::string& what, const std::string& token) {
+  const auto at = what.find("- unexpected ");
+  if (at == std::string::npos) return "'" + token + "'";
+  std::string name = what.substr(at + 13, what.find(';', at) - at - 13);
+  if (name == "number literal") return "a number";
+  if (name == "string literal") return "a string";
+  if (name.find("literal") != std::string::npos) return "a value";
+  return name.size() <= 40 ? name : "'" + token + "'";
+}
+
 // A syntax error in the project's words, from the token the parser stopped at (the one
 // translation of nlohmann's parse_error text: "syntax error while parsing value - invalid
 // literal; last read: '/'" never reaches the user).
@@ -53,7 +64,7 @@ std::string syntax_cause(const std::string& text, std::size_t position, const st
   if (token.empty() || position > text.size() || what.find("end of input;") != std::string::npos)
     return "the text ends before the JSON does (a { or [ left open, or a value missing)";
   const std::string expected = expected_text(what);
-  std::string cause = "unexpected '" + token + "'";
+  std::string cause = "unexpected " + unexpected_text(what, token);
   if (what.find("invalid literal") != std::string::npos)
     cause += " (text takes double quotes; the literals are true, false and null)";
   else if (!expected.empty())
@@ -113,7 +124,7 @@ class StrictSax {
     const std::string shown = token.size() <= 40 ? token : token.substr(0, 30) + "...";
     error_ = {overflow ? "number " + shown + " is out of range for a double"
                        : syntax_cause(text_, position, shown, ex.what()),
-              path(), position_text(text_, position)};
+              path(), position_text(text_, position > 0 ? position - 1 : 0)};
     return false;
   }
   const JsonError& error() const { return error_; }
