@@ -200,8 +200,7 @@ std::vector<std::string> option_overrides(const RunOptions& o) {
   return sets;
 }
 
-// The MPM options on a scene of another method: an error naming the method, not the file's key;
-// a method switched by --set: a note that the file's keys of its own method are left out.
+// The MPM options on a scene of another method: an error naming the method, not the file's key.
 static void check_method_options(const RunOptions& o, const SceneMethod& m) {
   if (m.method.empty()) return;  // the scene does not load: its load says why
   if (m.method != "mpm") {
@@ -222,12 +221,18 @@ static void check_method_options(const RunOptions& o, const SceneMethod& m) {
                        "how MPM runs (solver.method mpm); leave it out, or run the scene with "
                        "MPM: --set solver.method=mpm");
   }
-  if (m.file_method != m.method && !o.quiet)
-    std::fprintf(stderr,
-                 "apiclab: note: %s: --set solver.method=%s: the scene's solver keys of %s that "
-                 "%s does not read are left out\n",
-                 message_text(o.scene).c_str(), m.method.c_str(), m.file_method.c_str(),
-                 m.method.c_str());
+}
+
+// A method switched by --set, once the scene loaded: the file's keys of its method left out.
+static void note_method_switch(const RunOptions& o, const SceneMethod& m) {
+  if (m.method.empty() || m.file_method == m.method || m.file_keys.empty() || o.quiet) return;
+  std::string keys;
+  for (const std::string& k : m.file_keys) keys += (keys.empty() ? "" : ", ") + k;
+  std::fprintf(stderr,
+               "apiclab: note: %s: --set solver.method=%s: of the scene's %s keys (solver: %s), "
+               "those %s does not read are left out\n",
+               message_text(o.scene).c_str(), m.method.c_str(), m.file_method.c_str(),
+               message_text(keys).c_str(), m.method.c_str());
 }
 
 SceneDesc load_scene_with_options(const RunOptions& o) {
@@ -239,8 +244,10 @@ SceneDesc load_scene_with_options(const RunOptions& o) {
     throw UsageError(
         "'" + message_text(o.scene) +
         "': no such scene file or shipped scene (apiclab list shows the shipped ones)");
-  check_method_options(o, scene_method(path, sets));
+  const SceneMethod method = scene_method(path, sets);
+  check_method_options(o, method);
   SceneDesc scene = load_scene(path, sets);
+  note_method_switch(o, method);
   scene.asset_dirs.push_back(assets_directory());
   if (scene.solver.method != "mpm" && precision_of(o) == Precision::single)
     std::fprintf(stderr,

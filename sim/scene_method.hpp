@@ -7,8 +7,9 @@
 namespace apiclab {
 
 struct SceneMethod {
-  std::string file_method;  // the file's solver.method ("mpm" when it names none)
-  std::string method;       // after the `--set` overrides
+  std::string file_method;             // the file's solver.method ("mpm" when it names none)
+  std::string method;                  // after the `--set` overrides
+  std::vector<std::string> file_keys;  // the file's solver keys besides `method`
 };
 
 // The scene file's method before and after `overrides`; both empty when the file cannot be read
