@@ -95,7 +95,8 @@ int list_scenes() {
 }  // namespace
 
 void register_list(CLI::App& root, CommandTable& table) {
-  CLI::App* cmd = root.add_subcommand("list", "the shipped scenes and sweeps, one line each");
+  CLI::App* cmd =
+      root.add_subcommand("list", "the shipped scenes and sweeps, each with its first sentence");
   table.push_back({cmd, [] { return list_scenes(); }});
 }
 

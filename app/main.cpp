@@ -86,18 +86,23 @@ std::string root_description() {
   std::string schemes = apiclab::choice_keys(apiclab::scheme_choices());
   for (char& c : schemes)
     if (c == '|') c = ' ';
-  return "apiclab: hybrid particle/grid simulation. Two solver families (scene key "
-         "solver.method): mpm, the Material Point Method with nine particle-grid transfer "
-         "schemes (" +
+  return "apiclab: hybrid particle/grid simulation, two solver families (scene key "
+         "solver.method):\n"
+         "  mpm  the Material Point Method with nine particle-grid transfer schemes:\n"
+         "       " +
          schemes +
-         "; Jiang et al. 2017 and later), and eol, the Eulerian-on-Lagrangian solver of Fan et "
-         "al. 2013 (eulerian: its Eulerian baseline).";
+         " (Jiang et al. 2017 and later)\n"
+         "  eol  the Eulerian-on-Lagrangian solver of Fan et al. 2013 (eulerian: its Eulerian "
+         "baseline)";
 }
 
 std::string root_footer() {
-  return "Exit codes: 0 success (also --help, --version); 2 bad input or an output that cannot "
-         "be written (one line on stderr); 3 the simulation blew up; 130, 143 stopped by SIGINT, "
-         "SIGTERM. The manual: docs/cli.md.";
+  return "Exit codes:\n"
+         "  0         success (also --help, --version)\n"
+         "  2         bad input, or an output that cannot be written (one line on stderr)\n"
+         "  3         the simulation blew up\n"
+         "  130, 143  stopped by SIGINT, SIGTERM\n"
+         "The manual: docs/cli.md.";
 }
 
 }  // namespace
