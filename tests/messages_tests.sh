@@ -89,6 +89,21 @@ refuse "--scheme mls names the fix" "--integrator symplectic" -- run skew-impact
 refuse "--dump-format vtk,vtk-raw" "both write frame_NNNN.vtp" -- run rotating-disk --dump d --dump-format vtk,vtk-raw
 refuse "render --video v.txt" "--video v.txt" ".mp4" -- render rotating-disk --out frames --video v.txt
 
+# ffmpeg's own lines are not printed: its last line is the cause in apiclab's one line.
+mkdir -p "$TMP/bin"
+printf '#!/bin/sh\necho "ffmpeg chatter" >&2\necho "Unknown encoder libx264" >&2\nexit 1\n' >"$TMP/bin/ffmpeg"
+chmod +x "$TMP/bin/ffmpeg"
+(cd "$TMP/cwd" && PATH="$TMP/bin:$PATH" "$APICLAB" render rotating-disk --t-end 0.05 --out vid --video v.mp4 --quiet) >"$TMP/stdout" 2>"$TMP/stderr"
+rc=$?
+if [ $rc -eq 2 ] && [ "$(tail -n 1 "$TMP/stderr")" = "apiclab: ffmpeg failed (exit 1) encoding v.mp4: Unknown encoder libx264" ] &&
+  ! grep -q "chatter" "$TMP/stderr"; then
+  ok "render --video: ffmpeg's failure in one line"
+elif grep -q "offscreen\|EGL\|OSMesa" "$TMP/stderr" && [ $rc -eq 2 ] && ! grep -q ffmpeg "$TMP/stderr"; then
+  ok "render --video: no offscreen OpenGL here (skipped)"
+else
+  nok "render --video: ffmpeg's failure in one line" "exit $rc" "$(tail -n 3 "$TMP/stderr")"
+fi
+
 # --set solver.method switches the method: the scene's MPM keys are left out, with a note.
 run_cli run rotating-disk --set solver.method=eulerian --t-end 0.02 --csv m.csv
 if [ "$RC" -eq 0 ] && grep -q "note: .*solver.method=eulerian" "$ERR" &&
