@@ -200,6 +200,30 @@ std::vector<std::string> option_overrides(const RunOptions& o) {
   return sets;
 }
 
+// --scheme, --kernel or --integrator that cannot run with the rest of the scene's solver (mls
+// with an implicit integrator): an error naming the option and the fix, not the file's key.
+static void check_scheme_options(const RunOptions& o, const SceneMethod& m) {
+  if (o.scheme.empty() && o.kernel.empty() && o.integrator.empty()) return;
+  SolverDesc v;
+  try {
+    if (!m.scheme.empty()) v.scheme = parse_choice(scheme_choices(), m.scheme, "scheme");
+    if (!m.kernel.empty()) v.kernel = parse_choice(kernel_choices(), m.kernel, "kernel");
+    if (!m.integrator.empty())
+      v.integrator = parse_choice(integrator_choices(), m.integrator, "integrator");
+  } catch (const std::invalid_argument&) {
+    return;  // the scene's own choice is wrong: its load names the key
+  }
+  const std::string why = scheme_conflict(v);
+  if (why.empty()) return;
+  std::string given;
+  for (const auto& [flag, value] :
+       {std::pair<const char*, const std::string&>{"--scheme", o.scheme},
+        {"--kernel", o.kernel},
+        {"--integrator", o.integrator}})
+    if (!value.empty()) given += (given.empty() ? "" : " ") + std::string(flag) + " " + value;
+  throw UsageError(given + " on " + message_text(o.scene) + ": " + why);
+}
+
 // The MPM options on a scene of another method: an error naming the method, not the file's key.
 static void check_method_options(const RunOptions& o, const SceneMethod& m) {
   if (m.method.empty()) return;  // the scene does not load: its load says why
@@ -220,7 +244,9 @@ static void check_method_options(const RunOptions& o, const SceneMethod& m) {
                        ", and --scheme, --kernel, --integrator, --flip-alpha and --lambda choose "
                        "how MPM runs (solver.method mpm); leave it out, or run the scene with "
                        "MPM: --set solver.method=mpm");
+    return;
   }
+  check_scheme_options(o, m);
 }
 
 // A method switched by --set, once the scene loaded: the file's keys of its method left out.

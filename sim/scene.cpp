@@ -578,6 +578,16 @@ SceneMethod scene_method(const std::string& path, const std::vector<std::string>
         if (it.key() != "method") m.file_keys.push_back(it.key());
     for (const std::string& o : overrides) apply_override(j, o, path);
     m.method = method_of(j);
+    if (j.contains("solver") && j["solver"].is_object()) {
+      const json& solver = j["solver"];
+      const auto text = [&](const char* key) {
+        return solver.contains(key) && solver[key].is_string() ? solver[key].get<std::string>()
+                                                               : std::string();
+      };
+      m.scheme = text("scheme");
+      m.kernel = text("kernel");
+      m.integrator = text("integrator");
+    }
     return m;
   } catch (const std::exception&) {
     return {};  // loading the scene reports it

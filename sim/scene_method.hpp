@@ -10,6 +10,8 @@ struct SceneMethod {
   std::string file_method;             // the file's solver.method ("mpm" when it names none)
   std::string method;                  // after the `--set` overrides
   std::vector<std::string> file_keys;  // the file's solver keys besides `method`
+  // The MPM choices after the overrides, as written ("" when the scene leaves the default).
+  std::string scheme, kernel, integrator;
 };
 
 // The scene file's method before and after `overrides`; both empty when the file cannot be read

@@ -473,8 +473,10 @@ expect_error "dump format without --dump" "--dump-format" "needs --dump" -- run 
 expect_error "compare --dump csv with a pane without particles" "--dump" "eol" -- compare eol-spin --schemes apic,eol --out "$TMP/cmpdump" --dump "$TMP/cmpdump/d" --dump-format csv
 
 expect_error "compare mls pane with an implicit scene" "--schemes mls" "symplectic" -- compare rotating-disk --schemes apic,mls --out "$TMP/cmpmls"
-expect_error "mls with an implicit integrator" "'solver.scheme'" "symplectic" -- run rotating-disk --scheme mls
-expect_error "polypic with the cubic kernel" "'solver.scheme'" "quadratic kernel" -- run rotating-disk --scheme polypic --kernel cubic
+expect_error "mls with an implicit integrator" "--scheme mls on rotating-disk" "(--integrator symplectic)" -- run rotating-disk --scheme mls
+expect_error "polypic with the cubic kernel" "--scheme polypic --kernel cubic" "(--kernel quadratic)" -- run rotating-disk --scheme polypic --kernel cubic
+# The same conflict written in a scene file names its key.
+expect_error "mls with an implicit integrator in the file" "'solver.scheme'" "symplectic" -- run rotating-disk --set solver.scheme=mls
 expect_error "polypic with more modes than 2D has" "'solver.polypic_modes'" "9 modes in 2D" -- run rotating-disk --scheme polypic --set solver.polypic_modes=12
 
 # PolyPIC with its G modes (5 or more in 2D) runs, with one warning line naming the cause and the

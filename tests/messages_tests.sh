@@ -85,7 +85,7 @@ for opt in "--scheme apic" "--kernel quadratic" "--integrator midpoint" "--flip-
   refuse "$opt on an EoL scene" "$opt: eol-spin runs solver.method eol" "how MPM runs" "--set solver.method=mpm" -- run eol-spin $opt
 done
 refuse "--scheme eol is a method" "eol is a solver method" "--set solver.method=eol" -- run rotating-disk --scheme eol
-refuse "--scheme mls names the fix" "--integrator symplectic" -- run skew-impact --scheme mls --integrator midpoint
+refuse "--scheme mls names the option and the fix" "--scheme mls on skew-impact" "(--integrator symplectic)" -- run skew-impact --scheme mls
 refuse "--dump-format vtk,vtk-raw" "both write frame_NNNN.vtp" -- run rotating-disk --dump d --dump-format vtk,vtk-raw
 refuse "render --video v.txt" "--video v.txt" ".mp4" -- render rotating-disk --out frames --video v.txt
 
