@@ -39,7 +39,8 @@ CLI::Option* add_parameter_option(CLI::App* cmd, const std::string& flag, T& tar
 
 template <class E>
 std::string choice_help(const char* what, const std::vector<Choice<E>>& choices) {
-  return std::string(what) + ": " + choice_keys(choices) + " [default: the scene's]";
+  return std::string(what) + ": " + choice_keys(choices) +
+         " [default: the scene's; solver.method mpm only]";
 }
 
 // Each scheme's help (registry.hpp: source and equations), so --help names what a key runs.
@@ -65,7 +66,8 @@ void add_run_options(CLI::App* cmd, RunOptions& o, RunOptionSet which) {
                                 "them)");
   if (which.scene_required) scene->required();
   cmd->add_option("--scheme", o.scheme, choice_help("transfer scheme", scheme_choices()));
-  add_parameter_option(cmd, "--flip-alpha", o.flip_alpha, "solver.flip_alpha", ", FLIP and ASFLIP");
+  add_parameter_option(cmd, "--flip-alpha", o.flip_alpha, "solver.flip_alpha",
+                       ", FLIP and ASFLIP (mpm)");
   cmd->add_option("--kernel", o.kernel, choice_help("interpolation kernel", kernel_choices()));
   cmd->add_option("--integrator", o.integrator, choice_help("grid update", integrator_choices()));
   add_parameter_option(cmd, "--lambda", o.lambda, "solver.lambda",
