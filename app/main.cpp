@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <new>
 #include <string>
 
 #include "app/cli_checks.hpp"
@@ -166,6 +167,11 @@ int main(int argc, char** argv) {
     const std::string path = e.path1().string();
     std::fprintf(stderr, "apiclab: cannot use '%s': %s\n", apiclab::message_text(path).c_str(),
                  apiclab::path_error_text(e.code(), path).c_str());
+  } catch (const std::bad_alloc&) {
+    // The memory cap passed, yet an allocation failed: not the library's "std::bad_alloc".
+    std::fprintf(stderr,
+                 "apiclab: out of memory: an allocation failed (a lower --max-memory refuses such "
+                 "a scene before it starts; docs/cli.md, Memory cap)\n");
   } catch (const std::exception& e) {
     std::fprintf(stderr, "apiclab: error: %s\n", e.what());
   }
