@@ -16,7 +16,7 @@ LIBRARY_PHRASES=("Could not convert" "not in range" "The following argument" "we
   "is not an allowed value" "Should be true/false" "required but received" "INT in [" "Value "
   "syntax error while parsing" "parse_error" "json.exception" "last read:" "invalid literal"
   "unexpected end of input" "filesystem error" "File name too long" "terminate called" "what():"
-  "std::" "basic_string")
+  "std::" "basic_string" "bad_alloc")
 
 # refuse NAME NEEDLE... -- ARGS: exit 2, one line "apiclab: ...", each NEEDLE in it, no library
 # phrase.
@@ -78,6 +78,16 @@ refuse "--set with a bare word for a number" "E must be a number" -- run rotatin
 # ---- std::filesystem: a 30 kB name -----------------------------------------------------------
 refuse "30 kB scene name" "the path is too long (30000 characters" -- run "$long"
 refuse "30 kB --csv name" "cannot write output file" "the path is too long (30004 characters" -- run rotating-disk --t-end 0.01 --csv "$long.csv"
+
+# ---- an allocation that fails past the memory cap (a 1e-4 grid under a 150 MB address space) ----
+run_oom() { (ulimit -v 150000 && run_cli "$@"); }  # OUT and ERR are files: they outlive the subshell
+run_oom run rotating-disk --max-memory none --set domain.dx=0.0005 --t-end 0.001 --csv big.csv
+if grep -q "^apiclab: out of memory: an allocation failed" "$ERR" && [ "$(grep -c '' "$ERR")" -eq 1 ] &&
+  ! grep -q "bad_alloc" "$ERR"; then
+  ok "an allocation failure in apiclab's words"
+else
+  nok "an allocation failure in apiclab's words" "$(head -c 300 "$ERR")"
+fi
 
 # ---- options that belong to another method --------------------------------------------------
 for opt in "--scheme apic" "--kernel quadratic" "--integrator midpoint" "--flip-alpha 0.9"; do
