@@ -21,11 +21,12 @@ std::string scenes_directory() {
 std::string assets_directory() { return fs::path(scenes_directory()).parent_path().string(); }
 
 std::string resolve_scene_path(const std::string& arg) {
-  if (fs::exists(arg)) return arg;
+  std::error_code ec;  // a path too long to look up is reported by the reader, not thrown here
+  if (fs::exists(arg, ec)) return arg;
   if (arg.find('/') == std::string::npos) {
     fs::path p = fs::path(scenes_directory()) /
                  (arg + (fs::path(arg).extension() == ".json" ? "" : ".json"));
-    if (fs::exists(p)) return p.string();
+    if (fs::exists(p, ec)) return p.string();
   }
   return arg;  // load_scene reports it as missing
 }

@@ -9,12 +9,17 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "app/cli_checks.hpp"
 #include "app/set_conflicts.hpp"
+#include "sim/input_file.hpp"
 #include "sim/memory_estimate.hpp"
+#include "sim/message_text.hpp"
+#include "sim/method_registry.hpp"
 #include "sim/parameters.hpp"
+#include "sim/scene_method.hpp"
 
 namespace apiclab::cli {
 
@@ -34,7 +39,8 @@ CLI::Option* add_parameter_option(CLI::App* cmd, const std::string& flag, T& tar
 
 template <class E>
 std::string choice_help(const char* what, const std::vector<Choice<E>>& choices) {
-  return std::string(what) + ": " + choice_keys(choices) + " [default: the scene's]";
+  return std::string(what) + ": " + choice_keys(choices) +
+         " [default: the scene's; solver.method mpm only]";
 }
 
 // Each scheme's help (registry.hpp: source and equations), so --help names what a key runs.
@@ -60,7 +66,8 @@ void add_run_options(CLI::App* cmd, RunOptions& o, RunOptionSet which) {
                                 "them)");
   if (which.scene_required) scene->required();
   cmd->add_option("--scheme", o.scheme, choice_help("transfer scheme", scheme_choices()));
-  add_parameter_option(cmd, "--flip-alpha", o.flip_alpha, "solver.flip_alpha", ", FLIP and ASFLIP");
+  add_parameter_option(cmd, "--flip-alpha", o.flip_alpha, "solver.flip_alpha",
+                       ", FLIP and ASFLIP (mpm)");
   cmd->add_option("--kernel", o.kernel, choice_help("interpolation kernel", kernel_choices()));
   cmd->add_option("--integrator", o.integrator, choice_help("grid update", integrator_choices()));
   add_parameter_option(cmd, "--lambda", o.lambda, "solver.lambda",
@@ -69,7 +76,8 @@ void add_run_options(CLI::App* cmd, RunOptions& o, RunOptionSet which) {
   if (which.frames)
     cmd->add_option("--frames", o.frames,
                     "number of frames (end time = frames / fps; not with --t-end) [allowed: "
-                    "integer >= 1; default: the scene's time.end]");
+                    "integer >= 1; default: the scene's time.end]")
+        ->check(whole_number(1, std::numeric_limits<int>::max()));
   add_parameter_option(cmd, "--fps", o.fps, "time.fps");
   add_parameter_option(cmd, "--dt", o.dt, "time.dt.value", ", with the fixed rule");
   if (which.outputs) {
@@ -81,7 +89,7 @@ void add_run_options(CLI::App* cmd, RunOptions& o, RunOptionSet which) {
                     "formats of --dump, several allowed: csv (the contract), vtk (.vtp + "
                     "series.pvd for ParaView, zlib-compressed; vtk-raw uncompressed), ply (binary, "
                     "Houdini/Blender), obj (vertices) "
-                    "[default: csv]");
+                    "[default: csv; vtk for eol and eulerian, which have no particles]");
     cmd->add_flag("--overwrite", o.overwrite,
                   "replace outputs that another run or no apiclab run wrote (without it they are "
                   "refused; a run's own earlier outputs are always replaced) [default: off]");
@@ -93,7 +101,7 @@ void add_run_options(CLI::App* cmd, RunOptions& o, RunOptionSet which) {
          "(listed below)")
       ->take_all();
   cmd->add_option("--threads", o.threads, "OpenMP threads [allowed: 1-4096; default: all cores]")
-      ->check(CLI::Range(1, 4096));
+      ->check(whole_number(1, 4096));
   cmd->add_option("--precision", o.precision,
                   "scalar type: " + choice_keys(precision_choices()) + " [default: double]");
   cmd->add_option("--max-memory", o.max_memory,
@@ -104,20 +112,20 @@ void add_run_options(CLI::App* cmd, RunOptions& o, RunOptionSet which) {
                   "refuse a run whose time-step rule must take more steps than this, or whose "
                   "first steps predict more; a run that passes it stops [allowed: > 0; default: "
                   "1e8]")
-      ->check(CLI::PositiveNumber);
+      ->check(number_above(0));
   cmd->add_option("--max-frames", o.max_frames,
                   "refuse a run of more frames than this (time.end x fps) [allowed: > 0; "
                   "default: 1e6]")
-      ->check(CLI::PositiveNumber);
+      ->check(number_above(0));
   if (which.quiet) cmd->add_flag("--quiet", o.quiet, "no progress line [default: off]");
   cmd->footer(scheme_table() + parameter_table());
 }
 
-std::vector<DumpFormat> dump_formats_of(const RunOptions& o) {
-  if (o.dump.empty() && o.dump_format != "csv")
+std::vector<DumpFormat> dump_formats_of(const RunOptions& o, bool particles) {
+  if (o.dump.empty() && !o.dump_format.empty())
     throw UsageError("--dump-format " + o.dump_format + " needs --dump DIR");
   try {
-    return parse_dump_formats(o.dump_format);
+    return parse_dump_formats(o.dump_format.empty() ? (particles ? "csv" : "vtk") : o.dump_format);
   } catch (const std::invalid_argument& e) {
     throw UsageError(std::string("--dump-format: ") + e.what());
   }
@@ -152,6 +160,11 @@ std::vector<std::string> option_overrides(const RunOptions& o) {
     }
   };
   if (!o.scheme.empty()) {
+    if (find_method(o.scheme))
+      throw UsageError("--scheme " + o.scheme + ": " + o.scheme +
+                       " is a solver method, not an MPM transfer scheme; a scene chooses it with "
+                       "solver.method, the command line with --set solver.method=" +
+                       o.scheme + " (--scheme takes " + choice_keys(scheme_choices()) + ")");
     check(scheme_choices(), o.scheme, "scheme");
     add("--scheme", o.scheme, "solver.scheme=" + o.scheme);
   }
@@ -189,15 +202,86 @@ std::vector<std::string> option_overrides(const RunOptions& o) {
   return sets;
 }
 
+// --scheme, --kernel or --integrator that cannot run with the rest of the scene's solver (mls
+// with an implicit integrator): an error naming the option and the fix, not the file's key.
+static void check_scheme_options(const RunOptions& o, const SceneMethod& m) {
+  if (o.scheme.empty() && o.kernel.empty() && o.integrator.empty()) return;
+  SolverDesc v;
+  try {
+    if (!m.scheme.empty()) v.scheme = parse_choice(scheme_choices(), m.scheme, "scheme");
+    if (!m.kernel.empty()) v.kernel = parse_choice(kernel_choices(), m.kernel, "kernel");
+    if (!m.integrator.empty())
+      v.integrator = parse_choice(integrator_choices(), m.integrator, "integrator");
+  } catch (const std::invalid_argument&) {
+    return;  // the scene's own choice is wrong: its load names the key
+  }
+  const std::string why = scheme_conflict(v);
+  if (why.empty()) return;
+  std::string given;
+  for (const auto& [flag, value] :
+       {std::pair<const char*, const std::string&>{"--scheme", o.scheme},
+        {"--kernel", o.kernel},
+        {"--integrator", o.integrator}})
+    if (!value.empty()) given += (given.empty() ? "" : " ") + std::string(flag) + " " + value;
+  throw UsageError(given + " on " + message_text(o.scene) + ": " + why);
+}
+
+// The MPM options on a scene of another method: an error naming the method, not the file's key.
+static void check_method_options(const RunOptions& o, const SceneMethod& m) {
+  if (m.method.empty()) return;  // the scene does not load: its load says why
+  if (m.method != "mpm") {
+    std::string given;
+    if (!o.scheme.empty())
+      given = "--scheme " + o.scheme;
+    else if (!o.kernel.empty())
+      given = "--kernel " + o.kernel;
+    else if (!o.integrator.empty())
+      given = "--integrator " + o.integrator;
+    else if (o.flip_alpha)
+      given = "--flip-alpha " + format_value(*o.flip_alpha);
+    else if (o.lambda)
+      given = "--lambda " + format_value(*o.lambda);
+    if (!given.empty())
+      throw UsageError(given + ": " + message_text(o.scene) + " runs solver.method " + m.method +
+                       ", and --scheme, --kernel, --integrator, --flip-alpha and --lambda choose "
+                       "how MPM runs (solver.method mpm); leave it out, or run the scene with "
+                       "MPM: --set solver.method=mpm");
+    return;
+  }
+  check_scheme_options(o, m);
+}
+
+// A method switched by --set, once the scene loaded: the file's keys of its method left out.
+static void note_method_switch(const RunOptions& o, const SceneMethod& m) {
+  if (m.method.empty() || m.file_method == m.method || m.file_keys.empty() || o.quiet) return;
+  std::string keys;
+  for (const std::string& k : m.file_keys) keys += (keys.empty() ? "" : ", ") + k;
+  std::fprintf(stderr,
+               "apiclab: note: %s: --set solver.method=%s: of the scene's %s keys (solver: %s), "
+               "those %s does not read are left out\n",
+               message_text(o.scene).c_str(), m.method.c_str(), m.file_method.c_str(),
+               message_text(keys).c_str(), m.method.c_str());
+}
+
 SceneDesc load_scene_with_options(const RunOptions& o) {
   const std::vector<std::string> sets = option_overrides(o);
   const std::string path = resolve_scene_path(o.scene);
-  if (!o.scene.empty() && o.scene.find('/') == std::string::npos && !std::filesystem::exists(path))
+  std::error_code ec;
+  if (!o.scene.empty() && o.scene.find('/') == std::string::npos &&
+      !std::filesystem::exists(path, ec) && ec != std::errc::filename_too_long)
     throw UsageError(
-        "'" + o.scene +
+        "'" + message_text(o.scene) +
         "': no such scene file or shipped scene (apiclab list shows the shipped ones)");
+  const SceneMethod method = scene_method(path, sets);
+  check_method_options(o, method);
   SceneDesc scene = load_scene(path, sets);
+  note_method_switch(o, method);
   scene.asset_dirs.push_back(assets_directory());
+  if (scene.solver.method != "mpm" && precision_of(o) == Precision::single)
+    std::fprintf(stderr,
+                 "apiclab: warning: %s: --precision float: the %s solver runs in double "
+                 "precision only; this run is double\n",
+                 scene.source.c_str(), scene.solver.method.c_str());
   if (o.frames) {
     const double end = *o.frames / scene.time.fps;
     if (end > scene.time.end * (1 + 1e-9) && !o.quiet)
@@ -223,13 +307,13 @@ void ensure_writable_dir(const std::string& dir) {
   namespace fs = std::filesystem;
   std::error_code ec;
   fs::create_directories(dir, ec);
-  if (ec || !fs::is_directory(dir))
-    throw UsageError("cannot create output directory '" + dir + "'" +
-                     (ec ? ": " + ec.message() : ""));
+  if (ec || !fs::is_directory(dir, ec))
+    throw UsageError("cannot create output directory '" + message_text(dir) + "'" +
+                     (ec ? ": " + path_error_text(ec, dir) : ""));
   fs::path probe = fs::path(dir) / ".apiclab-write-test";
   {
     std::ofstream f(probe);
-    if (!f) throw UsageError("output directory '" + dir + "' is not writable");
+    if (!f) throw UsageError("output directory '" + message_text(dir) + "' is not writable");
   }
   fs::remove(probe, ec);
 }
@@ -237,10 +321,16 @@ void ensure_writable_dir(const std::string& dir) {
 void ensure_writable_file(const std::string& file) {
   namespace fs = std::filesystem;
   fs::path p(file);
+  std::error_code ec;
+  const fs::file_status st = fs::status(p, ec);
+  if (ec == std::errc::filename_too_long)
+    throw UsageError("cannot write output file '" + message_text(file) +
+                     "': " + path_error_text(ec, file));
   ensure_writable_dir(p.has_parent_path() ? p.parent_path().string() : ".");
-  if (fs::is_directory(p)) throw UsageError("output file '" + file + "' is a directory");
-  if (fs::exists(p) && !std::ofstream(file, std::ios::app))
-    throw UsageError("cannot write output file '" + file + "'");
+  if (fs::is_directory(st))
+    throw UsageError("output file '" + message_text(file) + "' is a directory");
+  if (fs::exists(st) && !std::ofstream(file, std::ios::app))
+    throw UsageError("cannot write output file '" + message_text(file) + "'");
 }
 
 std::string format_duration(double seconds) {

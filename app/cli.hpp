@@ -28,7 +28,7 @@ struct RunOptions {
   std::optional<double> flip_alpha, lambda, t_end, fps, dt;
   std::optional<int> frames;
   std::string csv, dump;
-  std::string dump_format = "csv";  // --dump-format: csv,vtk,ply,obj
+  std::string dump_format;  // --dump-format: csv,vtk,ply,obj; empty: the method's default
   std::vector<std::string> sets;
   int threads = 0;  // 0: OpenMP default
   bool quiet = false;
@@ -60,7 +60,8 @@ std::vector<std::string> option_overrides(const RunOptions& o);
 SceneDesc load_scene_with_options(const RunOptions& o);
 Precision precision_of(const RunOptions& o);
 // --dump-format as a list; UsageError for an unknown or repeated format, or formats without --dump.
-std::vector<DumpFormat> dump_formats_of(const RunOptions& o);
+// Without --dump-format: csv, or vtk for a method without particles (`particles` false: eol).
+std::vector<DumpFormat> dump_formats_of(const RunOptions& o, bool particles = true);
 void apply_threads(int threads);
 
 // Creates `dir` (and parents) and checks that a file can be written there; throws UsageError.

@@ -1,15 +1,143 @@
 #include "app/cli_checks.hpp"
 
+#include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <limits>
 #include <regex>
 
 #include "sim/memory_estimate.hpp"
+#include "sim/message_text.hpp"
 #include "sim/object_overlap.hpp"
 #include "sim/parameters.hpp"
 #include "sim/transfer_polypic.hpp"
 
 namespace apiclab::cli {
+
+namespace {
+
+std::string in_quotes(const std::string& text) { return "'" + message_text(text, 60) + "'"; }
+
+// The whole text as a whole number; nullopt when it is not one (or out of long long's range).
+std::optional<long long> whole_value(const std::string& text) {
+  static const std::regex whole(R"([+-]?[0-9]+)");
+  if (!std::regex_match(text, whole)) return std::nullopt;
+  errno = 0;
+  const long long v = std::strtoll(text.c_str(), nullptr, 10);
+  if (errno == ERANGE) return std::nullopt;
+  return v;
+}
+
+// The whole text as a number (nan and inf included: the registry's ranges refuse them by name).
+std::optional<double> number_value(const std::string& text) {
+  if (text.empty() || std::isspace(static_cast<unsigned char>(text[0]))) return std::nullopt;
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (*end != '\0') return std::nullopt;
+  return v;
+}
+
+// "" for any int, "of at least 1", "from 1 to 4096".
+std::string range_text(long long lo, long long hi) {
+  if (lo <= std::numeric_limits<int>::min() && hi >= std::numeric_limits<int>::max()) return "";
+  if (hi >= std::numeric_limits<int>::max()) return " of at least " + std::to_string(lo);
+  return " from " + std::to_string(lo) + " to " + std::to_string(hi);
+}
+
+}  // namespace
+
+CLI::Validator whole_number(long long lo, long long hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& text) -> std::string {
+        const auto v = whole_value(text);
+        if (v && *v >= lo && *v <= hi) return "";
+        return "expected a whole number" + range_text(lo, hi) + ", got " + in_quotes(text);
+      },
+      "");
+}
+
+CLI::Validator number_above(double lo) {
+  return CLI::Validator(
+      [lo](std::string& text) -> std::string {
+        const auto v = number_value(text);
+        if (v && *v > lo && std::isfinite(*v)) return "";
+        return "expected a number above " + format_value(lo) + ", got " + in_quotes(text);
+      },
+      "");
+}
+
+CLI::Validator number_at_least(double lo, double hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& text) -> std::string {
+        const auto v = number_value(text);
+        if (v && *v >= lo && *v <= hi) return "";
+        return "expected a number " +
+               (hi < 1e300 ? "from " + format_value(lo) + " to " + format_value(hi)
+                           : "of at least " + format_value(lo)) +
+               ", got " + in_quotes(text);
+      },
+      "");
+}
+
+CLI::Validator one_of(const std::vector<std::string>& keys) {
+  return CLI::Validator(
+      [keys](std::string& text) -> std::string {
+        std::string list;
+        for (const std::string& k : keys) {
+          if (k == text) return "";
+          list += (list.empty() ? "" : ", ") + k;
+        }
+        const std::string near = nearest(text, keys);
+        return "expected one of " + list + ", got " + in_quotes(text) +
+               (near.empty() ? "" : " (did you mean '" + near + "'?)");
+      },
+      "");
+}
+
+void check_option_kinds(CLI::App& app) {
+  for (CLI::Option* opt : app.get_options()) {
+    // The type before any validator's description ("INT:..."): CLI11's name of the target type.
+    const std::string type = opt->get_type_name().substr(0, opt->get_type_name().find(':'));
+    if (type == "INT")
+      opt->check(whole_number(std::numeric_limits<int>::min(), std::numeric_limits<int>::max()));
+    else if (type == "UINT")
+      opt->check(whole_number(0, std::numeric_limits<unsigned>::max()));
+    else if (type == "FLOAT")
+      opt->check(CLI::Validator(
+          [](std::string& text) -> std::string {
+            return number_value(text) ? "" : "expected a number, got " + in_quotes(text);
+          },
+          ""));
+  }
+  for (CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; }))
+    check_option_kinds(*sub);
+}
+
+std::string nearest(const std::string& word, const std::vector<std::string>& candidates) {
+  std::string best;
+  std::size_t best_distance = std::max<std::size_t>(2, word.size() / 3) + 1;
+  for (const std::string& c : candidates) {
+    // Levenshtein distance, one row at a time.
+    std::vector<std::size_t> row(c.size() + 1);
+    for (std::size_t j = 0; j <= c.size(); ++j) row[j] = j;
+    for (std::size_t i = 1; i <= word.size(); ++i) {
+      std::size_t diagonal = row[0];
+      row[0] = i;
+      for (std::size_t j = 1; j <= c.size(); ++j) {
+        const std::size_t up = row[j];
+        row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (word[i - 1] != c[j - 1])});
+        diagonal = up;
+      }
+    }
+    if (row[c.size()] < best_distance) {
+      best_distance = row[c.size()];
+      best = c;
+    }
+  }
+  return best;
+}
 
 void check_numeric_option(const std::string& flag, std::string_view key, double value) {
   int index = 0;

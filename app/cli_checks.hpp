@@ -11,6 +11,19 @@
 
 namespace apiclab::cli {
 
+// Option values checked before CLI11 converts them, each refusal in the project's words
+// ("--threads: expected a whole number from 1 to 4096, got 'abc'"), with no text in --help.
+CLI::Validator whole_number(long long lo, long long hi);
+CLI::Validator number_above(double lo);                        // > lo
+CLI::Validator number_at_least(double lo, double hi = 1e300);  // in [lo, hi]
+CLI::Validator one_of(const std::vector<std::string>& keys);
+// Gives every numeric option of `app` and its subcommands the check of its kind (a whole
+// number, a number), so that CLI11's "Could not convert" never reaches the user.
+void check_option_kinds(CLI::App& app);
+
+// The candidate nearest to `word` by edit distance, if near enough to be a typo; else "".
+std::string nearest(const std::string& word, const std::vector<std::string>& candidates);
+
 // A numeric option against its scene key's range in the parameter registry; the message names
 // the option: "--t-end nan: end time is outside the allowed range (0, inf) (scene key
 // 'time.end')".

@@ -444,19 +444,19 @@ void register_bench(CLI::App& root, CommandTable& table) {
   CLI::App* cmd =
       root.add_subcommand("bench", "explicit-step throughput; last line 'particle-steps/s: N'");
   cmd->add_option("--dim", o->dim, "dimension [allowed: 2, 3; default: 2]")
-      ->check(CLI::IsMember({2, 3}));
+      ->check(whole_number(2, 3));
   cmd->add_option("--particles", o->particles,
                   "particle count, approximate [allowed: 16 or more; default: 262144 (2D), "
                   "110592 (3D)]")
-      ->check(CLI::Range(16L, 2000000000L));
+      ->check(whole_number(16, 2000000000));
   cmd->add_option("--steps", o->steps,
                   "timed steps [allowed: 1 or more; default: 200 (2D), 50 (3D); with --sizes, "
                   "the same work per size]")
-      ->check(CLI::Range(1, 100000000));
+      ->check(whole_number(1, 100000000));
   cmd->add_option("--precision", o->precision,
                   "float|double [default: float; double with --scene]");
   cmd->add_option("--threads", o->threads, "OpenMP threads [allowed: 1-4096; default: all cores]")
-      ->check(CLI::Range(1, 4096));
+      ->check(whole_number(1, 4096));
   cmd->add_option("--scheme", o->scheme,
                   "transfer scheme: " + choice_keys(scheme_choices()) + " [default: apic]");
   cmd->add_option("--kernel", o->kernel,
@@ -466,7 +466,7 @@ void register_bench(CLI::App& root, CommandTable& table) {
   cmd->add_option("--polypic-modes", o->polypic_modes,
                   "PolyPIC's modes kept per component (solver.polypic_modes) [allowed: 0-27; "
                   "default: 0 = all]")
-      ->check(CLI::Range(0, 27));
+      ->check(whole_number(0, 27));
   cmd->add_option("--max-memory", o->max_memory,
                   "refuse a block whose estimated memory exceeds this: BYTES (e.g. 8G), auto or "
                   "none [default: auto = the available memory]");
@@ -482,7 +482,7 @@ void register_bench(CLI::App& root, CommandTable& table) {
   cmd->add_option("--domain-times", o->domain_times,
                   "with --scene: grow the domain away from its minimum corner to N x its area "
                   "(2D) or volume (3D) [allowed: 1-1e12; default: 1]")
-      ->check(CLI::Range(1.0, 1e12));
+      ->check(number_at_least(1, 1e12));
   cmd->add_option("--record", o->record,
                   "append one row per measurement to this performance ledger (CSV, "
                   "docs/data/performance-ledger.csv; created with its header if absent) "

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "app/assets.hpp"
+#include "app/cli_checks.hpp"
 #include "cli.hpp"
 #include "commands.hpp"
 #include "sim/choice_parameters.hpp"
@@ -109,7 +110,7 @@ void register_docs(CLI::App& root, CommandTable& table) {
                   "scene-keys: every scene key from the registries; schemes: the transfer "
                   "schemes; scenes: the shipped scenes")
       ->required()
-      ->check(CLI::IsMember({"scene-keys", "schemes", "scenes"}));
+      ->check(one_of({"scene-keys", "schemes", "scenes"}));
   table.push_back({cmd, [] {
                      if (page == "schemes") return print_schemes();
                      if (page == "scenes") return print_scenes();

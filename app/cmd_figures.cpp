@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <thread>
 
+#include "app/cli_checks.hpp"
 #include "app/clock.hpp"
 #include "app/figures/catalogue.hpp"
 #include "app/figures/chart_canvas.hpp"
@@ -138,11 +139,14 @@ void register_figures(CLI::App& root, CommandTable& table) {
   cmd->add_option("--out", o->out, "output directory [required]")->required();
   cmd->add_flag("--quick", o->quick,
                 "coarser and shorter runs (CI): end times cut, round trip to 64 [default: off]");
-  cmd->add_option("--only", o->only, "figure numbers to make, e.g. 3,11 (default: all)")
+  std::string ids;
+  for (const std::string& id : figures::figure_ids()) ids += (ids.empty() ? "" : ",") + id;
+  cmd->add_option("--only", o->only,
+                  "figures to make, a comma-separated list of: " + ids + " [default: all]")
       ->delimiter(',');
   cmd->add_option("--threads", o->threads,
                   "simulations run at once [allowed: 1-4096; default: all cores]")
-      ->check(CLI::Range(1, 4096));
+      ->check(whole_number(1, 4096));
   table.push_back({cmd, [o] {
                      figures::check_figure_ids(o->only);
                      return run_figures(*o);

@@ -29,6 +29,26 @@ std::vector<std::filesystem::path> json_files(const std::string& dir) {
 
 namespace {
 
+// "  NAME  TEXT" with TEXT wrapped at word boundaries to lines of at most 100 characters, the
+// continuation lines indented under its start.
+void print_entry(const std::string& name, std::size_t width, const std::string& text) {
+  constexpr std::size_t kLine = 100;
+  const std::size_t indent = width + 4, room = kLine > indent + 20 ? kLine - indent : 20;
+  std::printf("  %-*s  ", int(width), name.c_str());
+  std::size_t start = 0;
+  while (start < text.size()) {
+    std::size_t end = text.size();
+    if (end - start > room) {
+      const std::size_t space = text.rfind(' ', start + room);
+      end = space != std::string::npos && space > start ? space : start + room;
+    }
+    if (start > 0) std::printf("%*s", int(indent), "");
+    std::printf("%s\n", text.substr(start, end - start).c_str());
+    start = end < text.size() && text[end] == ' ' ? end + 1 : end;
+  }
+  if (text.empty()) std::printf("\n");
+}
+
 int list_scenes() {
   namespace fs = std::filesystem;
   const std::string dir = scenes_directory();
@@ -49,7 +69,7 @@ int list_scenes() {
     } catch (const SceneError& e) {
       line = std::string("(does not load: ") + e.what() + ")";
     }
-    std::printf("  %-*s  %s\n", int(width), f.stem().string().c_str(), line.c_str());
+    print_entry(f.stem().string(), width, line);
   }
   if (sweeps.empty()) return 0;
   std::printf("Shipped sweeps (%s); run one with: apiclab sweep FILE --out DIR\n",
@@ -67,7 +87,7 @@ int list_scenes() {
     } catch (const SceneError& e) {
       line = std::string("(cannot read: ") + e.what() + ")";
     }
-    std::printf("  %-*s  %s\n", int(width), f.stem().string().c_str(), line.c_str());
+    print_entry(f.stem().string(), width, line);
   }
   return 0;
 }
@@ -75,7 +95,8 @@ int list_scenes() {
 }  // namespace
 
 void register_list(CLI::App& root, CommandTable& table) {
-  CLI::App* cmd = root.add_subcommand("list", "the shipped scenes and sweeps, one line each");
+  CLI::App* cmd =
+      root.add_subcommand("list", "the shipped scenes and sweeps, each with its first sentence");
   table.push_back({cmd, [] { return list_scenes(); }});
 }
 

@@ -115,7 +115,7 @@ int render(const RenderOptions& o) {
   claims.check_and_clear();
   RowFile csv = open_csv(csv_path, settings);
   if (!o.run.dump.empty()) ensure_writable_dir(o.run.dump);
-  ParticleDump dump(o.run.dump, dump_formats_of(o.run));
+  ParticleDump dump(o.run.dump, dump_formats_of(o.run, scene.solver.method == "mpm"));
   print_time_step_note(scene, o.run.quiet);
   // The real time of every frame: PNGs in --out, particle dumps in --dump.
   FrameIndex frame_times = open_frame_index(o.out, settings), dump_times;
@@ -140,7 +140,8 @@ int render(const RenderOptions& o) {
   const IndexOnFailure index_written(session);
   run_frame_loop(times, panes, on_row, [&](int f) {
     if (!o.run.dump.empty()) {
-      if (!sim->transfers() && formats_need_particles(dump_formats_of(o.run)))
+      if (!sim->transfers() &&
+          formats_need_particles(dump_formats_of(o.run, scene.solver.method == "mpm")))
         throw UsageError("--dump: solver method '" + scene.solver.method + "' " +
                          dump_without_particles);
       dump.write(*sim, f);
@@ -186,7 +187,10 @@ int compare(const RenderOptions& o) {
     throw UsageError(e.what());
   }
   if (!o.run.scheme.empty()) throw UsageError("compare takes --schemes (a list), not --scheme");
-  const std::vector<DumpFormat> formats = dump_formats_of(o.run);
+  // Without --dump-format: csv when every pane has particles, else vtk (every method writes it).
+  const bool particles =
+      std::all_of(specs.begin(), specs.end(), [](const PaneSpec& p) { return p.method == "mpm"; });
+  const std::vector<DumpFormat> formats = dump_formats_of(o.run, particles);
   for (const PaneSpec& spec : specs)  // before any output: only MPM panes have particles
     if (!o.run.dump.empty() && spec.method != "mpm" && formats_need_particles(formats))
       throw UsageError("--dump: solver method '" + spec.method + "' (pane '" + spec.key + "') " +

@@ -29,14 +29,14 @@ void register_roundtrip(CLI::App& root, CommandTable& table) {
   cmd->add_option("--scheme", o->scheme, "scheme: " + probed + " [default: apic]");
   cmd->add_option("--xpic-order", o->xpic_order,
                   "XPIC's m with --scheme xpic (solver.xpic_order) [allowed: 1-1000; default: 2]")
-      ->check(CLI::Range(1, 1000));
+      ->check(whole_number(1, 1000));
   cmd->add_option("--res", o->res,
                   "grid cells per axis, comma separated [allowed: 4 or more; default: "
                   "16,32,64,128,256]")
       ->delimiter(',')
-      ->check(CLI::Range(4, 1 << 30));
+      ->check(whole_number(4, 1 << 30));
   cmd->add_option("--seed", o->seed, "Poisson disk seed [allowed: 0 or more; default: 1]")
-      ->check(CLI::NonNegativeNumber);
+      ->check(whole_number(0, 2147483647));
   cmd->add_option("--max-memory", o->max_memory,
                   "refuse a resolution whose estimated memory exceeds this: BYTES (e.g. 8G), auto "
                   "or none [default: auto = the available memory]");

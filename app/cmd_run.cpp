@@ -47,7 +47,7 @@ int run(const RunCommandOptions& command) {
   install_stop_handlers();  // a signal during the set-up stops the run after frame 0
   SceneDesc scene = load_scene_with_options(o);
   check_flip_alpha(o, {scene.solver.scheme});
-  const std::vector<DumpFormat> formats = dump_formats_of(o);
+  const std::vector<DumpFormat> formats = dump_formats_of(o, scene.solver.method == "mpm");
   apply_threads(o.threads);
   // The transfer scheme names an MPM run; a method without schemes (eol, eulerian) names itself.
   const std::string scheme =
@@ -143,16 +143,21 @@ int run(const RunCommandOptions& command) {
   std::ostringstream s;
   s.precision(4);
   s << scene.name << ": t = " << sim->time() << " s in " << steps_text(sim->steps()) << " ("
-    << dt_stats_text(summary.dt()) << "), " << wall << " s wall, "
-    << double(particle_count(*sim)) * double(sim->steps()) / std::max(wall, 1e-9)
-    << " particle-steps/s; dE/E = " << summary.energy_drift();
+    << dt_stats_text(summary.dt()) << "), " << wall << " s wall, ";
+  // A grid method (eol, eulerian) has no particles: its rate is steps per second.
+  const double particles = double(particle_count(*sim)), per_second = 1 / std::max(wall, 1e-9);
+  if (particles > 0)
+    s << particles * double(sim->steps()) * per_second << " particle-steps/s";
+  else
+    s << double(sim->steps()) * per_second << " steps/s";
+  s << "; dE/E = " << summary.energy_drift();
   if (summary.angular_momentum_relative())
     s << ", |dL|/|L0| = " << summary.angular_momentum_drift();
   else
     s << ", |dL| = " << summary.angular_momentum_drift() << " kg m^2/s (absolute: L0 is round-off)";
   s << "\ndiagnostics CSV: " << csv << " (settings in " << csv << ".json)";
   if (unconverged)
-    s << "\nwarning: " << steps_text(unconverged)
+    s << "\napiclab: warning: " << steps_text(unconverged)
       << " ended with a non-converged implicit solve (see residual)";
   if (!o.dump.empty()) {
     std::string ext;
@@ -161,7 +166,7 @@ int run(const RunCommandOptions& command) {
     s << "\ndumps: " << o.dump << (sim->transfers() ? "/frame_0000." : "/frame_0000_surface0.")
       << (formats.size() > 1 ? "{" + ext + "}" : ext) << " ... (real frame times in " << o.dump
       << "/frames.csv";
-    if (o.dump_format.find("vtk") != std::string::npos)
+    if (std::any_of(formats.begin(), formats.end(), is_vtk))
       s << "; ParaView opens " << o.dump << "/series.pvd";
     s << ")";
   }

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <optional>
 
+#include "app/cli_checks.hpp"
 #include "app/output_file.hpp"
 #include "app/particle_export.hpp"
 #include "app/sweep/open.hpp"
@@ -130,7 +131,8 @@ int sweep_command(const SweepOptions& o) {
   for (const std::string& c : charts) std::printf(", %s/%s", out.c_str(), c.c_str());
   std::printf("\n");
   if (missing)
-    std::printf("warning: %zu runs have no result yet (rows with outcome no_result)\n", missing);
+    std::printf("apiclab: warning: %zu runs have no result yet (rows with outcome no_result)\n",
+                missing);
   if (refused) {  // a configuration the sweep asked for and did not get: not a result
     std::fflush(stdout);
     std::fprintf(stderr,
@@ -152,7 +154,9 @@ void register_sweep(CLI::App& root, CommandTable& table) {
       "summary.md");
   cmd->add_option("spec", o->spec, "sweep spec (JSON; docs/sweeps.md)")->required();
   cmd->add_option("--out", o->out, "output folder (runs are kept there; a rerun resumes)");
-  cmd->add_option("--jobs", o->jobs, "runs at a time, each its own process (>= 1)");
+  cmd->add_option("--jobs", o->jobs,
+                  "runs at a time, each its own process [allowed: 1-4096; default: 1]")
+      ->check(whole_number(1, 4096));
   cmd->add_option("--export-jobs", o->export_jobs,
                   "write one self-contained `apiclab run` command per line instead of running");
   cmd->add_option("--collect", o->collect,
@@ -165,7 +169,7 @@ void register_sweep(CLI::App& root, CommandTable& table) {
   cmd->add_option("--max-runs", o->max_runs,
                   "refuse a spec of more runs than this, before planning it [allowed: > 0; "
                   "default: 10000]")
-      ->check(CLI::PositiveNumber);
+      ->check(number_above(0));
   cmd->add_flag("--quiet", o->quiet, "no progress on stderr");
   cmd->add_flag("--overwrite", o->overwrite,
                 "use a folder that holds another spec's sweep: its spec, runs.csv, summary and "

@@ -104,6 +104,7 @@ void append_vtk_array(std::string& data, const std::string& raw, bool zlib) {
 
 std::vector<DumpFormat> parse_dump_formats(const std::string& list) {
   std::vector<DumpFormat> out;
+  std::vector<std::string> keys;  // as given, for the messages
   std::istringstream in(list);
   for (std::string key; std::getline(in, key, ',');) {
     DumpFormat f;
@@ -120,10 +121,15 @@ std::vector<DumpFormat> parse_dump_formats(const std::string& list) {
     else
       throw std::invalid_argument("unknown dump format '" + key +
                                   "' (expected csv|vtk|vtk-raw|ply|obj)");
-    for (DumpFormat g : out)
-      if (g == f || (is_vtk(g) && is_vtk(f)))
-        throw std::invalid_argument("dump format '" + key + "' is listed twice");
+    for (std::size_t i = 0; i < out.size(); ++i) {
+      if (keys[i] == key) throw std::invalid_argument("dump format '" + key + "' is listed twice");
+      if (is_vtk(out[i]) && is_vtk(f))
+        throw std::invalid_argument(
+            "'vtk' and 'vtk-raw' both write frame_NNNN.vtp (vtk zlib-compressed, vtk-raw "
+            "uncompressed): give one of them");
+    }
     out.push_back(f);
+    keys.push_back(key);
   }
   if (out.empty())
     throw std::invalid_argument("no dump format given (expected csv|vtk|vtk-raw|ply|obj)");

@@ -13,6 +13,7 @@
 #include "app/particle_frame.hpp"
 #include "app/video.hpp"
 #include "render/snapshot_stats.hpp"
+#include "sim/message_text.hpp"
 
 namespace apiclab::cli {
 namespace {
@@ -65,7 +66,8 @@ void add_render_options(CLI::App* cmd, RenderOptions& o, RunOptionSet which) {
                 "leave out the colour and arrow legend [default: legend shown]");
   cmd->add_option("--backend", o.backend, "offscreen OpenGL: auto|egl|osmesa [default: auto]");
   cmd->add_option("--video", o.video,
-                  "also encode the frames into this MP4 file (needs ffmpeg) [default: none]");
+                  "also encode the frames into this H.264 video (.mp4, .mkv, .mov or .m4v; needs "
+                  "ffmpeg) [default: none]");
 }
 
 std::string frame_path(const std::string& dir, int frame, const char* extension) {
@@ -115,6 +117,12 @@ RenderSession::RenderSession(const RenderOptions& o) {
   apply_threads(o.run.threads);
   ensure_writable_dir(o.out);
   if (!o.video.empty()) {
+    // ffmpeg picks the container by the extension, after every frame is drawn: checked first.
+    const std::string ext = std::filesystem::path(o.video).extension().string();
+    if (ext != ".mp4" && ext != ".mkv" && ext != ".mov" && ext != ".m4v")
+      throw UsageError("--video " + message_text(o.video) +
+                       ": the extension picks the container; give .mp4, .mkv, .mov or .m4v (an "
+                       "H.264 video)");
     ffmpeg = find_on_path("ffmpeg");
     if (ffmpeg.empty())
       throw UsageError("--video needs ffmpeg, which is not installed (apt-get install ffmpeg)");

@@ -6,35 +6,66 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "sim/choice_parameters.hpp"
 #include "sim/parameters.hpp"
 #include "sim/scheme_label.hpp"
 
 namespace apiclab {
 
+namespace {
+
+// Whether a scene of its method reads the key: the EoL family's keys (p.method "eol") under eol
+// and eulerian; MPM's solver keys under mpm; the rest (domain, time, materials) under both.
+bool method_reads(const NumericParameter& p, const SceneDesc& scene) {
+  const bool eol = scene.solver.method != "mpm";
+  if (p.method == "eol") return eol;
+  if (!eol || p.key.rfind("solver.", 0) != 0) return true;
+  return p.key == "solver.blowup_energy_factor" || p.key == "solver.max_memory_gb";
+}
+
+// A value as the sidecar writes it: a count as an integer, "no bound" (infinite, or the 1e30 that
+// stands for none) as null.
+nlohmann::json parameter_value(const NumericParameter& p, double v) {
+  if (!std::isfinite(v) || std::abs(v) >= 1e30) return nullptr;
+  if (p.integer) return static_cast<long long>(v);
+  return v;
+}
+
+// The solver as it ran: MPM's scheme, kernel and integrator; the EoL family's contact.
+nlohmann::json solver_settings(const SceneDesc& scene) {
+  const SolverDesc& v = scene.solver;
+  if (v.method != "mpm")
+    return {{"method", v.method},
+            {"label", run_label(scene)},
+            {"contact", choice_key(eol_contact_choices(), v.eol.contact)}};
+  return {{"method", v.method},
+          {"scheme", key_of(v.scheme)},
+          {"label", run_label(scene)},  // the scheme with its parameter: "xpic(3)"
+          {"kernel", key_of(v.kernel)},
+          {"integrator", key_of(v.integrator)},
+          {"preconditioner", key_of(v.preconditioner)}};
+}
+
+}  // namespace
+
 nlohmann::json run_settings(const SceneDesc& scene, Precision precision,
                             const std::vector<std::string>& overrides) {
   nlohmann::json parameters = nlohmann::json::object();
   for (const NumericParameter& p : numeric_parameters()) {
+    if (!method_reads(p, scene)) continue;
     const int n = p.count ? p.count(scene) : 1;
     for (int i = 0; i < n; ++i)
-      if (!p.is_set || p.is_set(scene, i)) {
-        const double v = p.get(scene, i);
-        // JSON has no infinity: "no bound" (dt's 1e30 default and the like) stays a number.
-        parameters[p.key_at(i)] = std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
-      }
+      if (!p.is_set || p.is_set(scene, i))
+        parameters[p.key_at(i)] = parameter_value(p, p.get(scene, i));
   }
+  // The EoL family runs in double whatever --precision says (it warns).
+  if (scene.solver.method != "mpm") precision = Precision::dbl;
   return {
       {"scene", scene.name},
       {"scene_file", scene.source},
       {"dim", scene.dim},
       {"precision", key_of(precision)},
-      {"solver",
-       {{"method", scene.solver.method},
-        {"scheme", key_of(scene.solver.scheme)},
-        {"label", run_label(scene)},  // the scheme with its parameter: "xpic(3)"
-        {"kernel", key_of(scene.solver.kernel)},
-        {"integrator", key_of(scene.solver.integrator)},
-        {"preconditioner", key_of(scene.solver.preconditioner)}}},
+      {"solver", solver_settings(scene)},
       {"time",
        {{"dt_rule", key_of(scene.time.rule)}, {"lands_on_frames", scene.time.lands_on_frames()}}},
       {"overrides", overrides},
@@ -48,7 +79,9 @@ std::string diagnostics_row_text(const DiagnosticsRow& r) {
 }
 
 void write_csv_sidecar(const std::string& csv_path, const nlohmann::json& settings) {
+  // The version beside the settings, not in them: a rebuild does not make a run another's.
   const nlohmann::json sidecar{{"csv", std::filesystem::path(csv_path).filename().string()},
+                               {"apiclab_version", apiclab_version()},
                                {"settings", settings}};
   write_file_whole(csv_path + ".json", sidecar.dump(2) + '\n');
 }
@@ -114,7 +147,11 @@ nlohmann::json run_summary_json(const SceneDesc& scene, const nlohmann::json& se
       {"cpu_seconds", c.cpu_seconds},
       {"step_wall_seconds", summary.step_wall_seconds()},
       {"particles", c.particles},
-      {"particle_steps_per_second", double(c.particles) * double(summary.steps()) / wall},
+      // A grid method (eol, eulerian) has no particles: no particle rate, its steps per second.
+      {"particle_steps_per_second",
+       c.particles ? nlohmann::json(double(c.particles) * double(summary.steps()) / wall)
+                   : nlohmann::json()},
+      {"steps_per_second", double(summary.steps()) / wall},
       {"energy_drift",
        {{"kind", "relative"},
         {"quantity", "(E - E0) / |E0|"},

@@ -6,15 +6,24 @@
 #include <fstream>
 #include <sstream>
 
+#include "message_text.hpp"
 #include "scene.hpp"
 
 namespace apiclab {
+
+std::string path_error_text(const std::error_code& ec, const std::string& path) {
+  if (ec == std::errc::filename_too_long)
+    return "the path is too long (" + std::to_string(path.size()) +
+           " characters; a name may hold 255, a path 4096)";
+  return ec.message();
+}
 
 std::string input_file_problem(const std::string& path, const std::string& what) {
   namespace fs = std::filesystem;
   if (path.empty()) return "no " + what + " given (an empty path)";
   std::error_code ec;
   const fs::file_status st = fs::status(path, ec);
+  if (ec == std::errc::filename_too_long) return path_error_text(ec, path);
   if (!fs::exists(st)) return "no such " + what;
   if (fs::is_directory(st)) return "is a directory, not a " + what;
   if (!fs::is_regular_file(st)) {
@@ -32,11 +41,12 @@ std::string input_file_problem(const std::string& path, const std::string& what)
 
 std::string read_input_file(const std::string& path, const std::string& what) {
   if (std::string problem = input_file_problem(path, what); !problem.empty())
-    throw SceneError(path.empty() ? problem : path + ": " + problem);
+    throw SceneError(path.empty() ? problem : message_text(path) + ": " + problem);
   std::ifstream in(path);
   std::stringstream buf;
   buf << in.rdbuf();
-  if (in.bad()) throw SceneError(path + ": cannot read " + what + ": " + std::strerror(errno));
+  if (in.bad())
+    throw SceneError(message_text(path) + ": cannot read " + what + ": " + std::strerror(errno));
   return buf.str();
 }
 

@@ -2,6 +2,7 @@
 // directory or a fifo would otherwise block or read as garbage.
 #pragma once
 #include <string>
+#include <system_error>
 
 namespace apiclab {
 
@@ -12,5 +13,9 @@ std::string read_input_file(const std::string& path, const std::string& what);
 
 // The same checks without reading; empty when the file can be read, else the reason.
 std::string input_file_problem(const std::string& path, const std::string& what);
+
+// Why a path could not be used, in the project's words: the system's own text ("File name too
+// long") names no limit, and a 30 kB name is its usual cause.
+std::string path_error_text(const std::error_code& ec, const std::string& path);
 
 }  // namespace apiclab

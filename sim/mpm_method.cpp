@@ -57,12 +57,14 @@ void validate_mpm(SceneSection& r, SceneDesc& s) {
 std::string scheme_conflict(const SolverDesc& v) {
   if (v.scheme == Scheme::polypic && v.kernel != KernelType::quadratic)
     return "polypic needs the quadratic kernel (its modes are Fu et al. 2017's basis for the "
-           "quadratic B-spline, 3 per axis)";
+           "quadratic B-spline, 3 per axis): set solver.kernel to quadratic (--kernel quadratic)";
   if (v.scheme != Scheme::mls) return "";
   if (v.kernel == KernelType::linear)
-    return "mls needs the quadratic or cubic kernel (its force uses D_p^-1 = 1/(k dx^2))";
+    return "mls needs the quadratic or cubic kernel (its force uses D_p^-1 = 1/(k dx^2)): set "
+           "solver.kernel to quadratic (--kernel quadratic)";
   if (v.integrator != Integrator::symplectic)
-    return "mls runs with the symplectic integrator only (Hu et al. 2018's explicit form)";
+    return "mls runs with the symplectic integrator only (Hu et al. 2018's explicit form): set "
+           "solver.integrator to symplectic (--integrator symplectic)";
   return "";
 }
 

@@ -384,10 +384,11 @@ std::string NumericParameter::default_text() const {
 }
 
 std::string NumericParameter::describe() const {
-  std::string u(unit);
+  // "unit: s", or "dimensionless": a bare "1" would read as a value.
+  std::string u = unit == "1" ? "dimensionless" : "unit: " + std::string(unit);
   if (!unit_3d.empty()) u += " (2D), " + std::string(unit_3d) + " (3D)";
-  return std::string(help) + " [" + u + "; allowed " + range.text() + (integer ? ", integer" : "") +
-         "; default " + default_text() + "]";
+  return std::string(help) + " [" + u + "; allowed: " + range.text() +
+         (integer ? ", integer" : "") + "; default: " + default_text() + "]";
 }
 
 const std::vector<NumericParameter>& numeric_parameters() {

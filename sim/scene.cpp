@@ -13,6 +13,7 @@
 #include "method_registry.hpp"
 #include "parameters.hpp"
 #include "scene_json.hpp"
+#include "scene_method.hpp"
 
 namespace apiclab {
 namespace {
@@ -42,6 +43,8 @@ class Reader {
     return key.empty() ? path_ : path_ + "." + key;
   }
   bool has(const std::string& key) const { return j_.contains(key); }
+  // A key left unread on purpose (not an unknown key).
+  void accept(const std::string& key) { used_.insert(key); }
   const json& raw(const std::string& key) {
     if (!has(key)) fail(key, "required key is missing");
     used_.insert(key);
@@ -206,7 +209,8 @@ void read_time(Reader r, SceneDesc& s) {
 }
 
 // The solver section: `method` picks the solver family, whose validate hook reads the rest.
-void read_solver(Reader r, SceneDesc& s) {
+// `left_out`: the file's keys of another method, when `--set solver.method` switched it.
+void read_solver(Reader r, SceneDesc& s, const std::set<std::string>& left_out) {
   s.solver.method = r.string("method", s.solver.method);
   const SolverMethod* method = find_method(s.solver.method);
   if (!method) {
@@ -216,6 +220,7 @@ void read_solver(Reader r, SceneDesc& s) {
   }
   SectionOf section(r);
   method->validate(section, s);
+  for (const std::string& key : left_out) r.accept(key);
 }
 
 MaterialDesc read_material(Reader r, int index) {
@@ -400,7 +405,8 @@ ColliderDesc read_collider(Reader r, int dim) {
   return c;
 }
 
-SceneDesc parse_json(const json& j, const std::string& file) {
+SceneDesc parse_json(const json& j, const std::string& file,
+                     const std::set<std::string>& left_out = {}) {
   SceneDesc s;
   s.source = file;
   Reader r(j, "", file);
@@ -412,7 +418,7 @@ SceneDesc parse_json(const json& j, const std::string& file) {
   read_domain(r.child("domain"), s);
   s.gravity = r.vec("gravity", {0, 0, 0}, s.dim);
   if (r.has("time")) read_time(r.child("time"), s);
-  if (r.has("solver")) read_solver(r.child("solver"), s);
+  if (r.has("solver")) read_solver(r.child("solver"), s, left_out);
   if (!r.has("materials") || !r.raw("materials").is_array() || r.raw("materials").empty())
     r.fail("materials", "expected a non-empty array");
   const json& mats = r.raw("materials");
@@ -502,11 +508,37 @@ void apply_override(json& j, const std::string& assignment, const std::string& f
   *node = value;
 }
 
+// The solver method the scene's JSON names ("mpm" when none; "" when it is no string).
+std::string method_of(const json& j) {
+  if (!j.is_object() || !j.contains("solver") || !j["solver"].is_object()) return "mpm";
+  const json& solver = j["solver"];
+  if (!solver.contains("method")) return "mpm";
+  return solver["method"].is_string() ? solver["method"].get<std::string>() : "";
+}
+
+// The file's solver keys, when `--set solver.method` gives another method than the file's: they
+// belong to the file's method, and the new one reads those it knows (docs/cli.md). A key that a
+// `--set` gives is the new method's to read.
+std::set<std::string> switched_method_keys(const json& file, const json& set,
+                                           const std::vector<std::string>& overrides) {
+  std::set<std::string> keys;
+  if (method_of(file) == method_of(set) || !file.contains("solver") || !file["solver"].is_object())
+    return keys;
+  for (auto it = file["solver"].begin(); it != file["solver"].end(); ++it)
+    if (it.key() != "method") keys.insert(it.key());
+  for (const std::string& o : overrides)
+    if (o.rfind("solver.", 0) == 0) keys.erase(o.substr(7, o.find_first_of(".=", 7) - 7));
+  return keys;
+}
+
 SceneDesc parse_with_overrides(json j, const std::string& file,
                                const std::vector<std::string>& overrides) {
+  const json before = overrides.empty() ? json() : j;
   for (auto& o : overrides) apply_override(j, o, file);
   try {
-    return parse_json(j, file);
+    return parse_json(
+        j, file,
+        overrides.empty() ? std::set<std::string>{} : switched_method_keys(before, j, overrides));
   } catch (const SceneError&) {
     throw;
   } catch (const std::exception& e) {
@@ -532,6 +564,33 @@ SceneDesc parse_scene_text(const std::string& text, const std::string& source,
     const std::string what = e.what();
     if (what.find_first_of(kControlCharacters) == std::string::npos) throw;
     throw SceneError(message_text(what, std::string::npos));
+  }
+}
+
+SceneMethod scene_method(const std::string& path, const std::vector<std::string>& overrides) {
+  try {
+    json j;
+    JsonError error;
+    if (!parse_json_strict(read_input_file(path, "scene file"), j, error)) return {};
+    SceneMethod m{method_of(j), "", {}};
+    if (j.is_object() && j.contains("solver") && j["solver"].is_object())
+      for (auto it = j["solver"].begin(); it != j["solver"].end(); ++it)
+        if (it.key() != "method") m.file_keys.push_back(it.key());
+    for (const std::string& o : overrides) apply_override(j, o, path);
+    m.method = method_of(j);
+    if (j.contains("solver") && j["solver"].is_object()) {
+      const json& solver = j["solver"];
+      const auto text = [&](const char* key) {
+        return solver.contains(key) && solver[key].is_string() ? solver[key].get<std::string>()
+                                                               : std::string();
+      };
+      m.scheme = text("scheme");
+      m.kernel = text("kernel");
+      m.integrator = text("integrator");
+    }
+    return m;
+  } catch (const std::exception&) {
+    return {};  // loading the scene reports it
   }
 }
 

@@ -24,16 +24,52 @@ std::string position_text(const std::string& text, std::size_t offset) {
   return "line " + std::to_string(line) + ", column " + std::to_string(column);
 }
 
-// nlohmann's message without its "[json.exception.parse_error.101] parse error at line 1,
-// column 5: " prefix (the position is reported once, by position_text).
-std::string reason_of(const std::string& what) {
-  std::string s = what;
-  if (s.rfind("[json.exception.", 0) == 0) s = s.substr(s.find(']') + 2);
-  const auto colon = s.find(": ");
-  if (s.rfind("parse error", 0) == 0 && colon != std::string::npos) s = s.substr(colon + 2);
-  // "last read: '...'" quotes the token, a whole string literal: cut short, one readable line.
-  if (s.size() > 200) s = s.substr(0, 180) + "...'";
-  return s;
+// What nlohmann's parser expected next, in the project's words (its "expected '}'" part).
+std::string expected_text(const std::string& what) {
+  const auto at = what.find("; expected ");
+  if (at == std::string::npos) return "";
+  const std::string e = what.substr(at + 11);
+  if (e == "string literal") return "a key in double quotes";
+  if (e.find("literal") != std::string::npos) return "a value";
+  if (e == "end of input") return "the end of the text";
+  return e.size() <= 40 ? e : "";
+}
+
+// What the parser met instead, from its "unexpected '}'" part, else the token it stopped at.
+std::string unexpected_text(const std::string& what, const std::string& token) {
+  const auto at = what.find("- unexpected ");
+  if (at == std::string::npos) return "'" + token + "'";
+  std::string name = what.substr(at + 13, what.find(';', at) - at - 13);
+  if (name == "number literal") return "a number";
+  if (name == "string literal") return "a string";
+  if (name.find("literal") != std::string::npos) return "a value";
+  return name.size() <= 40 ? name : "'" + token + "'";
+}
+
+// A syntax error in the project's words, from the token the parser stopped at (the one
+// translation of nlohmann's parse_error text: "syntax error while parsing value - invalid
+// literal; last read: '/'" never reaches the user).
+std::string syntax_cause(const std::string& text, std::size_t position, const std::string& token,
+                         const std::string& what) {
+  if (text.find_first_not_of(" \t\r\n") == std::string::npos)
+    return "the text is empty (a scene is a JSON object, { ... })";
+  if (!token.empty() && token[0] == '/')
+    return "comments (// and /* */) are not part of JSON: remove them";
+  if (!token.empty() && token[0] == '\'') return "text takes double quotes (\"...\"), not single";
+  if (what.find("control character") != std::string::npos)
+    return "a string holds a line break or control character (write it as \\n, \\t)";
+  if (what.find("invalid string") != std::string::npos)
+    return "a string holds an invalid escape or character";
+  if (what.find("invalid number") != std::string::npos) return "'" + token + "' is not a number";
+  if (token.empty() || position > text.size() || what.find("end of input;") != std::string::npos)
+    return "the text ends before the JSON does (a { or [ left open, or a value missing)";
+  const std::string expected = expected_text(what);
+  std::string cause = "unexpected " + unexpected_text(what, token);
+  if (what.find("invalid literal") != std::string::npos)
+    cause += " (text takes double quotes; the literals are true, false and null)";
+  else if (!expected.empty())
+    cause += ", expected " + expected;
+  return cause;
 }
 
 // Forwards every event to nlohmann's DOM builder; keeps the path of the value being read and
@@ -86,8 +122,9 @@ class StrictSax {
     const bool overflow = ex.id == 406;  // out_of_range.406: number overflow
     // A long token is quoted cut short, so the message stays one readable line.
     const std::string shown = token.size() <= 40 ? token : token.substr(0, 30) + "...";
-    error_ = {overflow ? "number " + shown + " is out of range for a double" : reason_of(ex.what()),
-              path(), position_text(text_, position)};
+    error_ = {overflow ? "number " + shown + " is out of range for a double"
+                       : syntax_cause(text_, position, shown, ex.what()),
+              path(), position_text(text_, position > 0 ? position - 1 : 0)};
     return false;
   }
   const JsonError& error() const { return error_; }

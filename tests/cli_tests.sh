@@ -339,7 +339,7 @@ fi
 run_cli run --help
 help_problems=()
 [ "$RC" -eq 0 ] || help_problems+=("exit code $RC")
-for needle in "allowed [0, 1]; default 1]" "materials.*.nu" "allowed (-1, 0.5)" "time.dt.value" "default: double"; do
+for needle in "dimensionless; allowed: [0, 1]; default: 1]" "materials.*.nu" "allowed: (-1, 0.5)" "time.dt.value" "default: double"; do
   grep -qF -- "$needle" "$OUT" || help_problems+=("help lacks '$needle'")
 done
 flip_line=$(grep -F -- "--flip-alpha" "$OUT" | head -n 1)
@@ -464,17 +464,19 @@ fi
 expect_error "EoL key in an MPM scene" "'solver.alpha'" "unknown key" -- run rotating-disk --set solver.alpha=0.5
 expect_error "MPM key in an EoL scene" "'solver.scheme'" "unknown key" -- run eol-spin --set solver.scheme=apic
 expect_error "rest shape outside its EoL grid" "'objects.0.shape'" "solver.grid_extent" -- run eol-spin --set solver.grid_extent=0.3
-expect_error "EoL has no particles to dump" "--dump" "eol" "surfaces" -- run eol-spin --t-end 0.01 --dump "$TMP/eoldump"
+expect_error "EoL has no particles to dump as csv" "--dump" "eol" "surfaces" -- run eol-spin --t-end 0.01 --dump "$TMP/eoldump" --dump-format csv
 expect_error "unwritable --dump of EoL surfaces" "/proc/nope" -- run eol-drop --t-end 0.01 --dump /proc/nope/dir --dump-format vtk,obj
 
 expect_error "unknown dump format" "--dump-format" "xyz" -- run rotating-disk --dump "$TMP/fmt" --dump-format csv,xyz
 expect_error "dump format without --dump" "--dump-format" "needs --dump" -- run rotating-disk --dump-format vtk
 
-expect_error "compare --dump with a pane without particles" "--dump" "eol" -- compare eol-spin --schemes apic,eol --out "$TMP/cmpdump" --dump "$TMP/cmpdump/d"
+expect_error "compare --dump csv with a pane without particles" "--dump" "eol" -- compare eol-spin --schemes apic,eol --out "$TMP/cmpdump" --dump "$TMP/cmpdump/d" --dump-format csv
 
 expect_error "compare mls pane with an implicit scene" "--schemes mls" "symplectic" -- compare rotating-disk --schemes apic,mls --out "$TMP/cmpmls"
-expect_error "mls with an implicit integrator" "'solver.scheme'" "symplectic" -- run rotating-disk --scheme mls
-expect_error "polypic with the cubic kernel" "'solver.scheme'" "quadratic kernel" -- run rotating-disk --scheme polypic --kernel cubic
+expect_error "mls with an implicit integrator" "--scheme mls on rotating-disk" "(--integrator symplectic)" -- run rotating-disk --scheme mls
+expect_error "polypic with the cubic kernel" "--scheme polypic --kernel cubic" "(--kernel quadratic)" -- run rotating-disk --scheme polypic --kernel cubic
+# The same conflict written in a scene file names its key.
+expect_error "mls with an implicit integrator in the file" "'solver.scheme'" "symplectic" -- run rotating-disk --set solver.scheme=mls
 expect_error "polypic with more modes than 2D has" "'solver.polypic_modes'" "9 modes in 2D" -- run rotating-disk --scheme polypic --set solver.polypic_modes=12
 
 # PolyPIC with its G modes (5 or more in 2D) runs, with one warning line naming the cause and the

@@ -154,9 +154,9 @@ if "$APICLAB" render --help >/dev/null 2>&1; then
   at "$TMP/r" compare rotating-disk --schemes pic,apic --out out --overwrite "${R[@]}"
   accepted "compare --overwrite into a render's folder"
   if command -v ffmpeg >/dev/null; then
-    echo "my notes" >"$TMP/r/notes.txt"
-    at "$TMP/r" render rotating-disk --out out2 --video notes.txt "${R[@]}"
-    refused "render --video on a file that is no MP4: refused" "^apiclab: --video notes.txt: the file exists and is not the kind"
+    echo "my notes" >"$TMP/r/notes.mp4"
+    at "$TMP/r" render rotating-disk --out out2 --video notes.mp4 "${R[@]}"
+    refused "render --video on a file that is no MP4: refused" "^apiclab: --video notes.mp4: the file exists and is not the kind"
   fi
 fi
 

@@ -79,7 +79,7 @@ bad_flag() {
   fi
 }
 bad_flag "no --out" "--out DIR is required" "$TINY"
-bad_flag "--jobs 0" "--jobs must be at least 1" "$TINY" --out "$TMP/flag-out" --jobs 0
+bad_flag "--jobs 0" "--jobs: expected a whole number from 1 to 4096, got '0'" "$TINY" --out "$TMP/flag-out" --jobs 0
 bad_flag "--target-error 0" "--target-error must be positive" "$TINY" --out "$TMP/flag-out" \
   --target-error 0
 bad_flag "--collect of a missing folder" "no such folder" "$TINY" --collect "$TMP/flag-out"

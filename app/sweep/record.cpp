@@ -124,7 +124,7 @@ int record_run(const cli::RunOptions& o, const std::string& dir) {
     if (o.dump.find('/') != std::string::npos || o.dump == "." || o.dump == "..")
       throw cli::UsageError("--dump with --record names a folder inside the record, not a path: '" +
                             o.dump + "'");
-    const std::vector<DumpFormat> formats = cli::dump_formats_of(o);
+    const std::vector<DumpFormat> formats = cli::dump_formats_of(o, sim->transfers());
     if (!sim->transfers() && formats_need_particles(formats))
       throw cli::UsageError("--dump: solver method '" + scene.solver.method + "' " +
                             dump_without_particles);

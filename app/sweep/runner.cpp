@@ -89,6 +89,7 @@ RunnerReport run_plan(const Plan& plan, const std::string& out_dir, int jobs, bo
   std::map<pid_t, const PlannedRun*> running;
   std::size_t next = 0, done = 0;
   const double start = now_seconds();
+  const bool terminal = isatty(fileno(stderr));
   while (next < todo.size() || !running.empty()) {
     while (next < todo.size() && int(running.size()) < std::max(1, jobs)) {
       const PlannedRun* r = todo[next++];
@@ -110,15 +111,19 @@ RunnerReport run_plan(const Plan& plan, const std::string& out_dir, int jobs, bo
       const std::string log = (logs / (r->id + ".log")).string();
       write_refusal(run_dir(out_dir, *r), code, last_line_of(log));
       std::fprintf(stderr, "%sapiclab: sweep: run %s (%s) refused, no record (exit %d); see %s\n",
-                   quiet ? "" : "\n", r->id.c_str(), r->label().c_str(), code, log.c_str());
+                   quiet || !terminal ? "" : "\n", r->id.c_str(), r->label().c_str(), code,
+                   log.c_str());
     }
     if (!quiet) {
       const double elapsed = now_seconds() - start;
-      std::fprintf(stderr, "\rapiclab: sweep: %zu/%zu runs, %.0f s, ETA %.0f s   ", done,
-                   todo.size(), elapsed, elapsed / double(done) * double(todo.size() - done));
+      // A terminal gets one line rewritten in place; a log file or pipe plain lines, no \r.
+      std::fprintf(stderr,
+                   terminal ? "\rapiclab: sweep: %zu/%zu runs, %.0f s, ETA %.0f s   "
+                            : "apiclab: sweep: %zu/%zu runs, %.0f s, ETA %.0f s\n",
+                   done, todo.size(), elapsed, elapsed / double(done) * double(todo.size() - done));
     }
   }
-  if (!quiet && !todo.empty()) std::fprintf(stderr, "\n");
+  if (!quiet && terminal && !todo.empty()) std::fprintf(stderr, "\n");
   return report;
 }
 
