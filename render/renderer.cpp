@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <unordered_set>
 
 #include "render/gl.hpp"
 #include "render/gl_upload.hpp"
@@ -189,7 +190,9 @@ void Renderer::draw_scene(const Snapshot& s, const Camera& camera, Rect rect,
   if (style.grid && s.dx > 0 && s.dx * ppu >= 3)
     add_grid(box, float(s.dx), three_d ? (up + 1) % 3 : 0, three_d ? (up + 2) % 3 : 1,
              style.line_px);
-  if (!s.grids.empty()) add_grid_layers(s, camera, style.line_px, ppu, style.grid_field);
+  // A solver's own grids (EoL's) with the grid lines: one click away, not over the body.
+  if (style.grid && !s.grids.empty())
+    add_grid_layers(s, camera, style.line_px, ppu, style.grid_field);
   draw_fills(scene_fills_, view_projection);
   draw_segments(scene_lines_, camera.view, camera.projection, viewport);
 
@@ -309,15 +312,23 @@ void Renderer::draw_arrows(const Snapshot& s, const Camera& camera, Vec2 viewpor
     arrows.push_back(
         {x, x + v * style.vector_scale, kArrow, 0.9f * lw, head, s.dim == 3 ? r : 0.0f});
   }
-  // Arrows on the surface vertices (sim/snapshot.hpp SurfaceLayer), one in vector_every.
+  // Arrows on the surface vertices (sim/snapshot.hpp SurfaceLayer), at most one per
+  // kSurfaceArrowPx square of the image: a surface's vertices a pixel apart made a solid ring.
+  constexpr float kSurfaceArrowPx = 18;
+  std::unordered_set<long long> taken;
+  const Mat4 view_projection = camera.projection * camera.view;
   for (const SurfaceLayer& layer : s.surfaces)
     for (std::size_t i = 0; style.surface_vectors && i * s.dim < layer.positions.size(); ++i) {
-      if (!carries_arrow(i, style.vector_every)) continue;
       Vec3 x, v;
       for (int k = 0; k < s.dim; ++k) {
         x[k] = layer.positions[i * s.dim + k];
         v[k] = layer.velocities[i * s.dim + k];
       }
+      const Vec4 c = view_projection * Vec4{x.x, x.y, x.z, 1};
+      if (!(c.w > 0)) continue;
+      const long long cx = std::llround((c.x / c.w + 1) * 0.5f * viewport.x / kSurfaceArrowPx);
+      const long long cy = std::llround((c.y / c.w + 1) * 0.5f * viewport.y / kSurfaceArrowPx);
+      if (!taken.insert(cx * 1000003LL + cy).second) continue;
       arrows.push_back({x, x + v * style.vector_scale, kArrow, 0.9f * lw, head, 0.0f});
     }
   // A pale halo under every arrow first, so dark arrows read on dark particles too.

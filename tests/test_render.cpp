@@ -142,6 +142,36 @@ long coloured_pixels(const Image& img, const Rect& r) {
   return n;
 }
 
+// Framed on the particles (--fit particles), four panes in a wide canvas (a 2 x 2 grid) each
+// have a frame on all four sides: the domain box, outside the frame, drew none on three.
+TEST(Render, FittedPanesHaveFramesOnEverySide) {
+  const Snapshot s = synthetic::scene_2d();
+  FigureStyle style;
+  // A frame near the domain's top right corner, where there are no particles: only the frame
+  // can mark the panes' edges.
+  const Box3 box = domain_box(s);
+  style.frame = Box3{box.max - box.size() * 0.12f, box.max - box.size() * 0.02f};
+  const int w = 1280, h = 720;
+  const Image img = draw({&s, &s, &s, &s}, style, w, h);
+  context().make_current();
+  Renderer r;
+  const std::vector<Rect> rects = figure_scene_rects(r, w, h, 4, s, style);
+  ASSERT_EQ(rects.size(), 4u);
+  for (std::size_t i = 0; i < 4; ++i) {
+    const Rect& q = rects[i];
+    // The middle of each side, one pixel inside the rect: not paper.
+    const int sides[4][2] = {{int(q.x + q.w / 2), int(q.y)},
+                             {int(q.x + q.w / 2), int(q.y + q.h) - 1},
+                             {int(q.x), int(q.y + q.h / 2)},
+                             {int(q.x + q.w) - 1, int(q.y + q.h / 2)}};
+    for (const auto& p : sides) {
+      const std::uint8_t* c = img.pixel(p[0], p[1]);
+      EXPECT_LT(std::min({c[0], c[1], c[2]}), 245)
+          << "pane " << i << " at " << p[0] << ", " << p[1];
+    }
+  }
+}
+
 TEST(Render, CompareDrawsOnePanePerScheme) {
   Snapshot pic = synthetic::scene_2d(), flip = pic, apic = pic;
   pic.scheme = "pic";
@@ -511,6 +541,7 @@ TEST(RenderGridLayers, NodesAreColouredByTheirFieldInTheGridsFrame) {
   const Snapshot plain = synthetic::scene_2d(), s = with_grid_layer(plain);
   FigureStyle style;
   style.color = ColorMode::material;
+  style.grid = true;  // grid layers come with the grid (--grid, the viewer's "grid")
   const int w = 640, h = 400;
   const Rect rect = scene_rect_of(s, style, w, h);
   const Image img = draw({&s}, style, w, h);
@@ -534,10 +565,27 @@ TEST(RenderGridLayers, NodesAreColouredByTheirFieldInTheGridsFrame) {
   EXPECT_GT(std::min({o[0], o[1], o[2]}), 200);
 }
 
+// By default a pane shows the body, not the solver's grids: the layers draw nothing without
+// the grid (an EoL pane's mass tiles hid the body, and floated around it in 3D).
+TEST(RenderGridLayers, HiddenUnlessTheGridIsOn) {
+  for (const Snapshot& plain : {synthetic::scene_2d(), synthetic::scene_3d()}) {
+    const Snapshot s = with_grid_layer(plain);
+    FigureStyle style;
+    style.color = ColorMode::material;
+    const int w = 480, h = 360;
+    const Rect rect = scene_rect_of(s, style, w, h);
+    EXPECT_EQ(differing_pixels(crop(draw({&s}, style, w, h), rect),
+                               crop(draw({&plain}, style, w, h), rect)),
+              0)
+        << plain.dim << "D";
+  }
+}
+
 TEST(RenderGridLayers, ThreeDGridsAreDrawn) {
   const Snapshot plain = synthetic::scene_3d(), s = with_grid_layer(plain);
   FigureStyle style;
   style.color = ColorMode::material;
+  style.grid = true;
   const int w = 480, h = 360;
   const Rect rect = scene_rect_of(s, style, w, h);
   EXPECT_GT(differing_pixels(crop(draw({&s}, style, w, h), rect),

@@ -74,8 +74,8 @@ ImU32 pane_color(std::size_t pane) { return render::packed_abgr(render::palette_
 std::string pane_label(const PaneState& p) {
   const std::string before = p.config.label.empty() ? "" : p.config.label + ": ";
   if (!p.config.method.empty() && p.config.method != "mpm") return before + p.config.method;
-  std::string s(key_of(p.config.scheme));
-  for (auto& c : s) c = char(std::toupper(static_cast<unsigned char>(c)));
+  // The registry's spelling ("PolyPIC"), as the command line and the figures write it.
+  std::string s = render::scheme_label(key_of(p.config.scheme));
   // XPIC's m, PolyPIC's modes, ASFLIP's a and b (sim/scheme_label.hpp): scene-wide numbers, so
   // the last snapshot's hold for the pane's current scheme even right after a switch.
   const SchemeParameters parameters = p.snapshot       ? p.snapshot->scheme_parameters
@@ -243,6 +243,7 @@ int run_viewer(const ViewerOptions& opt) {
       int fw, fh;
       glfwGetFramebufferSize(window, &fw, &fh);
       const float W = float(fw), H = float(fh);
+      st.layout.clear(), st.layout_text.clear();
       ImGui::SetNextWindowPos(ImVec2(0, 0));
       ImGui::SetNextWindowSize(ImVec2(kSidebar, H));
       draw_controls(st, *pub, worker);
@@ -268,9 +269,15 @@ int run_viewer(const ViewerOptions& opt) {
           for (std::size_t k = 0; k < rects.size(); ++k)
             std::printf("pane %zu: %.0f %.0f %.0f %.0f\n", k, rects[k].x, rects[k].y, rects[k].w,
                         rects[k].h);
-        if (const char* e = std::getenv("APICLAB_PRINT_LAYOUT"); e && std::string(e) == "1")
+        if (const char* e = std::getenv("APICLAB_PRINT_LAYOUT"); e && std::string(e) == "1") {
           std::printf("description: %zu of %zu characters, %.0f px\n", st.description_shown,
                       st.scene.description.size(), st.description_px);
+          std::printf("window: 0 0 %d %d\n", fw, fh);
+          for (const auto& [name, r] : st.layout)
+            std::printf("widget %s: %.0f %.0f %.0f %.0f\n", name.c_str(), r.x, r.y, r.z, r.w);
+          for (const auto& [name, text] : st.layout_text)
+            std::printf("text %s: %s\n", name.c_str(), text.c_str());
+        }
         try {
           render::write_png(render::read_window_pixels(fw, fh), opt.screenshot);
           std::printf("screenshot: %s (%dx%d, %ld frames, t = %.4g s)\n", opt.screenshot.c_str(),
