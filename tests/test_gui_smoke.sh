@@ -76,7 +76,12 @@ for k in 0 1 2 3; do
     exit 1
   }
 done
-grep -q '^text pane 3: PolyPIC' "$out/gui-blown.log" || { echo "FAIL: pane 3 not titled PolyPIC"; exit 1; }
+grep -q '^text pane 3: PolyPIC(9 modes) |' "$out/gui-blown.log" || { echo "FAIL: pane 3 not titled PolyPIC"; exit 1; }
+# The label, cut with "...", ends before the details begin.
+awk '/^widget pane [0-9] title: / { split($0, p, ": "); split(p[2], r, " "); end[$3] = r[1] + r[3] }
+     /^widget pane [0-9] details: / { split($0, p, ": "); split(p[2], r, " "); start[$3] = r[1] + 0 }
+     END { for (k in start) if (end[k] > start[k]) { print "FAIL: pane " k " label runs into its details"; bad = 1 }
+           exit bad }' "$out/gui-blown.log"
 grep -q '^widget pane 3 warning: ' "$out/gui-blown.log" || { echo "FAIL: no G-mode warning in the PolyPIC pane"; exit 1; }
 ! grep -q '^widget pane [012] warning: ' "$out/gui-blown.log" || { echo "FAIL: a warning in a pane without PolyPIC"; exit 1; }
 echo "every pane blown up: the window still drew ($blown)"

@@ -21,6 +21,7 @@
 #include "render/target.hpp"
 #include "render/text.hpp"
 #include "render_scenes.hpp"
+#include "sim/scheme_facts.hpp"
 #include "sim/simulation.hpp"
 
 namespace {
@@ -484,6 +485,12 @@ TEST(Palette, OneColourPerSchemeAndCategory) {
   EXPECT_EQ(packed_abgr(scheme_color("rpic")), packed_abgr(category_color(3)));
   EXPECT_EQ(packed_abgr(scheme_color("pic")), packed_abgr(palette_color(0)));
   EXPECT_EQ(scheme_label("apic"), "APIC");
+  // One spelling per scheme and method, the registry's (the GUI titled PolyPIC "POLYPIC").
+  EXPECT_EQ(scheme_label("polypic"), "PolyPIC");
+  EXPECT_EQ(scheme_label("eol"), "EoL");
+  EXPECT_EQ(scheme_label("eulerian"), "Eulerian");
+  for (const auto& c : apiclab::scheme_choices())
+    EXPECT_EQ(scheme_label(c.key), apiclab::scheme_facts(c.value).name) << c.key;
   // The hex values tests/figures_tests.sh looks for in the figures' lines.
   auto hex = [](Rgba8 c) {
     char buf[8];
@@ -579,6 +586,36 @@ TEST(RenderGridLayers, HiddenUnlessTheGridIsOn) {
               0)
         << plain.dim << "D";
   }
+}
+
+// Arrows on a surface are thinned on screen: a circle of 4000 vertices (a fine EoL surface)
+// draws about as much arrow ink as one of 24, not the solid ring one arrow per vertex made.
+TEST(RenderSurfaceArrows, AtMostOnePerFewPixels) {
+  auto ink = [](int vertices) {
+    Snapshot s = synthetic::scene_2d();
+    SurfaceLayer ring;
+    for (int k = 0; k < vertices; ++k) {
+      const float a = 6.2831853f * float(k) / float(vertices);
+      ring.positions.insert(ring.positions.end(),
+                            {1.0f + 0.3f * std::cos(a), 0.5f + 0.3f * std::sin(a)});
+      ring.velocities.insert(ring.velocities.end(), {-std::sin(a), std::cos(a)});
+    }
+    s.surfaces.push_back(ring);
+    FigureStyle style;
+    style.color = ColorMode::material;
+    style.surface = false;
+    style.surface_vectors = true;
+    const Image img = draw({&s}, style, 640, 400);
+    const Rect r = scene_rect_of(s, style, 640, 400);  // no header or legend text
+    long dark = 0;
+    for (int y = int(r.y) + 2; y < int(r.y + r.h) - 2; ++y)
+      for (int x = int(r.x) + 2; x < int(r.x + r.w) - 2; ++x)
+        dark += std::max({img.pixel(x, y)[0], img.pixel(x, y)[1], img.pixel(x, y)[2]}) < 60;
+    return dark;
+  };
+  const long coarse = ink(24), fine = ink(4000);  // 24: an arrow every ~20 pixels
+  EXPECT_GT(coarse, 100);
+  EXPECT_LT(fine, 2 * coarse) << "coarse " << coarse;
 }
 
 TEST(RenderGridLayers, ThreeDGridsAreDrawn) {

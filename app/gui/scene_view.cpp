@@ -151,7 +151,10 @@ TitleStrip title_strip(const PaneState& p, const Snapshot& s, float width) {
   const float room = width - 48 - label_room;
   for (const char* shorter : {full, brief})
     if (ImGui::CalcTextSize(t.info.c_str()).x > room) t.info = shorter;
-  t.label = cut_text(t.label, std::max(width - 48 - ImGui::CalcTextSize(t.info.c_str()).x, 30.0f));
+  // What is left beside the details; too little for a letter and "...": the chip alone (the
+  // label is in the tooltip).
+  const float label_width = width - 48 - ImGui::CalcTextSize(t.info.c_str()).x;
+  t.label = label_width < ImGui::CalcTextSize("M...").x ? "" : cut_text(t.label, label_width);
   return t;
 }
 

@@ -73,7 +73,8 @@ ImU32 pane_color(std::size_t pane) { return render::packed_abgr(render::palette_
 
 std::string pane_label(const PaneState& p) {
   const std::string before = p.config.label.empty() ? "" : p.config.label + ": ";
-  if (!p.config.method.empty() && p.config.method != "mpm") return before + p.config.method;
+  if (!p.config.method.empty() && p.config.method != "mpm")
+    return before + render::scheme_label(p.config.method);
   // The registry's spelling ("PolyPIC"), as the command line and the figures write it.
   std::string s = render::scheme_label(key_of(p.config.scheme));
   // XPIC's m, PolyPIC's modes, ASFLIP's a and b (sim/scheme_label.hpp): scene-wide numbers, so
