@@ -155,9 +155,10 @@ void draw_figure(Renderer& r, int width, int height, const std::vector<const Sna
     const Box3 framed = style.frame.value_or(domain_box(s));
     pixels_per_unit =
         draw_pane_scene(r, s, frame_view(s.dim, framed, aspect, style.up_axis), rect, scene);
-    // Labels line up with the domain box (2D) or the pane (3D).
+    // Labels line up with the domain box (2D) or the pane (3D, or framed on the particles:
+    // the pane's own frame).
     float left = rect.x, top = rect.y;
-    if (s.dim == 2) {
+    if (s.dim == 2 && !style.frame) {
       const Vec3 size = framed.size();
       left = std::round(rect.x + rect.w / 2 - size.x * pixels_per_unit / 2);
       top = std::round(rect.y + rect.h / 2 - size.y * pixels_per_unit / 2);
