@@ -145,7 +145,9 @@ void draw_legend(Renderer& r, Rect area, float font, float pad, const SceneStyle
                      std::round(strip_h)},
                     to_rgba8(viridis((float(k) + 0.5f) / steps)));
       y += strip_h + 1.0f * f;
-      r.text(format_g(low) + " .. " + format_g(high), x, y, f, kText);
+      char range[64];
+      std::snprintf(range, sizeof range, "%.3g .. %.3g", low, high);
+      r.text(range, x, y, f, kText);
       y += 1.4f * f;
     }
   }

@@ -312,25 +312,41 @@ void Renderer::draw_arrows(const Snapshot& s, const Camera& camera, Vec2 viewpor
     arrows.push_back(
         {x, x + v * style.vector_scale, kArrow, 0.9f * lw, head, s.dim == 3 ? r : 0.0f});
   }
-  // Arrows on the surface vertices (sim/snapshot.hpp SurfaceLayer), at most one per
-  // kSurfaceArrowPx square of the image: a surface's vertices a pixel apart made a solid ring.
-  constexpr float kSurfaceArrowPx = 18;
-  std::unordered_set<long long> taken;
-  const Mat4 view_projection = camera.projection * camera.view;
-  for (const SurfaceLayer& layer : s.surfaces)
-    for (std::size_t i = 0; style.surface_vectors && i * s.dim < layer.positions.size(); ++i) {
-      Vec3 x, v;
-      for (int k = 0; k < s.dim; ++k) {
-        x[k] = layer.positions[i * s.dim + k];
-        v[k] = layer.velocities[i * s.dim + k];
+  // Arrows on the surface vertices (sim/snapshot.hpp SurfaceLayer), at most one per square of
+  // the image as wide as the arrows are long on average (18 pixels at least): one per vertex,
+  // a pixel or two apart, made a solid ring.
+  if (style.surface_vectors) {
+    const Mat4 view_projection = camera.projection * camera.view;
+    auto pixel = [&](const Vec3& p, Vec2& out) {
+      const Vec4 c = view_projection * Vec4{p.x, p.y, p.z, 1};
+      if (!(c.w > 0)) return false;
+      out = {(c.x / c.w + 1) * 0.5f * viewport.x, (c.y / c.w + 1) * 0.5f * viewport.y};
+      return true;
+    };
+    std::vector<std::pair<Vec3, Vec3>> candidates;  // base and tip
+    double length_px = 0;
+    for (const SurfaceLayer& layer : s.surfaces)
+      for (std::size_t i = 0; i * s.dim < layer.positions.size(); ++i) {
+        Vec3 x, v;
+        for (int k = 0; k < s.dim; ++k) {
+          x[k] = layer.positions[i * s.dim + k];
+          v[k] = layer.velocities[i * s.dim + k];
+        }
+        Vec2 a, b;
+        if (!pixel(x, a) || !pixel(x + v * style.vector_scale, b)) continue;
+        candidates.push_back({x, x + v * style.vector_scale});
+        length_px += std::hypot(double(b.x - a.x), double(b.y - a.y));
       }
-      const Vec4 c = view_projection * Vec4{x.x, x.y, x.z, 1};
-      if (!(c.w > 0)) continue;
-      const long long cx = std::llround((c.x / c.w + 1) * 0.5f * viewport.x / kSurfaceArrowPx);
-      const long long cy = std::llround((c.y / c.w + 1) * 0.5f * viewport.y / kSurfaceArrowPx);
-      if (!taken.insert(cx * 1000003LL + cy).second) continue;
-      arrows.push_back({x, x + v * style.vector_scale, kArrow, 0.9f * lw, head, 0.0f});
+    const float cell =
+        std::max(18.0f, candidates.empty() ? 0.0f : float(length_px / double(candidates.size())));
+    std::unordered_set<long long> taken;
+    for (const auto& [base, tip] : candidates) {
+      Vec2 p;
+      pixel(base, p);
+      const long long key = std::llround(p.x / cell) * 1000003LL + std::llround(p.y / cell);
+      if (taken.insert(key).second) arrows.push_back({base, tip, kArrow, 0.9f * lw, head, 0.0f});
     }
+  }
   // A pale halo under every arrow first, so dark arrows read on dark particles too.
   std::vector<SegmentInstance> halos = arrows;
   const float halo = std::max(0.75f, 0.6f * lw);
