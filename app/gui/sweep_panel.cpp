@@ -91,6 +91,14 @@ std::string cut_to(const std::string& text, float width) {
   return cut + "...";
 }
 
+// A cell's text in `width` pixels: whole, or its number alone ("0.19" of "noisy 0.19", the
+// colour saying the outcome), or nothing.
+std::string cell_fit(const std::string& text, float width) {
+  if (ImGui::CalcTextSize(text.c_str()).x <= width) return text;
+  const std::string tail = text.substr(text.find_last_of(' ') + 1);
+  return ImGui::CalcTextSize(tail.c_str()).x <= width ? tail : "";
+}
+
 // The stability map's row-label and cell widths: as wide as their longest text.
 struct MapWidths {
   float label = 0, cell = 60;
@@ -154,11 +162,12 @@ long stability_map(ViewerState& st, ImVec2 size, const sweep::OpenedSweep& sw,
       dl->AddRectFilled(a, b,
                         sweep::outcome_color(i < 0 ? "" : sw.results[std::size_t(i)].outcome));
       if (i < 0) {
-        dl->AddText(ImVec2(a.x + 4, a.y + 3), IM_COL32(120, 120, 120, 255), "excluded");
+        dl->AddText(ImVec2(a.x + 4, a.y + 3), IM_COL32(120, 120, 120, 255),
+                    cell_fit("excluded", cell_w - 8).c_str());
         continue;
       }
       if (hovered || i == open_run) dl->AddRect(a, b, ink, 0, 0, hovered ? 1.5f : 2.5f);
-      const std::string t = cut_to(sweep::cell_text(sw.results[std::size_t(i)]), cell_w - 10);
+      const std::string t = cell_fit(sweep::cell_text(sw.results[std::size_t(i)]), cell_w - 8);
       dl->AddText(ImVec2(a.x + 4, a.y + 3), ink, t.c_str());
       if (hovered) {
         ImGui::BeginTooltip();

@@ -62,7 +62,11 @@ void setup_style() {
   s.ItemSpacing = ImVec2(8, 6);
   s.Colors[ImGuiCol_WindowBg] = ImVec4(0.955f, 0.96f, 0.965f, 1);
   const char* font = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
-  if (std::filesystem::exists(font)) ImGui::GetIO().Fonts->AddFontFromFileTTF(font, 14.5f);
+  // Latin and Greek (the labels' α and β, Δ), and typographic punctuation (·, …, −).
+  static const ImWchar ranges[] = {0x0020, 0x00FF, 0x0370, 0x03FF, 0x2010,
+                                   0x2044, 0x2212, 0x2212, 0};
+  if (std::filesystem::exists(font))
+    ImGui::GetIO().Fonts->AddFontFromFileTTF(font, 14.5f, nullptr, ranges);
 }
 
 void* gl_proc(const char* name) { return reinterpret_cast<void*>(glfwGetProcAddress(name)); }
