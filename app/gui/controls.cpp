@@ -322,7 +322,7 @@ void panes_section(ViewerState& st, const Published& pub, SimWorker& worker) {
       const NumericParameter& alpha = *find_parameter("solver.flip_alpha");
       float a = float(c.flip_alpha);
       if (ImGui::SliderFloat("##alpha", &a, float(alpha.range.lo), float(alpha.range.hi),
-                             "alpha %.2f") &&
+                             "\u03B1 %.2f") &&
           alpha.range.contains(a))
         c.flip_alpha = a, worker.set_scheme(k, c.scheme, a);
       if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", alpha.describe().c_str());
