@@ -60,8 +60,9 @@ void add_render_options(CLI::App* cmd, RenderOptions& o, RunOptionSet which) {
   cmd->add_flag("--surface-vectors", o.surface_vectors,
                 "draw velocity arrows on the surfaces' vertices (eol, eulerian) [default: off]");
   cmd->add_option("--fit", o.fit,
-                  "frame the whole domain, or the particles of the first frame (with room "
-                  "around them): domain|particles [default: domain]");
+                  "frame the whole domain, the particles of the first frame (with room around "
+                  "them), or auto: the particles of the whole run where they fill under half the "
+                  "domain, else the domain: domain|particles|auto [default: auto]");
   cmd->add_flag("--no-legend", o.no_legend,
                 "leave out the colour and arrow legend [default: legend shown]");
   cmd->add_option("--backend", o.backend, "offscreen OpenGL: auto|egl|osmesa [default: auto]");
@@ -97,9 +98,10 @@ RenderSession::RenderSession(const RenderOptions& o) {
   style.surface = !o.no_surface;
   style.surface_vectors = o.surface_vectors;
   style.legend = !o.no_legend;
-  if (o.fit != "domain" && o.fit != "particles")
-    throw UsageError("unknown --fit '" + o.fit + "' (expected domain|particles)");
+  if (o.fit != "domain" && o.fit != "particles" && o.fit != "auto")
+    throw UsageError("unknown --fit '" + o.fit + "' (expected domain|particles|auto)");
   fit_particles = o.fit == "particles";
+  fit_auto = o.fit == "auto";
   scene = load_scene_with_options(o.run);
   // compare's panes (its list already checked by compare), or render's one pane: the scene's own.
   const std::vector<PaneSpec> panes =
@@ -141,7 +143,10 @@ RenderSession::RenderSession(const RenderOptions& o) {
   renderer = std::make_unique<render::Renderer>();
   const bool automatic = (render::is_scalar(style.color) && !(style.color_max > 0)) ||
                          ((style.vectors || style.surface_vectors) && !(style.vector_scale > 0));
-  if (!automatic) return;
+  // --fit auto frames the bodies over the whole run: the first pass runs for it too, so that
+  // the scales it prints reproduce the same frames.
+  if (!automatic && !fit_auto) return;
+  scales_automatic = automatic;
   std::vector<SceneDesc> pane_scenes;
   for (const PaneSpec& p : panes) {
     pane_scenes.push_back(scene);
@@ -167,6 +172,8 @@ void RenderSession::fix_scales(const std::vector<SceneDesc>& panes, const RunOpt
   state.hold = render::ScaleHold::grow;
   std::vector<std::shared_ptr<Snapshot>> first;  // frame 0: the layout the arrows are sized for
   float radius = 0;
+  render::Box3 run_box;  // every pane's particles over the whole run (--fit auto)
+  bool run_box_set = false;
   run_frame_loop(times, lockstep, {}, [&](int f) {
     std::vector<std::shared_ptr<Snapshot>> snapshots;
     std::vector<const Snapshot*> views;
@@ -178,6 +185,14 @@ void RenderSession::fix_scales(const std::vector<SceneDesc>& panes, const RunOpt
       all_failed = all_failed && sim->failure();
     }
     render::update_scales(state, views);
+    for (const Snapshot* v : views) {
+      if (v->failure || v->count() == 0) continue;  // a frozen pane's last positions say nothing
+      const render::Box3 b = render::particle_box(*v);
+      for (int k = 0; k < 3; ++k)
+        run_box.min[k] = run_box_set ? std::min(run_box.min[k], b.min[k]) : b.min[k],
+        run_box.max[k] = run_box_set ? std::max(run_box.max[k], b.max[k]) : b.max[k];
+      run_box_set = true;
+    }
     if (f == 0) first = snapshots, radius = state.radius;
     progress.update(f + 1, "frame " + std::to_string(f) + "/" + std::to_string(times.frames));
     return !all_failed;  // the drawing stops there too
@@ -185,7 +200,12 @@ void RenderSession::fix_scales(const std::vector<SceneDesc>& panes, const RunOpt
   state.radius = radius;  // arrows spaced as on frame 0, in every frame
   state.hold = render::ScaleHold::fixed;
   scale_pass_seconds = now_seconds() - start;
-  if (run.quiet || first.empty()) return;
+  // --fit auto: the bodies over the whole run, where they fill little of the domain.
+  if (fit_auto && run_box_set && !first.empty()) {
+    const render::Box3 frame = padded_frame(run_box, *first.front(), 0.1f);
+    if (worth_fitting(frame, *first.front())) style.frame = frame;
+  }
+  if (run.quiet || first.empty() || !scales_automatic) return;
   std::vector<const Snapshot*> views;
   for (const auto& s : first) views.push_back(s.get());
   const auto rects =

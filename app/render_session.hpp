@@ -18,7 +18,7 @@ namespace apiclab::cli {
 struct RenderOptions {
   RunOptions run;
   std::string out, size = "1280x720", color = "speed", backend = "auto", video, schemes;
-  std::string fit = "domain";
+  std::string fit = "auto";
   bool vectors = false, grid = false, no_legend = false;
   bool no_surface = false, surface_vectors = false;
   double vector_scale = 0, color_max = 0, particle_scale = 1;
@@ -39,15 +39,17 @@ struct RenderSession {
   std::unique_ptr<render::RenderTarget> target;
   std::unique_ptr<render::Renderer> renderer;
   render::FigureState state;
-  bool fit_particles = false;
-  std::future<void> pending_png;          // PNGs are written while the next frame simulates
+  bool fit_particles = false, fit_auto = false;  // --fit particles; --fit auto
+  bool scales_automatic = false;                 // the first pass fixes a scale and says it
+  std::future<void> pending_png;                 // PNGs are written while the next frame simulates
   std::function<void()> pending_written;  // what follows the pending PNG (its frames.csv row)
   double first_draw_seconds = 0, draw_seconds = 0, png_seconds = 0, sim_seconds = 0;
   double scale_pass_seconds = 0;  // the first pass that fixes the scales (0: none needed)
   int frames_drawn = 0;
 
-  // Checks everything, then, when a scale is automatic, simulates the panes once through every
-  // frame to fix the colour and arrow scales for the whole sequence (fix_scales).
+  // Checks everything, then, when a scale is automatic or --fit is auto, simulates the panes
+  // once through every frame to fix the colour and arrow scales for the whole sequence and the
+  // bodies' frame (fix_scales).
   explicit RenderSession(const RenderOptions& o);
   // Draws the panes and writes the PNG in the background; `written` runs on this thread once
   // the PNG is whole (in the next draw or flush), so an index lists only PNGs present.

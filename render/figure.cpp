@@ -142,6 +142,11 @@ void draw_figure(Renderer& r, int width, int height, const std::vector<const Sna
   const SceneStyle scene = resolve_scene_style(style, panes, l.scenes.front(), state);
   const float f = l.font;
 
+  // Panes that differ in kernel or integrator (or method) each say theirs beside their label;
+  // the header names them only when every pane shares them.
+  const bool shared_details = std::all_of(panes.begin(), panes.end(), [&](const Snapshot* p) {
+    return p->kernel == first.kernel && p->integrator == first.integrator;
+  });
   float pixels_per_unit = 0;
   for (std::size_t i = 0; i < panes.size(); ++i) {
     const Snapshot& s = *panes[i];
@@ -150,15 +155,32 @@ void draw_figure(Renderer& r, int width, int height, const std::vector<const Sna
     const Box3 framed = style.frame.value_or(domain_box(s));
     pixels_per_unit =
         draw_pane_scene(r, s, frame_view(s.dim, framed, aspect, style.up_axis), rect, scene);
-    // Labels line up with the domain box (2D) or the pane (3D).
+    // Labels line up with the domain box (2D) or the pane (3D, or framed on the particles:
+    // the pane's own frame).
     float left = rect.x, top = rect.y;
-    if (s.dim == 2) {
+    if (s.dim == 2 && !style.frame) {
       const Vec3 size = framed.size();
       left = std::round(rect.x + rect.w / 2 - size.x * pixels_per_unit / 2);
       top = std::round(rect.y + rect.h / 2 - size.y * pixels_per_unit / 2);
     }
     float label_end = left;
     if (panes.size() > 1) label_end += r.text(scheme_label(s), left, top - 0.45f * f, f, kText);
+    if (panes.size() > 1 && !shared_details && !s.failure) {
+      const std::string details = "  " + s.kernel + " \u00B7 " + s.integrator;
+      if (r.text_width(details, f) <= rect.x + rect.w - label_end - 0.6f * f)
+        label_end += r.text(details, label_end, top - 0.45f * f, f, kMuted);
+    }
+    // Framed on the particles (--fit), the domain box may lie outside the pane: a frame of
+    // its own marks where each pane ends.
+    if (style.frame && panes.size() > 1) {
+      const Rgba8 edge{190, 190, 190, 255};
+      const float x0 = rect.x + 0.5f, y0 = rect.y + 0.5f;  // on pixel centres, inside the rect
+      const float x1 = rect.x + rect.w - 0.5f, y1 = rect.y + rect.h - 0.5f;
+      r.line({x0, y0}, {x1, y0}, 1, edge);
+      r.line({x0, y1}, {x1, y1}, 1, edge);
+      r.line({x0, y0}, {x0, y1}, 1, edge);
+      r.line({x1, y0}, {x1, y1}, 1, edge);
+    }
     if (s.failure) {  // once, on the label line above the domain, cut to the pane's width
       const float room = rect.x + rect.w - label_end - 0.6f * f;
       std::string what = (panes.size() > 1 ? "  " : "") + std::string("blew up at t = ") +
@@ -175,7 +197,9 @@ void draw_figure(Renderer& r, int width, int height, const std::vector<const Sna
     const float baseline = std::round(0.5f * l.pad + r.font(f).ascent() + 0.2f * f);
     const std::string name = first.scene_name.empty() ? "scene" : first.scene_name;
     const std::string scheme = panes.size() == 1 ? "  " + scheme_label(first) : "";
-    const std::string details = "  " + first.kernel + " \u00B7 " + first.integrator;
+    const std::string details = panes.size() == 1 || shared_details
+                                    ? "  " + first.kernel + " \u00B7 " + first.integrator
+                                    : "";
     const std::string time = "t = " + time_label(first.time, style.time_step);
     const float room = float(width) - 2 * l.pad - r.text_width(time, f) - f;
     float x = l.pad;

@@ -126,6 +126,31 @@ void draw_legend(Renderer& r, Rect area, float font, float pad, const SceneStyle
     }
     y += 1.0f * f;
   }
+  // The solver's grid layers (drawn with the grid): their field on viridis, low to high.
+  if (s.grid && !first.grids.empty() && y + 4 * f <= area.y + area.h) {
+    const GridLayer& g = first.grids.front();
+    const GridLayer::Field* field = nullptr;
+    for (const GridLayer::Field& c : g.fields)
+      if (!field && (s.grid_field.empty() || c.name == s.grid_field)) field = &c;
+    float low = INFINITY, high = -INFINITY;
+    for (float v : field ? field->values : std::vector<float>{})
+      if (std::isfinite(v)) low = std::min(low, v), high = std::max(high, v);
+    if (field && low <= high) {
+      r.text("grid nodes: " + field->name, x, y, f, kText);
+      y += 0.5f * f;
+      constexpr int steps = 24;
+      const float strip_w = 5 * f, strip_h = 0.7f * f;
+      for (int k = 0; k < steps; ++k)
+        r.fill_rect({x + strip_w * float(k) / steps, std::round(y), std::ceil(strip_w / steps),
+                     std::round(strip_h)},
+                    to_rgba8(viridis((float(k) + 0.5f) / steps)));
+      y += strip_h + 1.0f * f;
+      char range[64];
+      std::snprintf(range, sizeof range, "%.3g .. %.3g", low, high);
+      r.text(range, x, y, f, kText);
+      y += 1.4f * f;
+    }
+  }
   // The arrow key needs four lines; small images go without it.
   if ((s.vectors || s.surface_vectors) && s.vector_scale > 0 && pixels_per_unit > 0 &&
       y + 4 * f <= area.y + area.h) {

@@ -43,10 +43,13 @@ constexpr Rgba8 scheme_color(std::string_view key) {
   return palette_color(kPaletteSize - 1);
 }
 
-// "PIC", "FLIP", ...; a key outside the table in upper case.
+// "PIC", "FLIP", ...; the methods "EoL" and "Eulerian"; a key outside these in upper case.
 inline std::string scheme_label(std::string_view key) {
   for (const SchemeLook& s : kSchemeLooks)
     if (s.key == key) return std::string(s.label);
+  // The solver methods without schemes, as the manual writes them.
+  if (key == "eol") return "EoL";
+  if (key == "eulerian") return "Eulerian";
   std::string label(key);
   for (char& c : label) c = char(std::toupper(static_cast<unsigned char>(c)));
   return label;

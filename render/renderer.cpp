@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <unordered_set>
 
 #include "render/gl.hpp"
 #include "render/gl_upload.hpp"
@@ -189,7 +190,9 @@ void Renderer::draw_scene(const Snapshot& s, const Camera& camera, Rect rect,
   if (style.grid && s.dx > 0 && s.dx * ppu >= 3)
     add_grid(box, float(s.dx), three_d ? (up + 1) % 3 : 0, three_d ? (up + 2) % 3 : 1,
              style.line_px);
-  if (!s.grids.empty()) add_grid_layers(s, camera, style.line_px, ppu, style.grid_field);
+  // A solver's own grids (EoL's) with the grid lines: one click away, not over the body.
+  if (style.grid && !s.grids.empty())
+    add_grid_layers(s, camera, style.line_px, ppu, style.grid_field);
   draw_fills(scene_fills_, view_projection);
   draw_segments(scene_lines_, camera.view, camera.projection, viewport);
 
@@ -309,17 +312,41 @@ void Renderer::draw_arrows(const Snapshot& s, const Camera& camera, Vec2 viewpor
     arrows.push_back(
         {x, x + v * style.vector_scale, kArrow, 0.9f * lw, head, s.dim == 3 ? r : 0.0f});
   }
-  // Arrows on the surface vertices (sim/snapshot.hpp SurfaceLayer), one in vector_every.
-  for (const SurfaceLayer& layer : s.surfaces)
-    for (std::size_t i = 0; style.surface_vectors && i * s.dim < layer.positions.size(); ++i) {
-      if (!carries_arrow(i, style.vector_every)) continue;
-      Vec3 x, v;
-      for (int k = 0; k < s.dim; ++k) {
-        x[k] = layer.positions[i * s.dim + k];
-        v[k] = layer.velocities[i * s.dim + k];
+  // Arrows on the surface vertices (sim/snapshot.hpp SurfaceLayer), at most one per square of
+  // the image as wide as the arrows are long on average (18 pixels at least): one per vertex,
+  // a pixel or two apart, made a solid ring.
+  if (style.surface_vectors) {
+    const Mat4 view_projection = camera.projection * camera.view;
+    auto pixel = [&](const Vec3& p, Vec2& out) {
+      const Vec4 c = view_projection * Vec4{p.x, p.y, p.z, 1};
+      if (!(c.w > 0)) return false;
+      out = {(c.x / c.w + 1) * 0.5f * viewport.x, (c.y / c.w + 1) * 0.5f * viewport.y};
+      return true;
+    };
+    std::vector<std::pair<Vec3, Vec3>> candidates;  // base and tip
+    double length_px = 0;
+    for (const SurfaceLayer& layer : s.surfaces)
+      for (std::size_t i = 0; i * s.dim < layer.positions.size(); ++i) {
+        Vec3 x, v;
+        for (int k = 0; k < s.dim; ++k) {
+          x[k] = layer.positions[i * s.dim + k];
+          v[k] = layer.velocities[i * s.dim + k];
+        }
+        Vec2 a, b;
+        if (!pixel(x, a) || !pixel(x + v * style.vector_scale, b)) continue;
+        candidates.push_back({x, x + v * style.vector_scale});
+        length_px += std::hypot(double(b.x - a.x), double(b.y - a.y));
       }
-      arrows.push_back({x, x + v * style.vector_scale, kArrow, 0.9f * lw, head, 0.0f});
+    const float cell =
+        std::max(18.0f, candidates.empty() ? 0.0f : float(length_px / double(candidates.size())));
+    std::unordered_set<long long> taken;
+    for (const auto& [base, tip] : candidates) {
+      Vec2 p;
+      pixel(base, p);
+      const long long key = std::llround(p.x / cell) * 1000003LL + std::llround(p.y / cell);
+      if (taken.insert(key).second) arrows.push_back({base, tip, kArrow, 0.9f * lw, head, 0.0f});
     }
+  }
   // A pale halo under every arrow first, so dark arrows read on dark particles too.
   std::vector<SegmentInstance> halos = arrows;
   const float halo = std::max(0.75f, 0.6f * lw);

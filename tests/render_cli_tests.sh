@@ -36,6 +36,13 @@ for mode in material noise; do
 done
 "$app" render ring-collision --out "$tmp/fit" --frames 1 --fit particles "${small[@]}"
 check "--fit particles renders" "[ -s $tmp/fit/frame_0001.png ]"
+# --fit auto (the default) frames skew-impact's two small disks over their run, not the domain
+# they fill a twentieth of; the printed scales with --fit domain draw the domain.
+"$app" compare skew-impact --schemes pic,apic --out "$tmp/auto" --t-end 0.2 --size 320x120 2>"$tmp/auto.log"
+scales=$(sed -n 's/^apiclab: one scale for all [0-9]* frames (a first pass over them): //p' "$tmp/auto.log")
+# shellcheck disable=SC2086  # the options as printed
+"$app" compare skew-impact --schemes pic,apic --out "$tmp/domain" --t-end 0.2 --size 320x120 --fit domain $scales --quiet
+check "--fit auto frames the bodies, not the domain" "[ -s $tmp/auto/frame_0002.png ] && ! cmp -s $tmp/auto/frame_0002.png $tmp/domain/frame_0002.png"
 check "--color material and noise differ" "! cmp -s $tmp/material/frame_0001.png $tmp/noise/frame_0001.png"
 
 # OSMesa as the backend.

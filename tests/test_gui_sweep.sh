@@ -55,3 +55,13 @@ APICLAB_PRINT_LAYOUT=1 xvfb-run -a -s "-screen 0 1600x900x24" "$APICLAB" gui --s
 }
 cat "$out/gui-sweep.log"
 grep '^pane ' "$out/gui-sweep.log" | "$CHECK" "$png" 2
+# The stability map: every column's header inside the map's box (the panel clipped it at 3 of 5
+# columns behind a scroll bar), and the map inside the window.
+awk '/^window: / { W = $4; H = $5 }
+     /^widget stability map: / { split($0, p, ": "); split(p[2], m, " ") }
+     /^widget stability column / { split($0, p, ": "); n++; cols[n] = p[2] }
+     END { if (n < 2) { print "FAIL: " n " stability columns reported"; exit 1 }
+           if (m[1] + m[3] > W || m[2] + m[4] > H) { print "FAIL: the map runs out of the window"; exit 1 }
+           for (i = 1; i <= n; i++) { split(cols[i], c, " ");
+             if (c[1] < m[1] || c[1] + c[3] > m[1] + m[3]) { print "FAIL: column " i " at " cols[i] " outside the map " m[1] " " m[3]; exit 1 } }
+           print "stability map: " n " columns, all inside" }' "$out/gui-sweep.log"

@@ -1,6 +1,6 @@
-// The plot widget's legend never covers a curve: the y range leaves a band at the
-// top for it. Drawn headless (ImGui with its font atlas built and no renderer); the test reads
-// the draw list: no vertex of a curve lies inside the legend's box.
+// The plot widget's legend never covers a curve: it sits in a band above the data's box, and the
+// axes' ranges are the data's. Drawn headless (ImGui with its font atlas built and no renderer);
+// the tests read the layout plot() reports and the draw list.
 #include <gtest/gtest.h>
 #include <imgui.h>
 
@@ -32,37 +32,31 @@ ImGuiIO& start_headless_imgui() {
   return io;
 }
 
-// Draws the series in a plot and returns how many curve vertices (full-alpha, the curves'
-// colours, drawn before the legend) fall inside the legend box; -1 when no legend was found.
-long covered_vertices(const std::vector<PlotSeries>& series, PlotOptions o) {
+// Draws the series in a plot of `size` and returns its layout; `covered` counts the curve
+// vertices (the series' colours) inside the legend band, right of the legend's own samples.
+apiclab::gui::PlotPick draw_plot(const std::vector<PlotSeries>& series, PlotOptions o, ImVec2 size,
+                                 long* covered = nullptr) {
   start_headless_imgui();
   ImGui::NewFrame();
   ImGui::SetNextWindowPos(ImVec2(0, 0));
-  ImGui::SetNextWindowSize(ImVec2(420, 260));
+  ImGui::SetNextWindowSize(ImVec2(size.x + 20, size.y + 20));
   ImGui::Begin("plot test");
   o.interactive = false;
-  apiclab::gui::plot("p", ImVec2(400, 240), o, series);
+  const apiclab::gui::PlotPick p = apiclab::gui::plot("p", size, o, series);
   const ImDrawList* dl = ImGui::GetWindowDrawList();
-  const ImU32 kLegendFill = IM_COL32(255, 255, 255, 215);
-  long legend_start = -1;
-  Box box{1e9f, 1e9f, -1e9f, -1e9f};
-  for (int i = 0; i < dl->VtxBuffer.Size; ++i) {
-    const ImDrawVert& v = dl->VtxBuffer[i];
-    if (v.col != kLegendFill) continue;
-    if (legend_start < 0) legend_start = i;
-    box = {std::min(box.x0, v.pos.x), std::min(box.y0, v.pos.y), std::max(box.x1, v.pos.x),
-           std::max(box.y1, v.pos.y)};
-  }
-  long covered = legend_start < 0 ? -1 : 0;
-  for (long i = 0; i < legend_start; ++i) {
-    const ImDrawVert& v = dl->VtxBuffer[int(i)];
-    for (const PlotSeries& s : series)
-      if (v.col == s.color && box.holds(v.pos)) ++covered;
+  const Box band{p.legend_min.x, p.legend_min.y, p.legend_max.x, p.legend_max.y};
+  if (covered) {
+    *covered = 0;
+    for (int i = 0; i < dl->VtxBuffer.Size; ++i)
+      for (const PlotSeries& s : series)
+        if (dl->VtxBuffer[i].col == s.color && band.holds(dl->VtxBuffer[i].pos) &&
+            p.box_min.y < dl->VtxBuffer[i].pos.y)
+          ++*covered;
   }
   ImGui::End();
   ImGui::EndFrame();
   ImGui::DestroyContext();
-  return covered;
+  return p;
 }
 
 PlotSeries line(ImU32 color, double (*f)(double), std::size_t n = 200) {
@@ -75,23 +69,69 @@ PlotSeries line(ImU32 color, double (*f)(double), std::size_t n = 200) {
   return s;
 }
 
-TEST(PlotLegend, NeverCoversACurveInAnyCorner) {
-  // Rising and falling lines reach both top corners: no corner inside the data is free.
-  const std::vector<PlotSeries> both = {
-      line(IM_COL32(200, 0, 0, 255), [](double x) { return x; }),
-      line(IM_COL32(0, 0, 200, 255), [](double x) { return 1 - x; })};
-  using C = PlotOptions::Corner;
-  for (C corner : {C::top_right, C::top_left, C::bottom_right, C::bottom_left, C::best})
-    for (bool log_y : {false, true}) {
+// The legend sits in a band above the data's box, inside the plot, and the axis is the data's:
+// eight series on a log axis (the drift plot of four panes) no longer stretch it to 1e+14.
+TEST(PlotLegend, SitsAboveTheBoxAndLeavesTheAxisToTheData) {
+  for (bool log_y : {false, true})
+    for (int n : {2, 8}) {
+      std::vector<PlotSeries> s;
+      for (int k = 0; k < n; ++k)
+        s.push_back(line(
+            IM_COL32(20 * k, 0, 200, 255),
+            log_y ? +[](double x) { return 1e-16 + 1e-2 * x; } : +[](double x) { return x; }));
       PlotOptions o;
-      o.legend_corner = corner;
       o.log_y = log_y;
-      std::vector<PlotSeries> s = both;
-      if (log_y)  // positive data on a log axis
-        s = {line(IM_COL32(200, 0, 0, 255), [](double x) { return 1e-16 + x; }),
-             line(IM_COL32(0, 0, 200, 255), [](double x) { return 1.000001 - x; })};
-      EXPECT_EQ(covered_vertices(s, o), 0) << "corner " << int(corner) << ", log " << log_y;
+      long covered = -1;
+      const auto p = draw_plot(s, o, ImVec2(310, 300), &covered);
+      const std::string what = "log " + std::to_string(log_y) + ", " + std::to_string(n);
+      EXPECT_LT(p.legend_min.y, p.legend_max.y) << what;
+      EXPECT_LE(p.legend_max.y, p.box_min.y) << what;  // above the data, never over it
+      EXPECT_GE(p.legend_min.x, 0) << what;
+      EXPECT_LE(p.legend_max.x, 310) << what;
+      EXPECT_GT(p.box_max.y - p.box_min.y, 100) << what;  // the data keep most of the height
+      EXPECT_EQ(covered, 0) << what;
+      if (log_y)
+        EXPECT_LT(p.y_hi, 0.1) << what;  // data to 1e-2, padded by a twentieth of 14 decades
+      else
+        EXPECT_LT(p.y_hi, 1.1) << what;
     }
+}
+
+// A series with an empty label has no legend entry; a long legend ends in "+N more" and stays
+// within its band.
+TEST(PlotLegend, EmptyLabelsAreLeftOutAndALongLegendIsCounted) {
+  std::vector<PlotSeries> s = {line(IM_COL32(200, 0, 0, 255), [](double x) { return x; })};
+  s[0].label.clear();
+  EXPECT_EQ(draw_plot(s, PlotOptions{}, ImVec2(300, 200)).legend_max.y, 0);
+  std::vector<PlotSeries> many(60, line(IM_COL32(200, 0, 0, 255), [](double x) { return x; }));
+  const auto p = draw_plot(many, PlotOptions{}, ImVec2(300, 200));
+  EXPECT_GT(p.legend_max.y, p.legend_min.y);
+  EXPECT_LE(p.legend_max.y - p.legend_min.y, 0.35f * 200 + 1);
+  EXPECT_LE(p.legend_max.y, p.box_min.y);
+}
+
+// A tiny range beside its values (rotating-disk's L_z: 0.01032124 ± 1e-9) gets distinct tick
+// labels: offsets from a base the title line shows.
+TEST(PlotTicks, TinyRangesGetDistinctLabels) {
+  for (double base : {0.01032124, -3.5, 1e5, 1.0})
+    for (double span : {1e-9, 1e-6, 1e-3}) {
+      PlotSeries s = line(IM_COL32(200, 0, 0, 255), [](double x) { return x; });
+      s.y = [base, span](std::size_t i) { return base + span * double(i) / 199.0; };
+      const auto p = draw_plot({s}, PlotOptions{}, ImVec2(310, 300));
+      const auto& l = p.y_tick_labels;
+      ASSERT_GE(l.size(), 2u) << base << " + " << span;
+      for (std::size_t i = 1; i < l.size(); ++i)
+        EXPECT_NE(l[i - 1], l[i]) << base << " + " << span << ": " << l[i];
+      for (const std::string& t : l) EXPECT_LE(t.size(), 9u) << t;
+      const double relative = span / std::abs(base);  // below 1e-12: padded to ±1e-3 of it
+      if (relative < 1e-5 && relative > 1e-12)
+        EXPECT_FALSE(p.y_offset.empty()) << base << " + " << span;
+    }
+  std::string offset;
+  const auto l =
+      apiclab::gui::linear_tick_labels({0.0103212395, 0.01032124, 0.0103212405}, 5e-10, &offset);
+  EXPECT_EQ(offset, "0.01032124");
+  EXPECT_EQ(l, (std::vector<std::string>{"-5e-10", "0", "+5e-10"}));
 }
 
 }  // namespace

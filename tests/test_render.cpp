@@ -21,6 +21,7 @@
 #include "render/target.hpp"
 #include "render/text.hpp"
 #include "render_scenes.hpp"
+#include "sim/scheme_facts.hpp"
 #include "sim/simulation.hpp"
 
 namespace {
@@ -140,6 +141,36 @@ long coloured_pixels(const Image& img, const Rect& r) {
       n += spread > 40;
     }
   return n;
+}
+
+// Framed on the particles (--fit particles), four panes in a wide canvas (a 2 x 2 grid) each
+// have a frame on all four sides: the domain box, outside the frame, drew none on three.
+TEST(Render, FittedPanesHaveFramesOnEverySide) {
+  const Snapshot s = synthetic::scene_2d();
+  FigureStyle style;
+  // A frame near the domain's top right corner, where there are no particles: only the frame
+  // can mark the panes' edges.
+  const Box3 box = domain_box(s);
+  style.frame = Box3{box.max - box.size() * 0.12f, box.max - box.size() * 0.02f};
+  const int w = 1280, h = 720;
+  const Image img = draw({&s, &s, &s, &s}, style, w, h);
+  context().make_current();
+  Renderer r;
+  const std::vector<Rect> rects = figure_scene_rects(r, w, h, 4, s, style);
+  ASSERT_EQ(rects.size(), 4u);
+  for (std::size_t i = 0; i < 4; ++i) {
+    const Rect& q = rects[i];
+    // The middle of each side, one pixel inside the rect: not paper.
+    const int sides[4][2] = {{int(q.x + q.w / 2), int(q.y)},
+                             {int(q.x + q.w / 2), int(q.y + q.h) - 1},
+                             {int(q.x), int(q.y + q.h / 2)},
+                             {int(q.x + q.w) - 1, int(q.y + q.h / 2)}};
+    for (const auto& p : sides) {
+      const std::uint8_t* c = img.pixel(p[0], p[1]);
+      EXPECT_LT(std::min({c[0], c[1], c[2]}), 245)
+          << "pane " << i << " at " << p[0] << ", " << p[1];
+    }
+  }
 }
 
 TEST(Render, CompareDrawsOnePanePerScheme) {
@@ -454,6 +485,12 @@ TEST(Palette, OneColourPerSchemeAndCategory) {
   EXPECT_EQ(packed_abgr(scheme_color("rpic")), packed_abgr(category_color(3)));
   EXPECT_EQ(packed_abgr(scheme_color("pic")), packed_abgr(palette_color(0)));
   EXPECT_EQ(scheme_label("apic"), "APIC");
+  // One spelling per scheme and method, the registry's (the GUI titled PolyPIC "POLYPIC").
+  EXPECT_EQ(scheme_label("polypic"), "PolyPIC");
+  EXPECT_EQ(scheme_label("eol"), "EoL");
+  EXPECT_EQ(scheme_label("eulerian"), "Eulerian");
+  for (const auto& c : apiclab::scheme_choices())
+    EXPECT_EQ(scheme_label(c.key), apiclab::scheme_facts(c.value).name) << c.key;
   // The hex values tests/figures_tests.sh looks for in the figures' lines.
   auto hex = [](Rgba8 c) {
     char buf[8];
@@ -511,6 +548,7 @@ TEST(RenderGridLayers, NodesAreColouredByTheirFieldInTheGridsFrame) {
   const Snapshot plain = synthetic::scene_2d(), s = with_grid_layer(plain);
   FigureStyle style;
   style.color = ColorMode::material;
+  style.grid = true;  // grid layers come with the grid (--grid, the viewer's "grid")
   const int w = 640, h = 400;
   const Rect rect = scene_rect_of(s, style, w, h);
   const Image img = draw({&s}, style, w, h);
@@ -534,10 +572,57 @@ TEST(RenderGridLayers, NodesAreColouredByTheirFieldInTheGridsFrame) {
   EXPECT_GT(std::min({o[0], o[1], o[2]}), 200);
 }
 
+// By default a pane shows the body, not the solver's grids: the layers draw nothing without
+// the grid (an EoL pane's mass tiles hid the body, and floated around it in 3D).
+TEST(RenderGridLayers, HiddenUnlessTheGridIsOn) {
+  for (const Snapshot& plain : {synthetic::scene_2d(), synthetic::scene_3d()}) {
+    const Snapshot s = with_grid_layer(plain);
+    FigureStyle style;
+    style.color = ColorMode::material;
+    const int w = 480, h = 360;
+    const Rect rect = scene_rect_of(s, style, w, h);
+    EXPECT_EQ(differing_pixels(crop(draw({&s}, style, w, h), rect),
+                               crop(draw({&plain}, style, w, h), rect)),
+              0)
+        << plain.dim << "D";
+  }
+}
+
+// Arrows on a surface are thinned on screen: a circle of 4000 vertices (a fine EoL surface)
+// draws about as much arrow ink as one of 24, not the solid ring one arrow per vertex made.
+TEST(RenderSurfaceArrows, AtMostOnePerFewPixels) {
+  auto ink = [](int vertices) {
+    Snapshot s = synthetic::scene_2d();
+    SurfaceLayer ring;
+    for (int k = 0; k < vertices; ++k) {
+      const float a = 6.2831853f * float(k) / float(vertices);
+      ring.positions.insert(ring.positions.end(),
+                            {1.0f + 0.3f * std::cos(a), 0.5f + 0.3f * std::sin(a)});
+      ring.velocities.insert(ring.velocities.end(), {-std::sin(a), std::cos(a)});
+    }
+    s.surfaces.push_back(ring);
+    FigureStyle style;
+    style.color = ColorMode::material;
+    style.surface = false;
+    style.surface_vectors = true;
+    const Image img = draw({&s}, style, 640, 400);
+    const Rect r = scene_rect_of(s, style, 640, 400);  // no header or legend text
+    long dark = 0;
+    for (int y = int(r.y) + 2; y < int(r.y + r.h) - 2; ++y)
+      for (int x = int(r.x) + 2; x < int(r.x + r.w) - 2; ++x)
+        dark += std::max({img.pixel(x, y)[0], img.pixel(x, y)[1], img.pixel(x, y)[2]}) < 60;
+    return dark;
+  };
+  const long coarse = ink(24), fine = ink(4000);  // 24: an arrow every ~20 pixels
+  EXPECT_GT(coarse, 100);
+  EXPECT_LT(fine, 2 * coarse) << "coarse " << coarse;
+}
+
 TEST(RenderGridLayers, ThreeDGridsAreDrawn) {
   const Snapshot plain = synthetic::scene_3d(), s = with_grid_layer(plain);
   FigureStyle style;
   style.color = ColorMode::material;
+  style.grid = true;
   const int w = 480, h = 360;
   const Rect rect = scene_rect_of(s, style, w, h);
   EXPECT_GT(differing_pixels(crop(draw({&s}, style, w, h), rect),

@@ -101,7 +101,6 @@ void write_roundtrip_figure(ChartCanvas& canvas, const std::vector<int>& resolut
     o.log_x = o.log_y = true;
     o.minor_log_grid = true;
     o.interactive = false;
-    o.legend_corner = gui::PlotOptions::Corner::best;
     ImGui::SetCursorScreenPos(ImVec2(10, top));
     gui::plot("roundtrip", ImVec2(W - 20, H - top - 6), o, series);
   });

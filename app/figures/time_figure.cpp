@@ -129,7 +129,6 @@ void write_time_figure(ChartCanvas& canvas, const TimeFigure& f, const std::stri
       o.x_label = "time t [s]";
       o.interactive = false;
       o.log_y = q->log_y;
-      o.legend_corner = gui::PlotOptions::Corner::best;
       ImGui::SetCursorScreenPos(ImVec2(10 + k * (w + 10), top));
       gui::plot(q->title.c_str(), ImVec2(w, h), o, time_series(f.runs, *q));
       ++k;

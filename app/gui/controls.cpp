@@ -36,14 +36,19 @@ bool choice_combo(const char* label, E& value, const std::vector<Choice<E>>& cho
   return changed;
 }
 
-// The same with a first entry meaning "the scene's value".
+// The same with a first entry meaning "the scene's value"; the closed combo names what it
+// sets and the value in use: "kernel: quadratic".
 template <class E>
 bool optional_combo(const char* label, std::optional<E>& value,
-                    const std::vector<Choice<E>>& choices) {
+                    const std::vector<Choice<E>>& choices, const std::string& what,
+                    const std::string& scene_value) {
   bool changed = false;
-  const std::string shown = value ? std::string(choice_key(choices, *value)) : "scene";
-  if (ImGui::BeginCombo(label, shown.c_str())) {
-    if (ImGui::Selectable("scene", !value) && value) value.reset(), changed = true;
+  const std::string shown =
+      what + ": " + (value ? std::string(choice_key(choices, *value)) : scene_value);
+  // No arrow: the room goes to the text ("integrator: symplectic" in half the column).
+  if (ImGui::BeginCombo(label, shown.c_str(), ImGuiComboFlags_NoArrowButton)) {
+    if (ImGui::Selectable(("scene's: " + scene_value).c_str(), !value) && value)
+      value.reset(), changed = true;
     for (auto& c : choices) {
       if (ImGui::Selectable(std::string(c.key).c_str(), value && *value == c.value) &&
           !(value && *value == c.value))
@@ -103,6 +108,18 @@ void description_text(ViewerState& st) {
                         text.size());
   ImGui::PopTextWrapPos();
   ImGui::EndTooltip();
+}
+
+// Where an item is drawn, for the layout tests (ViewerState::layout).
+void record(ViewerState& st, const std::string& name, ImVec2 min, ImVec2 max) {
+  st.layout[name] = ImVec4(min.x, min.y, max.x - min.x, max.y - min.y);
+}
+
+// The text a closed combo shows, from where the last item starts: the tests check it fits it.
+void record_text(ViewerState& st, const std::string& name, const std::string& text) {
+  const ImVec2 at = ImGui::GetItemRectMin();
+  const float w = ImGui::CalcTextSize(text.c_str()).x + 2 * ImGui::GetStyle().FramePadding.x;
+  record(st, name, at, ImVec2(at.x + w, ImGui::GetItemRectMax().y));
 }
 
 void section(const char* title) {
@@ -239,8 +256,12 @@ void playback_section(ViewerState& st, const Published& pub, SimWorker& worker) 
   char progress[64];  // %g: a time of 1e+30 (a fixed step that large) reads as such, not "1000000"
   std::snprintf(progress, sizeof progress, "%.6g / %.6g s", t, end);
   ImGui::ProgressBar(end > 0 ? float(std::min(t / end, 1.0)) : 0, ImVec2(-1, 0), progress);
-  ImGui::Text("%s sim s / wall s", human(pub.sim_seconds_per_wall_second, "").c_str());
-  ImGui::Text("%s particle-steps/s", human(pub.particle_steps_per_second, "").c_str());
+  // Throughput while the panes step; nothing while they do not (paused, finished, a grid
+  // method's particle-steps): a 0 there read as a measurement.
+  if (pub.sim_seconds_per_wall_second > 0)
+    ImGui::Text("%s sim s / wall s", human(pub.sim_seconds_per_wall_second, "").c_str());
+  if (pub.particle_steps_per_second > 0)
+    ImGui::Text("%s particle-steps/s", human(pub.particle_steps_per_second, "").c_str());
   // Wrapped: a slow frame's long numbers must not run past a narrow panel.
   ImGui::TextWrapped("display %.0f fps (%.1f ms/frame, GUI CPU %.1f ms)",
                      st.frame_ms > 0 ? 1000 / st.frame_ms : 0, st.frame_ms, st.frame_cpu_ms);
@@ -301,7 +322,7 @@ void panes_section(ViewerState& st, const Published& pub, SimWorker& worker) {
       const NumericParameter& alpha = *find_parameter("solver.flip_alpha");
       float a = float(c.flip_alpha);
       if (ImGui::SliderFloat("##alpha", &a, float(alpha.range.lo), float(alpha.range.hi),
-                             "alpha %.2f") &&
+                             "\u03B1 %.2f") &&
           alpha.range.contains(a))
         c.flip_alpha = a, worker.set_scheme(k, c.scheme, a);
       if (ImGui::IsItemHovered()) ImGui::SetTooltip("%s", alpha.describe().c_str());
@@ -320,16 +341,33 @@ void panes_section(ViewerState& st, const Published& pub, SimWorker& worker) {
       continue;
     }
     ImGui::Indent(18);
-    const float half = (ImGui::GetContentRegionAvail().x - ImGui::GetStyle().ItemSpacing.x) / 2;
-    ImGui::SetNextItemWidth(half);
-    if (optional_combo("##kernel", c.kernel, kernel_choices()))
+    // Kernel 43 %, integrator 57 %: the longest texts, "kernel: quadratic" and
+    // "integrator: symplectic", both fit the column.
+    const float both = ImGui::GetContentRegionAvail().x - ImGui::GetStyle().ItemSpacing.x;
+    ImGui::SetNextItemWidth(std::round(0.43f * both));
+    const std::string scene_kernel(choice_key(kernel_choices(), st.scene.solver.kernel));
+    if (optional_combo("##kernel", c.kernel, kernel_choices(), "kernel", scene_kernel))
       restart_because(st, worker, "Pane kernel");
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("kernel for this pane (restarts)");
+    record(st, "pane " + std::to_string(k) + " kernel", ImGui::GetItemRectMin(),
+           ImGui::GetItemRectMax());
+    record_text(st, "pane " + std::to_string(k) + " kernel text",
+                "kernel: " + (c.kernel ? std::string(choice_key(kernel_choices(), *c.kernel))
+                                       : scene_kernel));
     ImGui::SameLine();
-    ImGui::SetNextItemWidth(half);
-    if (optional_combo("##integrator", c.integrator, integrator_choices()))
+    ImGui::SetNextItemWidth(both - std::round(0.43f * both));
+    const std::string scene_integrator(
+        choice_key(integrator_choices(), st.scene.solver.integrator));
+    if (optional_combo("##integrator", c.integrator, integrator_choices(), "integrator",
+                       scene_integrator))
       restart_because(st, worker, "Pane integrator");
     if (ImGui::IsItemHovered()) ImGui::SetTooltip("integrator for this pane (restarts)");
+    record(st, "pane " + std::to_string(k) + " integrator", ImGui::GetItemRectMin(),
+           ImGui::GetItemRectMax());
+    record_text(st, "pane " + std::to_string(k) + " integrator text",
+                "integrator: " + (c.integrator
+                                      ? std::string(choice_key(integrator_choices(), *c.integrator))
+                                      : scene_integrator));
     ImGui::Unindent(18);
     ImGui::PopID();
   }
@@ -462,9 +500,16 @@ void draw_controls(ViewerState& st, const Published& pub, SimWorker& worker) {
   ImGui::Begin("Controls", nullptr,
                ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoMove |
                    ImGuiWindowFlags_NoBringToFrontOnFocus);
+  // The header wraps within the column instead of running under its edge.
+  const ImVec2 header = ImGui::GetCursorScreenPos();
   ImGui::TextColored(ImVec4(0.1f, 0.1f, 0.1f, 1), "apiclab");
   ImGui::SameLine();
-  ImGui::TextColored(kMuted, "particle/grid transfers and Eulerian-on-Lagrangian");
+  ImGui::PushStyleColor(ImGuiCol_Text, kMuted);
+  ImGui::PushTextWrapPos(0);
+  ImGui::TextUnformatted("particle/grid transfers and Eulerian-on-Lagrangian");
+  ImGui::PopTextWrapPos();
+  ImGui::PopStyleColor();
+  record(st, "header", header, ImGui::GetItemRectMax());
   scene_section(st, worker);
   playback_section(st, pub, worker);
   panes_section(st, pub, worker);

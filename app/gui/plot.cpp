@@ -29,6 +29,60 @@ std::string fit_text(const std::string& text, float width) {
   return cut + "...";
 }
 
+// The legend band's entries, flowing left to right in rows between `left` and `right` from
+// `top`, in at most `max_h` pixels; entries that do not fit are counted in "+N more".
+struct LegendEntry {
+  std::size_t series;
+  std::string text;
+  ImVec2 at;
+};
+struct LegendLayout {
+  float bottom;  // of the band (top when empty)
+  std::vector<LegendEntry> entries;
+  std::string more;
+  ImVec2 more_at;
+};
+
+LegendLayout layout_legend(const std::vector<PlotSeries>& series, float left, float right,
+                           float top, float max_h) {
+  const float fh = ImGui::GetFontSize(), row_h = fh + 3, gap = 14, sample = 24;
+  const int rows = std::max(1, int(max_h / row_h));
+  LegendLayout lay{top, {}, {}, {}};
+  float x = left;
+  int row = 0;
+  std::size_t listed = 0, wanted = 0;
+  for (std::size_t k = 0; k < series.size(); ++k) {
+    if (series[k].label.empty()) continue;
+    ++wanted;
+    const std::string text = fit_text(series[k].label, std::max(right - left - sample, 20.0f));
+    const float w = sample + ImGui::CalcTextSize(text.c_str()).x;
+    if (x > left && x + w > right) x = left, ++row;
+    if (row >= rows) break;
+    lay.entries.push_back({k, text, ImVec2(x, top + row * row_h)});
+    x += w + gap, ++listed;
+  }
+  if (listed < wanted) {  // "+N more" at the end of the last row, in place of entries if need be
+    auto more = [&] { return "+" + std::to_string(wanted - lay.entries.size()) + " more"; };
+    while (!lay.entries.empty() && lay.entries.back().at.y == top + (rows - 1) * row_h &&
+           lay.entries.back().at.x + sample +
+                   ImGui::CalcTextSize(lay.entries.back().text.c_str()).x + gap +
+                   ImGui::CalcTextSize(more().c_str()).x >
+               right)
+      lay.entries.pop_back();
+    const LegendEntry* last = lay.entries.empty() ? nullptr : &lay.entries.back();
+    lay.more = more();
+    lay.more_at =
+        last ? ImVec2(last->at.x + sample + ImGui::CalcTextSize(last->text.c_str()).x + gap,
+                      last->at.y)
+             : ImVec2(left, top);
+  }
+  if (!lay.entries.empty() || !lay.more.empty())
+    lay.bottom =
+        top +
+        (lay.entries.empty() ? 1 : int(lay.entries.back().at.y - top) / int(row_h) + 1) * row_h;
+  return lay;
+}
+
 // Axis ends stay within ±1e300 (log axes: decades −300 … 300), so that padding, spans and the
 // legend's room never overflow to inf or underflow to 0.
 constexpr double kMaxDecade = 300, kMaxMagnitude = 1e300;
@@ -154,6 +208,32 @@ std::string tick_label(double v, double step) {
   return buf;
 }
 
+std::vector<std::string> linear_tick_labels(const std::vector<double>& ticks, double step,
+                                            std::string* offset) {
+  std::vector<std::string> out;
+  double big = 0;
+  for (double v : ticks) big = std::max(big, std::abs(v));
+  if (offset) offset->clear();
+  if (!offset || ticks.size() < 2 || !(step > 0) || step >= 1e-4 * big) {
+    for (double v : ticks) out.push_back(tick_label(v, step));
+    return out;
+  }
+  // The middle tick as the base, with every digit down to the step's.
+  const double base = ticks[ticks.size() / 2];
+  const int sig = int(std::floor(std::log10(std::abs(base))) - std::floor(std::log10(step) + 1e-9));
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.*g", std::clamp(sig + 1, 3, 17), base);
+  *offset = buf;
+  for (double v : ticks) {
+    const double d = v - base;
+    if (std::abs(d) < 1e-6 * step)
+      out.push_back("0");
+    else
+      out.push_back((d > 0 ? "+" : "") + tick_label(d, step));
+  }
+  return out;
+}
+
 namespace {
 
 // Text turned a quarter left (reading upwards), centred on `center`. Laid out level inside
@@ -234,19 +314,6 @@ PlotPick plot(const char* id, ImVec2 size, const PlotOptions& o,
     if (xr.hi <= xr.lo) xr.hi = xr.lo + 1;
   }
   yr = pad(yr, o.log_y);
-  // The legend never covers a curve: the y range grows at the top by the legend's height, so
-  // the legend sits in a band that holds no data.
-  const bool legend = o.legend && !series.empty();
-  const float legend_h = 4 + series.size() * (fh + 1), box_h = size.y - 3 * fh - 12;
-  if (legend && box_h > 0 && legend_h + 8 < 0.6f * box_h && yr.valid()) {
-    const double f = (legend_h + 8) / box_h, grow = f / (1 - f);
-    if (o.log_y)
-      yr.hi = std::pow(
-          10.0,
-          std::min(std::log10(yr.hi) + grow * (std::log10(yr.hi) - std::log10(yr.lo)), kMaxDecade));
-    else
-      yr.hi += grow * (yr.hi - yr.lo);
-  }
   auto fx = [&](double x) { return o.log_x ? std::log10(x) : x; };
   auto fy = [&](double y) { return o.log_y ? std::log10(y) : y; };
   const double xlo = fx(xr.lo), xhi = fx(xr.hi), ylo = fy(yr.lo), yhi = fy(yr.hi);
@@ -254,15 +321,29 @@ PlotPick plot(const char* id, ImVec2 size, const PlotOptions& o,
   // Tick labels decide the left margin.
   std::vector<double> yt = o.log_y ? log_ticks(yr.lo, yr.hi) : nice_ticks(yr.lo, yr.hi, 4);
   const double ystep = yt.size() > 1 ? yt[1] - yt[0] : yr.hi - yr.lo;
+  std::string y_offset;
   std::vector<std::string> ylabels;
+  if (o.log_y)
+    for (double v : yt) ylabels.push_back(tick_label(v, v));
+  else
+    ylabels = linear_tick_labels(yt, ystep, &y_offset);
   float label_w = 0;
-  for (double v : yt) {
-    ylabels.push_back(o.log_y ? tick_label(v, v) : tick_label(v, ystep));
-    label_w = std::max(label_w, ImGui::CalcTextSize(ylabels.back().c_str()).x);
-  }
+  for (const std::string& l : ylabels)
+    label_w = std::max(label_w, ImGui::CalcTextSize(l.c_str()).x);
   const float ylabel_w = o.y_label.empty() ? 0.0f : fh + 6;
-  const ImVec2 a(p0.x + ylabel_w + label_w + 10, p0.y + fh + 6);  // plot box, top left
-  const ImVec2 b(p0.x + size.x - 8, p0.y + size.y - 2 * fh - 6);  // bottom right
+  const float box_left = p0.x + ylabel_w + label_w + 10, box_right = p0.x + size.x - 8;
+  const float legend_top = p0.y + fh + 6;
+  const LegendLayout lay =
+      o.legend ? layout_legend(series, box_left, box_right, legend_top, 0.35f * size.y)
+               : LegendLayout{legend_top, {}, {}, {}};
+  const ImVec2 a(box_left, lay.bottom + (lay.entries.empty() ? 0.0f : 4.0f));  // box, top left
+  const ImVec2 b(box_right, p0.y + size.y - 2 * fh - 6);                       // bottom right
+  pick.box_min = a, pick.box_max = b;
+  pick.y_lo = yr.lo, pick.y_hi = yr.hi;
+  pick.y_tick_labels = ylabels;
+  pick.y_offset = y_offset;
+  if (!lay.entries.empty())
+    pick.legend_min = ImVec2(box_left, legend_top), pick.legend_max = ImVec2(box_right, lay.bottom);
   if (b.x - a.x < 20 || b.y - a.y < 20) {
     ImGui::PopID();
     return pick;
@@ -278,10 +359,16 @@ PlotPick plot(const char* id, ImVec2 size, const PlotOptions& o,
 
   dl->AddRectFilled(a, b, IM_COL32(255, 255, 255, 255));
   // Text never runs into the next plot: cut to the room it has, with "...".
-  const std::string title = fit_text(o.title, size.x - 8);
+  // A tiny range's ticks are offsets: the base they are added to ends the title line.
+  const std::string offset_text = y_offset.empty() ? "" : "y ticks + " + y_offset;
+  const float offset_w =
+      offset_text.empty() ? 0.0f : ImGui::CalcTextSize(offset_text.c_str()).x + 12;
+  const std::string title = fit_text(o.title, size.x - 8 - offset_w);
   const float title_w = ImGui::CalcTextSize(title.c_str()).x;
   dl->AddText(ImVec2(o.interactive ? p0.x + 4 : (a.x + b.x - title_w) / 2, p0.y + 2), kText,
               title.c_str());
+  if (!offset_text.empty())
+    dl->AddText(ImVec2(b.x - offset_w + 12, p0.y + 2), kMuted, offset_text.c_str());
   // Minor grid lines of log axes: 2..9 times each decade.
   auto minor = [&](double lo, double hi, auto&& draw) {  // lo > 0 (pad's log range)
     for (int e = int(std::floor(std::log10(lo))); e <= int(std::ceil(std::log10(hi))); ++e)
@@ -306,12 +393,16 @@ PlotPick plot(const char* id, ImVec2 size, const PlotOptions& o,
   const auto xt = o.log_x ? log_ticks(xr.lo, xr.hi)
                           : nice_ticks(xr.lo, xr.hi, std::max(2, int((b.x - a.x) / 90)));
   const double xstep = xt.size() > 1 ? xt[1] - xt[0] : xr.hi - xr.lo;
+  float last_right = -1e30f;  // a label that would run into the one before is left out
   for (double v : xt) {
     const float x = sx(v);
     dl->AddLine(ImVec2(x, a.y), ImVec2(x, b.y), kGrid);
     const std::string l = o.log_x ? tick_label(v, v) : tick_label(v, xstep);
     const float w = ImGui::CalcTextSize(l.c_str()).x;
-    dl->AddText(ImVec2(std::clamp(x - w / 2, a.x - 4, b.x - w), b.y + 3), kMuted, l.c_str());
+    const float left = std::clamp(x - w / 2, a.x - 4, b.x - w);
+    if (left < last_right + 6) continue;
+    dl->AddText(ImVec2(left, b.y + 3), kMuted, l.c_str());
+    last_right = left + w;
   }
   const float xlw = ImGui::CalcTextSize(o.x_label.c_str()).x;
   dl->AddText(ImVec2((a.x + b.x - xlw) / 2, b.y + fh + 3), kMuted, o.x_label.c_str());
@@ -369,56 +460,20 @@ PlotPick plot(const char* id, ImVec2 size, const PlotOptions& o,
   dl->PopClipRect();
   dl->AddRect(a, b, kFrame);
 
-  // Legend, in a top corner inside the box: the band the y range left empty for it.
-  if (legend) {
-    std::vector<std::string> labels;  // cut so the legend stays inside the box
-    float w = 0;
-    for (auto& s : series) {
-      labels.push_back(fit_text(s.label, b.x - a.x - 8 - 34));
-      w = std::max(w, ImGui::CalcTextSize(labels.back().c_str()).x);
-    }
-    const float lw = w + 34, lh = legend_h;
-    using C = PlotOptions::Corner;
-    auto box_at = [&](C c) {
-      const bool right = c == C::top_right || c == C::bottom_right;
-      const bool top = c == C::top_right || c == C::top_left;
-      return ImVec2(right ? b.x - 4 - lw : a.x + 4, top ? a.y + 4 : b.y - 4 - lh);
-    };
-    C corner = o.legend_corner == C::bottom_left    ? C::top_left
-               : o.legend_corner == C::bottom_right ? C::top_right
-                                                    : o.legend_corner;
-    if (corner == C::best) {  // the top corner whose box covers the fewest samples
-      long fewest = -1;
-      for (C c : {C::top_right, C::top_left}) {
-        const ImVec2 p = box_at(c);
-        long n = 0;
-        for (auto& s : series)
-          for (std::size_t i = 0; i < s.count; ++i) {
-            const double xv = s.x(i), yv = s.y(i);
-            if (!std::isfinite(yv) || (o.log_y && !(yv > 0)) || (o.log_x && !(xv > 0))) continue;
-            const float x = sx(xv), y = sy(yv);
-            n += x >= p.x - 4 && x <= p.x + lw + 4 && y >= p.y - 4 && y <= p.y + lh + 4;
-          }
-        if (fewest < 0 || n < fewest) fewest = n, corner = c;
-      }
-    }
-    const ImVec2 la = box_at(corner);
-    const ImVec2 lb(la.x + lw, la.y + lh);
-    dl->AddRectFilled(la, lb, IM_COL32(255, 255, 255, 215));
-    dl->AddRect(la, lb, IM_COL32(200, 200, 200, 255));
-    for (std::size_t k = 0; k < series.size(); ++k) {
-      const float y = la.y + 2 + k * (fh + 1);
-      const ImVec2 l0(la.x + 4, y + fh / 2), l1(la.x + 22, y + fh / 2);
-      if (series[k].dashed)
-        add_dashed(dl, {l0, l1}, series[k].color, 2.0f, 6, 3);
-      else if (series[k].thickness > 0)
-        dl->AddLine(l0, l1, series[k].color, 2.5f);
-      if (series[k].markers)
-        draw_marker(dl, ImVec2((l0.x + l1.x) / 2, l0.y), std::max(series[k].thickness, 1.6f) + 2.0f,
-                    series[k].marker, series[k].color);
-      dl->AddText(ImVec2(la.x + 28, y), kText, labels[k].c_str());
-    }
+  // Legend: the band above the box; each entry its sample (line, dashes, marker) and label.
+  for (const LegendEntry& e : lay.entries) {
+    const PlotSeries& s = series[e.series];
+    const ImVec2 l0(e.at.x, e.at.y + fh / 2), l1(e.at.x + 18, e.at.y + fh / 2);
+    if (s.dashed)
+      add_dashed(dl, {l0, l1}, s.color, 2.0f, 6, 3);
+    else if (s.thickness > 0)
+      dl->AddLine(l0, l1, s.color, 2.5f);
+    if (s.markers)
+      draw_marker(dl, ImVec2((l0.x + l1.x) / 2, l0.y), std::max(s.thickness, 1.6f) + 2.0f, s.marker,
+                  s.color);
+    dl->AddText(ImVec2(e.at.x + 24, e.at.y), kText, e.text.c_str());
   }
+  if (!lay.more.empty()) dl->AddText(lay.more_at, kMuted, lay.more.c_str());
 
   const ImVec2 m = ImGui::GetIO().MousePos;
   if (hovered && o.pick_points) {  // the nearest marker within 10 pixels, ringed

@@ -39,15 +39,10 @@ struct PlotOptions {
   std::string y_label;  // drawn turned a quarter left of the y tick labels; empty: none
   bool log_x = false;   // non-positive values are left out
   bool log_y = false;   // non-positive values are left out
+  // The legend sits in a band between the title and the plot box, its entries flowing in rows:
+  // never over the data, and the axes' ranges come from the data alone. A series with an empty
+  // label is left out of it; one without samples is a legend entry only.
   bool legend = true;
-  enum class Corner {
-    top_right,
-    top_left,
-    bottom_right,
-    bottom_left,
-    best
-  };  // best: fewest samples covered
-  Corner legend_corner = Corner::top_right;
   bool interactive = true;      // false: no hover readout (offscreen figures)
   bool minor_log_grid = false;  // log axes: light grid lines at 2..9 times each decade
   // Scatter charts (the sweep viewer): hover picks the nearest marker of a series with markers
@@ -57,10 +52,16 @@ struct PlotOptions {
   std::function<void(std::size_t series, std::size_t point)> point_tooltip;
 };
 
-// The marker under the mouse (pick_points), and whether it was clicked this frame.
+// The marker under the mouse (pick_points), and whether it was clicked this frame; and where
+// the plot put its parts (screen pixels), for the layout tests.
 struct PlotPick {
   bool hit = false, clicked = false;
   std::size_t series = 0, point = 0;
+  ImVec2 box_min{0, 0}, box_max{0, 0};        // the data's box
+  ImVec2 legend_min{0, 0}, legend_max{0, 0};  // the legend band (empty: no legend)
+  double y_lo = 0, y_hi = 0;                  // the y axis's range
+  std::vector<std::string> y_tick_labels;     // as drawn
+  std::string y_offset;                       // tiny ranges: the value the ticks are offsets from
 };
 
 // Lays out `size` pixels at the cursor (width or height <= 0: what is left) and draws.
@@ -71,5 +72,10 @@ PlotPick plot(const char* id, ImVec2 size, const PlotOptions& options,
 std::vector<double> nice_ticks(double lo, double hi, int target);
 std::vector<double> log_ticks(double lo, double hi);
 std::string tick_label(double v, double step);  // no more digits than the step needs
+// Labels of linear ticks `step` apart that differ from each other: plain, or, where the range
+// is tiny beside its values (an L_z of 0.01032124 ± 1e-9), offsets ("+5e-10") from `offset`,
+// which is then set to the base's label.
+std::vector<std::string> linear_tick_labels(const std::vector<double>& ticks, double step,
+                                            std::string* offset);
 
 }  // namespace apiclab::gui

@@ -39,6 +39,27 @@ PlotSeries series_of(std::shared_ptr<const DriftPlot> d, const std::vector<doubl
   return s;
 }
 
+// A legend entry without samples: a pane's colour, or a quantity's stroke.
+PlotSeries legend_only(std::string label, ImU32 color, bool dashed) {
+  PlotSeries s;
+  s.label = std::move(label);
+  s.color = color;
+  s.dashed = dashed;
+  return s;
+}
+
+constexpr ImU32 kStroke = IM_COL32(90, 90, 90, 255);
+
+// A plot's data box and legend band, for the layout tests (ViewerState::layout).
+void record_plot(ViewerState& st, const std::string& name, const PlotPick& p) {
+  st.layout["plot " + name + " box"] =
+      ImVec4(p.box_min.x, p.box_min.y, p.box_max.x - p.box_min.x, p.box_max.y - p.box_min.y);
+  if (p.legend_max.y > p.legend_min.y)
+    st.layout["plot " + name + " legend"] =
+        ImVec4(p.legend_min.x, p.legend_min.y, p.legend_max.x - p.legend_min.x,
+               p.legend_max.y - p.legend_min.y);
+}
+
 }  // namespace
 
 void draw_plots(ViewerState& st, const Published& pub, ImVec2 pos, ImVec2 size) {
@@ -70,6 +91,8 @@ void draw_plots(ViewerState& st, const Published& pub, ImVec2 pos, ImVec2 size) 
 
   std::vector<PlotSeries> energy, momentum, angular, drift;
   std::string drift_title = "relative drift (log)";
+  std::vector<PlotSeries> drift_legend;  // several panes: pane names, then the two strokes
+  std::string energy_label, momentum_label;
   const char* ek[3] = {"kinetic", "potential", "total"};
   for (std::size_t k = 0; k < pub.panes.size(); ++k) {
     const History& h = pub.panes[k].history;
@@ -116,28 +139,36 @@ void draw_plots(ViewerState& st, const Published& pub, ImVec2 pos, ImVec2 size) 
         series_of(h, name, col, [=](const DiagnosticsRow& r) { return p_of(r, pc); }));
     angular.push_back(
         series_of(h, name, col, [=](const DiagnosticsRow& r) { return L_of(r, ac); }));
-    drift.push_back(series_of(d, d->energy, name + " " + d->energy_label, col));
-    PlotSeries l = series_of(d, d->momentum, name + " " + d->momentum_label, col);
+    // The legend names each pane once, and each quantity once by its stroke (below).
+    drift.push_back(series_of(d, d->energy, "", col));
+    PlotSeries l = series_of(d, d->momentum, "", col);
     l.dashed = true;  // the second quantity in the pane's colour
     drift.push_back(std::move(l));
+    drift_legend.push_back(legend_only(name, col, false));
+    energy_label = d->energy_label, momentum_label = d->momentum_label;
+  }
+  if (multi && !drift_legend.empty()) {
+    drift_legend.push_back(legend_only(energy_label, kStroke, false));
+    drift_legend.push_back(legend_only(momentum_label, kStroke, true));
+    drift.insert(drift.begin(), drift_legend.begin(), drift_legend.end());
   }
   PlotOptions o;
   o.title = multi ? std::string(ek[st.energy_component]) + " energy [J]" : "energy [J]";
-  plot("energy", cell, o, energy);
+  record_plot(st, "energy", plot("energy", cell, o, energy));
   ImGui::SameLine();
   o.title = multi ? std::string("linear momentum p_") +
                         kAxes[std::min(st.momentum_component, dim - 1)] + " [kg m/s]"
                   : "linear momentum [kg m/s]";
-  plot("momentum", cell, o, momentum);
+  record_plot(st, "momentum", plot("momentum", cell, o, momentum));
   ImGui::SameLine();
   o.title = std::string("angular momentum ") +
             (multi || dim == 2 ? std::string("L_") + kAxes[st.angular_component] : "") +
             " [kg m^2/s]";
-  plot("angular", cell, o, angular);
+  record_plot(st, "angular", plot("angular", cell, o, angular));
   ImGui::SameLine();
   o.title = drift_title;
   o.log_y = true;
-  plot("drift", cell, o, drift);
+  record_plot(st, "drift", plot("drift", cell, o, drift));
   ImGui::End();
 }
 

@@ -8,6 +8,7 @@
 #include "render/figure.hpp"
 #include "render/legend.hpp"
 #include "render/snapshot_stats.hpp"
+#include "sim/transfer_polypic.hpp"
 
 namespace apiclab::gui {
 namespace {
@@ -115,6 +116,59 @@ void particle_tooltip(const Snapshot& s, std::size_t i) {
   ImGui::EndTooltip();
 }
 
+// `text`, or as much of it as fits in `width` pixels followed by "...".
+std::string cut_text(const std::string& text, float width) {
+  if (ImGui::CalcTextSize(text.c_str()).x <= width) return text;
+  std::string cut = text;
+  while (!cut.empty() && ImGui::CalcTextSize((cut + "...").c_str()).x > width) cut.pop_back();
+  return cut + "...";
+}
+
+// A pane's title strip: its label and, right-aligned, its details (kernel / integrator, time,
+// step) or, once it blew up, where (step and time; the quantity when there is room). The
+// details drop their least important parts when the pane is narrow; the label gives way to a
+// blow-up's time, cut with "...".
+struct TitleStrip {
+  std::string label, info;
+  bool failed = false;
+};
+TitleStrip title_strip(const PaneState& p, const Snapshot& s, float width) {
+  TitleStrip t;
+  t.label = pane_label(p);
+  char full[160], brief[80];
+  std::snprintf(full, sizeof full, "t = %.4g s   step %ld", s.time, s.step);
+  std::snprintf(brief, sizeof brief, "t = %.4g s", s.time);
+  t.info = s.kernel + " / " + s.integrator + "   " + full;
+  float label_room = ImGui::CalcTextSize(t.label.c_str()).x;
+  if (p.failure) {
+    std::snprintf(full, sizeof full, "blew up at step %ld, t = %.4g s", p.failure->step,
+                  p.failure->t);
+    std::snprintf(brief, sizeof brief, "blew up at t = %.4g s", p.failure->t);
+    t.info = std::string(full) + ": " + p.failure->quantity;
+    t.failed = true;
+    label_room = std::min(label_room, 60.0f);
+  }
+  const float room = width - 48 - label_room;
+  for (const char* shorter : {full, brief})
+    if (ImGui::CalcTextSize(t.info.c_str()).x > room) t.info = shorter;
+  // What is left beside the details; too little for a letter and "...": the chip alone (the
+  // label is in the tooltip).
+  const float label_width = width - 48 - ImGui::CalcTextSize(t.info.c_str()).x;
+  t.label = label_width < ImGui::CalcTextSize("M...").x ? "" : cut_text(t.label, label_width);
+  return t;
+}
+
+// What the pane runs that a person should know while watching it: PolyPIC keeping its G modes
+// (the warning `run` prints).
+std::string pane_warning(const Snapshot& s) {
+  const int kept = s.scheme_parameters.polypic_modes, dim = s.dim;
+  if (s.scheme != "polypic" || !polypic::keeps_g_modes(kept, dim)) return "";
+  return "PolyPIC with " + std::to_string(kept) +
+         " modes keeps the G modes, which blow up where stressed material meets nearly empty "
+         "grid nodes (impacts, contact); impacts run with solver.polypic_modes=" +
+         std::to_string(1 << dim) + " or fewer";
+}
+
 void draw_hint(render::Rect r) {
   const char* hint = "drag: pan/orbit   wheel: zoom   double-click: frame";
   ImDrawList* dl = ImGui::GetBackgroundDrawList();
@@ -201,34 +255,32 @@ std::vector<render::Rect> draw_scene_panes(render::Renderer& r, ViewerState& st,
     dl->AddRectFilled(t0, t1, IM_COL32(244, 245, 247, 255));
     dl->AddLine(ImVec2(t0.x, t1.y), t1, IM_COL32(215, 215, 215, 255));
     dl->AddRectFilled(ImVec2(t0.x + 10, t0.y + 8), ImVec2(t0.x + 20, t0.y + 18), pane_color(k), 2);
-    // Right-aligned details, dropping the least important when the pane is narrow.
-    const float room = sr.w - 48 - ImGui::CalcTextSize(pane_label(p).c_str()).x;
-    char buf[160], brief[80];
-    std::snprintf(buf, sizeof buf, "t = %.4g s   step %ld", s.time, s.step);
-    std::snprintf(brief, sizeof brief, "t = %.4g s", s.time);
-    std::string info = s.kernel + " / " + s.integrator + "   " + buf;
-    ImU32 info_color = IM_COL32(100, 100, 100, 255);
-    if (p.failure) {  // frozen: said once, in the title strip, never over the domain
-      std::snprintf(buf, sizeof buf, "blew up at step %ld, t = %.4g s", p.failure->step,
-                    p.failure->t);
-      std::snprintf(brief, sizeof brief, "blew up at step %ld", p.failure->step);
-      info = std::string(buf) + ": " + p.failure->quantity;
-      info_color = IM_COL32(200, 30, 30, 255);
-    }
-    // The longest form that fits beside the label (four narrow panes: the shortest); the label
-    // gives way before the chip is covered.
-    for (const char* shorter : {buf, brief})
-      if (ImGui::CalcTextSize(info.c_str()).x > room) info = shorter;
-    const float info_x = std::max(t0.x + 28, t1.x - 10 - ImGui::CalcTextSize(info.c_str()).x);
-    dl->AddText(ImVec2(info_x, t0.y + 5), info_color, info.c_str());
-    // A long label (a sweep run's differences) is cut where the details begin.
-    dl->PushClipRect(t0, ImVec2(std::max(t0.x + 28, info_x - 12), t1.y), true);
-    dl->AddText(ImVec2(t0.x + 28, t0.y + 5), IM_COL32(20, 20, 20, 255), pane_label(p).c_str());
-    dl->PopClipRect();
+    const TitleStrip strip = title_strip(p, s, sr.w);
+    const float info_x = std::max(t0.x + 28, t1.x - 10 - ImGui::CalcTextSize(strip.info.c_str()).x);
+    dl->AddText(ImVec2(info_x, t0.y + 5),
+                strip.failed ? IM_COL32(200, 30, 30, 255) : IM_COL32(100, 100, 100, 255),
+                strip.info.c_str());
+    dl->AddText(ImVec2(t0.x + 28, t0.y + 5), IM_COL32(20, 20, 20, 255), strip.label.c_str());
     if (ImGui::IsMouseHoveringRect(t0, ImVec2(info_x - 12, t1.y)))
       ImGui::SetTooltip("%s", pane_label(p).c_str());  // the whole label on demand
-    if (p.failure && ImGui::IsMouseHoveringRect(t0, t1))
+    if (p.failure && ImGui::IsMouseHoveringRect(ImVec2(info_x, t0.y), t1))
       ImGui::SetTooltip("%s", p.failure->message.c_str());  // the whole message on demand
+    st.layout["pane " + std::to_string(k) + " title"] =
+        ImVec4(t0.x + 28, t0.y + 5, ImGui::CalcTextSize(strip.label.c_str()).x, 16);
+    st.layout_text["pane " + std::to_string(k)] = pane_label(p) + " | " + strip.info;
+    st.layout["pane " + std::to_string(k) + " details"] =
+        ImVec4(info_x, t0.y + 5, ImGui::CalcTextSize(strip.info.c_str()).x, 16);
+    const std::string warning = pane_warning(s);
+    if (!warning.empty()) {  // a strip at the pane's foot, the whole text on hover
+      const float fh = ImGui::GetFontSize();
+      const ImVec2 w0(sr.x, sr.y + sr.h - fh - 8), w1(sr.x + sr.w, sr.y + sr.h);
+      dl->AddRectFilled(w0, w1, IM_COL32(255, 243, 205, 235));
+      const std::string shown = cut_text(warning, sr.w - 16);
+      dl->AddText(ImVec2(w0.x + 8, w0.y + 4), IM_COL32(140, 80, 0, 255), shown.c_str());
+      if (ImGui::IsMouseHoveringRect(w0, w1)) ImGui::SetTooltip("%s", warning.c_str());
+      st.layout["pane " + std::to_string(k) + " warning"] =
+          ImVec4(w0.x, w0.y, w1.x - w0.x, w1.y - w0.y);
+    }
     if (k > 0)
       dl->AddLine(ImVec2(t0.x, t0.y), ImVec2(t0.x, sr.y + sr.h), IM_COL32(200, 200, 200, 255));
 

@@ -71,7 +71,6 @@ long scatter_chart(const char* id, ImVec2 size, const sweep::OpenedSweep& sw,
   o.y_label = sweep::error_label(sw.spec.errors.front());
   o.log_x = o.log_y = true;
   o.minor_log_grid = true;
-  o.legend_corner = PlotOptions::Corner::best;
   o.pick_points = true;
   o.point_tooltip = [&](std::size_t k, std::size_t i) {
     if (const long r = run_of(k, i); r >= 0)
@@ -84,34 +83,74 @@ long scatter_chart(const char* id, ImVec2 size, const sweep::OpenedSweep& sw,
   return -1;
 }
 
-// The stability map as a grid of coloured cells with their text; returns the run clicked or -1.
-long stability_map(ImVec2 size, const sweep::OpenedSweep& sw, const sweep::StabilityMap& m,
-                   long open_run) {
-  long clicked = -1;
-  ImGui::BeginChild("stability", size, true, ImGuiWindowFlags_HorizontalScrollbar);
-  ImGui::TextUnformatted(("stability map, columns " + m.column_key).c_str());
-  ImDrawList* dl = ImGui::GetWindowDrawList();
-  float label_w = 0;
+// `text`, or as much of it as fits in `width` pixels followed by "...".
+std::string cut_to(const std::string& text, float width) {
+  if (ImGui::CalcTextSize(text.c_str()).x <= width) return text;
+  std::string cut = text;
+  while (!cut.empty() && ImGui::CalcTextSize((cut + "...").c_str()).x > width) cut.pop_back();
+  return cut + "...";
+}
+
+// A cell's text in `width` pixels: whole, or its number alone ("0.19" of "noisy 0.19", the
+// colour saying the outcome), or nothing.
+std::string cell_fit(const std::string& text, float width) {
+  if (ImGui::CalcTextSize(text.c_str()).x <= width) return text;
+  const std::string tail = text.substr(text.find_last_of(' ') + 1);
+  return ImGui::CalcTextSize(tail.c_str()).x <= width ? tail : "";
+}
+
+// The stability map's row-label and cell widths: as wide as their longest text.
+struct MapWidths {
+  float label = 0, cell = 60;
+  float total(std::size_t columns) const { return label + cell * float(columns) + 16; }
+};
+MapWidths natural_widths(const sweep::OpenedSweep& sw, const sweep::StabilityMap& m) {
+  MapWidths w;
   for (const std::string& r : m.row_labels)
-    label_w = std::max(label_w, ImGui::CalcTextSize(r.c_str()).x);
-  label_w += 12;
-  float cell_w = 60;  // as wide as the longest cell text
+    w.label = std::max(w.label, ImGui::CalcTextSize(r.c_str()).x);
+  w.label += 12;
+  for (const std::string& c : m.column_labels)
+    w.cell = std::max(w.cell, ImGui::CalcTextSize(c.c_str()).x + 12);
   for (const auto& row : m.cells)
     for (long i : row)
       if (i >= 0)
-        cell_w = std::max(
-            cell_w,
+        w.cell = std::max(
+            w.cell,
             ImGui::CalcTextSize(sweep::cell_text(sw.results[std::size_t(i)]).c_str()).x + 12);
+  return w;
+}
+
+// The stability map as a grid of coloured cells with their text, every column inside `size`:
+// where the texts are wider than the room, cells and row labels are narrowed and their texts
+// cut with "..." (hover shows the run whole). Returns the run clicked or -1.
+long stability_map(ViewerState& st, ImVec2 size, const sweep::OpenedSweep& sw,
+                   const sweep::StabilityMap& m, long open_run) {
+  long clicked = -1;
+  const ImVec2 child_at = ImGui::GetCursorScreenPos();
+  ImGui::BeginChild("stability", size, true);
+  ImGui::TextUnformatted(("stability map, columns " + m.column_key).c_str());
+  ImDrawList* dl = ImGui::GetWindowDrawList();
+  const std::size_t columns = std::max<std::size_t>(m.column_labels.size(), 1);
+  MapWidths natural = natural_widths(sw, m);
+  const float room = ImGui::GetContentRegionAvail().x;
+  float label_w = std::min(natural.label, 0.4f * room);
+  const float cell_w = std::min(natural.cell, (room - label_w) / float(columns));
+  if (cell_w * float(columns) + label_w < room && label_w < natural.label)
+    label_w = std::min(natural.label, room - cell_w * float(columns));
   const float cell_h = ImGui::GetFontSize() + 8;
   const ImU32 ink = IM_COL32(20, 20, 20, 255);
   ImVec2 origin = ImGui::GetCursorScreenPos();
-  for (std::size_t c = 0; c < m.column_labels.size(); ++c)
-    dl->AddText(ImVec2(origin.x + label_w + cell_w * float(c) + 4, origin.y),
-                IM_COL32(90, 90, 90, 255), m.column_labels[c].c_str());
+  for (std::size_t c = 0; c < m.column_labels.size(); ++c) {
+    const ImVec2 at(origin.x + label_w + cell_w * float(c), origin.y);
+    dl->AddText(ImVec2(at.x + 4, at.y), IM_COL32(90, 90, 90, 255),
+                cut_to(m.column_labels[c], cell_w - 8).c_str());
+    st.layout["stability column " + std::to_string(c)] = ImVec4(at.x, at.y, cell_w - 2, cell_h);
+  }
+  st.layout["stability map"] = ImVec4(child_at.x, child_at.y, size.x, size.y);
   ImGui::Dummy(ImVec2(label_w + cell_w * float(m.column_labels.size()), cell_h - 4));
   for (std::size_t r = 0; r < m.row_labels.size(); ++r) {
     const ImVec2 p = ImGui::GetCursorScreenPos();
-    dl->AddText(ImVec2(p.x, p.y + 4), ink, m.row_labels[r].c_str());
+    dl->AddText(ImVec2(p.x, p.y + 4), ink, cut_to(m.row_labels[r], label_w - 8).c_str());
     for (std::size_t c = 0; c < m.column_labels.size(); ++c) {
       const long i = m.cells[r][c];
       const ImVec2 a(p.x + label_w + cell_w * float(c), p.y), b(a.x + cell_w - 2, a.y + cell_h - 2);
@@ -123,11 +162,12 @@ long stability_map(ImVec2 size, const sweep::OpenedSweep& sw, const sweep::Stabi
       dl->AddRectFilled(a, b,
                         sweep::outcome_color(i < 0 ? "" : sw.results[std::size_t(i)].outcome));
       if (i < 0) {
-        dl->AddText(ImVec2(a.x + 4, a.y + 3), IM_COL32(120, 120, 120, 255), "excluded");
+        dl->AddText(ImVec2(a.x + 4, a.y + 3), IM_COL32(120, 120, 120, 255),
+                    cell_fit("excluded", cell_w - 8).c_str());
         continue;
       }
       if (hovered || i == open_run) dl->AddRect(a, b, ink, 0, 0, hovered ? 1.5f : 2.5f);
-      const std::string t = sweep::cell_text(sw.results[std::size_t(i)]);
+      const std::string t = cell_fit(sweep::cell_text(sw.results[std::size_t(i)]), cell_w - 8);
       dl->AddText(ImVec2(a.x + 4, a.y + 3), ink, t.c_str());
       if (hovered) {
         ImGui::BeginTooltip();
@@ -243,7 +283,16 @@ float draw_sweep_panel(ViewerState& st, SimWorker& worker, ImVec2 pos, ImVec2 si
   const ImVec2 avail = ImGui::GetContentRegionAvail();
   const float gap = ImGui::GetStyle().ItemSpacing.x;
   const int parts = 1 + (c.stability != nullptr) + !c.convergence.empty();
-  const float w = (avail.x - gap * float(parts - 1)) / float(parts);
+  float w = (avail.x - gap * float(parts - 1)) / float(parts);
+  // The stability map takes the width its columns need, up to 45 % of the panel; beyond that
+  // its cells' texts are cut (hovering a cell shows its run whole).
+  float map_w = w;
+  if (c.stability && parts > 1) {
+    const float charts_room = avail.x - gap * float(parts - 1);
+    map_w = std::clamp(natural_widths(sw, *c.stability).total(c.stability->column_labels.size()), w,
+                       std::max(w, 0.45f * charts_room));
+    w = (charts_room - map_w) / float(parts - 1);
+  }
   const PlotsCache& plots = plots_of(st.sweep, st.sweep_scene);
   if (plots.cost.series.empty())
     ImGui::Dummy(ImVec2(w, avail.y));  // no run with an error yet
@@ -253,7 +302,8 @@ float draw_sweep_panel(ViewerState& st, SimWorker& worker, ImVec2 pos, ImVec2 si
                                               "cost: wall seconds inside the steps", st.sweep_run));
   if (c.stability) {
     ImGui::SameLine();
-    clicked = std::max(clicked, stability_map(ImVec2(w, avail.y), sw, *c.stability, st.sweep_run));
+    clicked = std::max(clicked,
+                       stability_map(st, ImVec2(map_w, avail.y), sw, *c.stability, st.sweep_run));
   }
   if (!c.convergence.empty()) {
     ImGui::SameLine();

@@ -62,7 +62,11 @@ void setup_style() {
   s.ItemSpacing = ImVec2(8, 6);
   s.Colors[ImGuiCol_WindowBg] = ImVec4(0.955f, 0.96f, 0.965f, 1);
   const char* font = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
-  if (std::filesystem::exists(font)) ImGui::GetIO().Fonts->AddFontFromFileTTF(font, 14.5f);
+  // Latin and Greek (the labels' α and β, Δ), and typographic punctuation (·, …, −).
+  static const ImWchar ranges[] = {0x0020, 0x00FF, 0x0370, 0x03FF, 0x2010,
+                                   0x2044, 0x2212, 0x2212, 0};
+  if (std::filesystem::exists(font))
+    ImGui::GetIO().Fonts->AddFontFromFileTTF(font, 14.5f, nullptr, ranges);
 }
 
 void* gl_proc(const char* name) { return reinterpret_cast<void*>(glfwGetProcAddress(name)); }
@@ -73,15 +77,16 @@ ImU32 pane_color(std::size_t pane) { return render::packed_abgr(render::palette_
 
 std::string pane_label(const PaneState& p) {
   const std::string before = p.config.label.empty() ? "" : p.config.label + ": ";
-  if (!p.config.method.empty() && p.config.method != "mpm") return before + p.config.method;
-  std::string s(key_of(p.config.scheme));
-  for (auto& c : s) c = char(std::toupper(static_cast<unsigned char>(c)));
-  // XPIC's m, PolyPIC's modes, ASFLIP's a and b (sim/scheme_label.hpp): scene-wide numbers, so
+  if (!p.config.method.empty() && p.config.method != "mpm")
+    return before + render::scheme_label(p.config.method);
+  // The registry's spelling ("PolyPIC"), as the command line and the figures write it.
+  std::string s = render::scheme_label(key_of(p.config.scheme));
+  // XPIC's m, PolyPIC's modes, ASFLIP's α and β (sim/scheme_label.hpp): scene-wide numbers, so
   // the last snapshot's hold for the pane's current scheme even right after a switch.
   const SchemeParameters parameters = p.snapshot       ? p.snapshot->scheme_parameters
                                       : p.config.scene ? scheme_parameters_of(*p.config.scene)
                                                        : SchemeParameters{};
-  s = before + with_scheme_parameter(s, p.config.scheme, p.config.flip_alpha, parameters, true);
+  s = before + with_scheme_parameter(s, p.config.scheme, p.config.flip_alpha, parameters);
   return s;
 }
 
@@ -243,6 +248,7 @@ int run_viewer(const ViewerOptions& opt) {
       int fw, fh;
       glfwGetFramebufferSize(window, &fw, &fh);
       const float W = float(fw), H = float(fh);
+      st.layout.clear(), st.layout_text.clear();
       ImGui::SetNextWindowPos(ImVec2(0, 0));
       ImGui::SetNextWindowSize(ImVec2(kSidebar, H));
       draw_controls(st, *pub, worker);
@@ -268,9 +274,15 @@ int run_viewer(const ViewerOptions& opt) {
           for (std::size_t k = 0; k < rects.size(); ++k)
             std::printf("pane %zu: %.0f %.0f %.0f %.0f\n", k, rects[k].x, rects[k].y, rects[k].w,
                         rects[k].h);
-        if (const char* e = std::getenv("APICLAB_PRINT_LAYOUT"); e && std::string(e) == "1")
+        if (const char* e = std::getenv("APICLAB_PRINT_LAYOUT"); e && std::string(e) == "1") {
           std::printf("description: %zu of %zu characters, %.0f px\n", st.description_shown,
                       st.scene.description.size(), st.description_px);
+          std::printf("window: 0 0 %d %d\n", fw, fh);
+          for (const auto& [name, r] : st.layout)
+            std::printf("widget %s: %.0f %.0f %.0f %.0f\n", name.c_str(), r.x, r.y, r.z, r.w);
+          for (const auto& [name, text] : st.layout_text)
+            std::printf("text %s: %s\n", name.c_str(), text.c_str());
+        }
         try {
           render::write_png(render::read_window_pixels(fw, fh), opt.screenshot);
           std::printf("screenshot: %s (%dx%d, %ld frames, t = %.4g s)\n", opt.screenshot.c_str(),

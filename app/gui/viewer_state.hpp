@@ -4,6 +4,7 @@
 #include <imgui.h>
 
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -61,6 +62,11 @@ struct ViewerState {
   // The scene description as last drawn: characters shown of all, and its height (pixels).
   std::size_t description_shown = 0;
   float description_px = 0;
+
+  // Where the last frame put its parts (x, y, width, height in pixels), by name: printed with
+  // the panes under APICLAB_PRINT_LAYOUT=1 for the layout tests.
+  std::map<std::string, ImVec4> layout;
+  std::map<std::string, std::string> layout_text;  // what some of them say: pane title strips
 
   // Frame timing (GUI thread), exponential averages.
   double frame_ms = 0, frame_cpu_ms = 0;

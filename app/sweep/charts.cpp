@@ -324,8 +324,7 @@ std::string write_log_log_chart(ChartCanvas& canvas, const std::string& heading,
   o.log_x = o.log_y = true;
   o.minor_log_grid = true;
   o.interactive = false;
-  o.legend_corner = gui::PlotOptions::Corner::best;
-  // The legend sits in a band above the data that takes at most 0.6 of the plot's height.
+  // The legend sits in a band above the plot box, at most 0.35 of the plot's height.
   const int W = 900, legend_h = 12 + 17 * int(plots.size());
   const int H = std::max(520, 50 + 60 + int(legend_h / 0.55));
   render::Image image = canvas.draw(W, H, [&] {
