@@ -572,7 +572,8 @@ SceneMethod scene_method(const std::string& path, const std::vector<std::string>
     json j;
     JsonError error;
     if (!parse_json_strict(read_input_file(path, "scene file"), j, error)) return {};
-    SceneMethod m{method_of(j), "", {}};
+    SceneMethod m;
+    m.file_method = method_of(j);
     if (j.is_object() && j.contains("solver") && j["solver"].is_object())
       for (auto it = j["solver"].begin(); it != j["solver"].end(); ++it)
         if (it.key() != "method") m.file_keys.push_back(it.key());

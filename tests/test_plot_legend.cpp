@@ -124,8 +124,9 @@ TEST(PlotTicks, TinyRangesGetDistinctLabels) {
         EXPECT_NE(l[i - 1], l[i]) << base << " + " << span << ": " << l[i];
       for (const std::string& t : l) EXPECT_LE(t.size(), 9u) << t;
       const double relative = span / std::abs(base);  // below 1e-12: padded to ±1e-3 of it
-      if (relative < 1e-5 && relative > 1e-12)
+      if (relative < 1e-5 && relative > 1e-12) {
         EXPECT_FALSE(p.y_offset.empty()) << base << " + " << span;
+      }
     }
   std::string offset;
   const auto l =

@@ -485,7 +485,10 @@ PlotPick plot(const char* id, ImVec2 size, const PlotOptions& o,
         const double xv = s.x(i), yv = s.y(i);
         if (!std::isfinite(yv) || (o.log_y && !(yv > 0)) || (o.log_x && !(xv > 0))) continue;
         const float dx = sx(xv) - m.x, dy = sy(yv) - m.y;
-        if (dx * dx + dy * dy < best) best = dx * dx + dy * dy, pick = {true, false, k, i};
+        if (dx * dx + dy * dy < best) {
+          best = dx * dx + dy * dy;
+          pick.hit = true, pick.clicked = false, pick.series = k, pick.point = i;
+        }
       }
     }
     if (pick.hit) {
