@@ -13,7 +13,6 @@
 #include <type_traits>
 
 #include "deformation_update.hpp"
-#include "gather_paired.hpp"
 #include "kernel_dispatch.hpp"
 #include "mpm.hpp"
 #include "particle_tail.hpp"
@@ -122,41 +121,37 @@ struct G2pPass {
 
   // Gather: row by row (Stencil::for_each_row), whole node vectors at a time, into sums of lane
   // type L: Σ w n, Σ ∂_c w n, Σ w r_c n over the node lanes n, and with moving nodes (λ > 0)
-  // Σ w (ṽ × vⁿ). 2D float on 16-register targets: the paired gather (sim/gather_paired.hpp).
+  // Σ w (ṽ × vⁿ).
   template <bool moving, class L>
   __attribute__((always_inline)) void gather(const Batch& batch, int lane, L& vsum,
                                              L (&grad_cols)[D], L (&b_cols)[D], L& twist) const {
     T wr[W];
     for (int i = 0; i < W; ++i) wr[i] = batch.w[0][i][lane] * batch.r[0][i][lane];
-    if constexpr (paired_halves<L>(moving)) {
-      gather_2d_paired(batch, lane, wr, packed, vsum, grad_cols, b_cols);
-    } else {
-      // Each x-node's address once a particle, as in P2G (sim/p2g.hpp).
-      const Node* packed_x[W];
-      for (int i = 0; i < W; ++i) packed_x[i] = packed + batch.off[0][i][lane];
-      // Forced inline: GCC 12 keeps this row body out of line on x86-64-v3 in 3D double, and
-      // the sums it adds to, taken by reference, then go through memory at every row.
-      auto row_sums = [&](const typename Batch::Row& row) __attribute__((always_inline)) {
-        L s0{}, s1{}, g0{}, t0{};
-        for (int i = 0; i < W; ++i) {
-          const L node = L::prefix_of(packed_x[i][row.off]);
-          const T wx = batch.w[0][i][lane];
-          s0 += wx * node;
-          s1 += wr[i] * node;
-          g0 += batch.dw[0][i][lane] * node;
-          if constexpr (moving) t0 += wx * cross(node);
-        }
-        vsum += row.w * s0;
-        if constexpr (moving) twist += row.w * t0;
-        grad_cols[0] += row.w * g0;
-        b_cols[0] += row.w * s1;
-        for (int ax = 1; ax < D; ++ax) {
-          grad_cols[ax] += row.dw[ax] * s0;
-          b_cols[ax] += row.wr(ax) * s0;
-        }
-      };
-      batch.for_each_row(lane, row_sums);
-    }
+    // Each x-node's address once a particle, as in P2G (sim/p2g.hpp).
+    const Node* packed_x[W];
+    for (int i = 0; i < W; ++i) packed_x[i] = packed + batch.off[0][i][lane];
+    // Forced inline: GCC 12 keeps this row body out of line on x86-64-v3 in 3D double, and
+    // the sums it adds to, taken by reference, then go through memory at every row.
+    auto row_sums = [&](const typename Batch::Row& row) __attribute__((always_inline)) {
+      L s0{}, s1{}, g0{}, t0{};
+      for (int i = 0; i < W; ++i) {
+        const L node = L::prefix_of(packed_x[i][row.off]);
+        const T wx = batch.w[0][i][lane];
+        s0 += wx * node;
+        s1 += wr[i] * node;
+        g0 += batch.dw[0][i][lane] * node;
+        if constexpr (moving) t0 += wx * cross(node);
+      }
+      vsum += row.w * s0;
+      if constexpr (moving) twist += row.w * t0;
+      grad_cols[0] += row.w * g0;
+      b_cols[0] += row.w * s1;
+      for (int ax = 1; ax < D; ++ax) {
+        grad_cols[ax] += row.dw[ax] * s0;
+        b_cols[ax] += row.wr(ax) * s0;
+      }
+    };
+    batch.for_each_row(lane, row_sums);
   }
 
   // The gathered sums at λ = 0 from ṽ alone: u = ṽ, and Σ w vⁿ is not read.

@@ -2,7 +2,6 @@
 #pragma once
 #include <cmath>
 
-#include "gather_paired.hpp"
 #include "mpm.hpp"
 
 namespace apiclab {
@@ -16,10 +15,7 @@ void MpmSimulation<T, D>::pack_velocities() {
     using NodeLanes = typename Grid<T, D>::NodeLanes;
     const Vec<T, D>& vt = grid_.velocity_new[i];
     const Vec<T, D>& vn = grid_.velocity[i];
-    // The lanes twice for the paired gather's one load (sim/gather_paired.hpp).
-    if constexpr (D == 2 && sizeof(T) == 4 && paired_2d_float_gather)
-      acc[i] = NodeLanes::of(vt[0], vt[1], vn[0], vn[1], vt[0], vt[1], vn[0], vn[1]);
-    else if constexpr (D == 2)
+    if constexpr (D == 2)
       acc[i] = NodeLanes::of(vt[0], vt[1], vn[0], vn[1]);
     else
       acc[i] = NodeLanes::of(vt[0], vt[1], vt[2], vn[0], vn[1], vn[2]);
