@@ -28,9 +28,12 @@ std::string cell(std::string_view text) {
   return out;
 }
 
+// The registry's method list ("eol eulerian") as the table prints it ("eol, eulerian").
 std::string solver_family(std::string_view method) {
   if (method.empty()) return "all";
-  return method == "eol" ? "eol, eulerian" : std::string(method);
+  std::string out;
+  for (const char c : method) out += c == ' ' ? std::string(", ") : std::string(1, c);
+  return out;
 }
 
 std::string unit_text(const NumericParameter& p) {

@@ -14,13 +14,9 @@ namespace apiclab {
 
 namespace {
 
-// Whether a scene of its method reads the key: the EoL family's keys (p.method "eol") under eol
-// and eulerian; MPM's solver keys under mpm; the rest (domain, time, materials) under both.
+// Whether a scene of its method reads the key (the registry's method list, as the reader).
 bool method_reads(const NumericParameter& p, const SceneDesc& scene) {
-  const bool eol = scene.solver.method != "mpm";
-  if (p.method == "eol") return eol;
-  if (!eol || p.key.rfind("solver.", 0) != 0) return true;
-  return p.key == "solver.blowup_energy_factor" || p.key == "solver.max_memory_gb";
+  return p.read_by(scene.solver.method);
 }
 
 // A value as the sidecar writes it: a count as an integer, "no bound" (infinite, or the 1e30 that

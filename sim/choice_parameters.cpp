@@ -56,7 +56,7 @@ std::vector<ChoiceParameter> make_table() {
        word(sv.stop_on_nonconvergence), "mpm",
        switch_options("stop with exit 3", "count it and carry on")},
       {"solver.contact", "contact rows against walls and colliders",
-       std::string(choice_key(eol_contact_choices(), sv.eol.contact)), "eol",
+       std::string(choice_key(eol_contact_choices(), sv.eol.contact)), "eol eulerian",
        options_of(eol_contact_choices())},
       {"materials.*.model", "constitutive model", std::string(key_of(MaterialDesc{}.model)), "",
        options_of(material_choices())},

@@ -18,7 +18,7 @@ struct ChoiceParameter {
   std::string_view key;  // scene JSON path; '*' stands for an index
   std::string_view what;
   std::string default_key;  // "" when the scene must give it
-  std::string_view method;  // as NumericParameter::method: "" every method, "mpm", "eol"
+  std::string_view method;  // as NumericParameter::method: "" every method, "mpm", "eol eulerian"
   std::vector<ChoiceOption> options;
 };
 

@@ -17,8 +17,9 @@ struct SolverMethod {
   std::string name;  // the `solver.method` value
   std::string help;
   std::function<std::unique_ptr<Simulation>(const SceneDesc&, Precision)> make;
-  // Reads and checks the method's keys of the scene's `solver` section into scene.solver;
-  // throws SceneError with one line naming the file and key.
+  // Reads the method's word and switch keys of the scene's `solver` section into scene.solver and
+  // checks how the values combine (its numbers, the registry's keys naming the method, are read
+  // before); throws SceneError with one line naming the file and key.
   std::function<void(SceneSection&, SceneDesc&)> validate;
 };
 

@@ -18,13 +18,11 @@ std::unique_ptr<Simulation> make_mpm(const SceneDesc& scene, Precision precision
                 : std::unique_ptr<Simulation>(new MpmSimulation<double, 3>(scene));
 }
 
+// The numbers are read by now (the registry's keys of method mpm); ranges are checked once, for
+// every method, by validate() (sim/parameters.hpp).
 void validate_mpm(SceneSection& r, SceneDesc& s) {
   auto& v = s.solver;
   v.scheme = r.choice("scheme", scheme_choices(), v.scheme, "scheme");
-  // Ranges are checked once, for every method, by validate() (sim/parameters.hpp).
-  v.flip_alpha = r.number("flip_alpha", v.flip_alpha);
-  v.asflip_beta = r.number("asflip_beta", v.asflip_beta);
-  v.xpic_order = r.integer("xpic_order", v.xpic_order);
   v.kernel = r.choice("kernel", kernel_choices(), v.kernel, "kernel");
   if (v.kernel == KernelType::linear && s.time.rule == DtRule::cfl)  // see sim/time_step_rules.hpp
     r.fail("kernel",
@@ -36,20 +34,12 @@ void validate_mpm(SceneSection& r, SceneDesc& s) {
   v.integrator = r.choice("integrator", integrator_choices(), v.integrator, "integrator");
   v.preconditioner = r.choice("preconditioner", cg_preconditioner_choices(), v.preconditioner,
                               "CG preconditioner");
-  v.polypic_modes = r.integer("polypic_modes", v.polypic_modes);
   if (v.scheme == Scheme::polypic && v.polypic_modes > polypic::full_modes(s.dim))
     r.fail("polypic_modes", "PolyPIC has " + std::to_string(polypic::full_modes(s.dim)) +
                                 " modes in " + std::to_string(s.dim) + "D (got " +
                                 std::to_string(v.polypic_modes) + ")");
   if (const std::string why = scheme_conflict(v); !why.empty()) r.fail("scheme", why);
-  if (r.has("lambda")) v.lambda = r.number("lambda", 0);
-  v.newton_tolerance = r.number("newton_tolerance", v.newton_tolerance);
-  v.newton_max_iterations = r.integer("newton_max_iterations", v.newton_max_iterations);
-  v.cg_tolerance = r.number("cg_tolerance", v.cg_tolerance);
-  v.cg_max_iterations = r.integer("cg_max_iterations", v.cg_max_iterations);
   v.stop_on_nonconvergence = r.boolean("stop_on_nonconvergence", v.stop_on_nonconvergence);
-  v.blowup_energy_factor = r.number("blowup_energy_factor", v.blowup_energy_factor);
-  if (r.has("max_memory_gb")) v.max_memory_gb = r.number("max_memory_gb", 0);
 }
 
 }  // namespace

@@ -43,7 +43,6 @@ std::vector<NumericParameter> declare() {
        .label = "domain max",
        .unit = "m",
        .range = kAnyReal,
-       .default_value = 1,
        .required = true,
        .help = "upper corner of the grid domain; must exceed domain.min on every axis",
        .get = [](const S& s, int i) { return s.domain.max[size_t(i)]; },
@@ -83,7 +82,9 @@ std::vector<NumericParameter> declare() {
                "past its time); other rules: an upper bound dt_max (default none; two-step: "
                "0.005, Sec 6.7)",
        .get = [](const S& s, int) { return s.time.dt; },
-       .set = [](S& s, int, double v) { s.time.dt = v; }},
+       .set = [](S& s, int, double v) { s.time.dt = v; },
+       .required_for = [](const S& s) { return s.time.rule == DtRule::fixed; },
+       .default_for = [](const S& s) { return s.time.rule == DtRule::two_step ? 0.005 : 1e30; }},
       {.key = "time.dt.nu",
        .label = "Courant number nu",
        .unit = "1",
@@ -116,7 +117,8 @@ std::vector<NumericParameter> declare() {
        .default_value = 1.0,
        .help = "FLIP/PIC blend of eq 3: 1 = pure FLIP, 0 = PIC (used by the flip scheme)",
        .get = [](const S& s, int) { return s.solver.flip_alpha; },
-       .set = [](S& s, int, double v) { s.solver.flip_alpha = v; }},
+       .set = [](S& s, int, double v) { s.solver.flip_alpha = v; },
+       .method = "mpm"},
       {.key = "solver.asflip_beta",
        .label = "ASFLIP position correction beta",
        .unit = "1",
@@ -126,7 +128,8 @@ std::vector<NumericParameter> declare() {
                "separating particles (ln J > -1e-3); 0 = the plain APIC/FLIP blend (used by the "
                "asflip scheme)",
        .get = [](const S& s, int) { return s.solver.asflip_beta; },
-       .set = [](S& s, int, double v) { s.solver.asflip_beta = v; }},
+       .set = [](S& s, int, double v) { s.solver.asflip_beta = v; },
+       .method = "mpm"},
       {.key = "solver.xpic_order",
        .label = "XPIC order m",
        .unit = "1",
@@ -137,7 +140,8 @@ std::vector<NumericParameter> declare() {
                "particle-grid-particle operator; 1 = PIC, m - 1 extra grid passes (used by the "
                "xpic scheme)",
        .get = [](const S& s, int) { return double(s.solver.xpic_order); },
-       .set = [](S& s, int, double v) { s.solver.xpic_order = int(std::min(v, 1e9)); }},
+       .set = [](S& s, int, double v) { s.solver.xpic_order = int(std::min(v, 1e9)); },
+       .method = "mpm"},
       {.key = "solver.polypic_modes",
        .label = "PolyPIC modes",
        .unit = "1",
@@ -147,7 +151,8 @@ std::vector<NumericParameter> declare() {
        .help = "PolyPIC (Fu et al. 2017): velocity modes kept per component, 0 = all (9 in 2D, 27 "
                "in 3D); 1 = PIC, 3 (2D) / 4 (3D) = APIC's affine",
        .get = [](const S& s, int) { return double(s.solver.polypic_modes); },
-       .set = [](S& s, int, double v) { s.solver.polypic_modes = int(v); }},
+       .set = [](S& s, int, double v) { s.solver.polypic_modes = int(v); },
+       .method = "mpm"},
       {.key = "solver.lambda",
        .label = "integrator lambda",
        .unit = "1",
@@ -158,7 +163,8 @@ std::vector<NumericParameter> declare() {
                "dt at 1/2 alone, others up to about dx / (2 c |1 - 2 lambda|)",
        .get = [](const S& s, int) { return s.solver.integrator_lambda(); },
        .set = [](S& s, int, double v) { s.solver.lambda = v; },
-       .is_set = [](const S& s, int) { return s.solver.lambda.has_value(); }},
+       .is_set = [](const S& s, int) { return s.solver.lambda.has_value(); },
+       .method = "mpm"},
       {.key = "solver.newton_tolerance",
        .label = "Newton tolerance",
        .unit = "1",
@@ -166,17 +172,21 @@ std::vector<NumericParameter> declare() {
        .default_value = 1e-6,
        .help = "implicit solve (Sec 4.1): stop when |grad E| < tol * reference speed",
        .get = [](const S& s, int) { return s.solver.newton_tolerance; },
-       .set = [](S& s, int, double v) { s.solver.newton_tolerance = v; }},
+       .set = [](S& s, int, double v) { s.solver.newton_tolerance = v; },
+       .method = "mpm"},
       {.key = "solver.newton_max_iterations",
        .label = "Newton iteration cap",
        .unit = "1",
        .range = kAtLeastOne,
+       // A converging step stops at its tolerance, so the cap decides only where it would not:
+       // ringing's first backward Euler step at 16x the explicit limit takes 31 damped iterations.
        .default_value = 50,
        .integer = true,
        .help = "implicit solve (Sec 4.1): Newton steps before giving up (a converging step stops "
                "at its tolerance first)",
        .get = [](const S& s, int) { return double(s.solver.newton_max_iterations); },
-       .set = [](S& s, int, double v) { s.solver.newton_max_iterations = int(std::min(v, 1e9)); }},
+       .set = [](S& s, int, double v) { s.solver.newton_max_iterations = int(std::min(v, 1e9)); },
+       .method = "mpm"},
       {.key = "solver.cg_tolerance",
        .label = "CG tolerance",
        .unit = "1",
@@ -184,7 +194,8 @@ std::vector<NumericParameter> declare() {
        .default_value = 1e-6,
        .help = "implicit solve's CG (Sec 4.2): relative residual (M^-1 norm) to stop at",
        .get = [](const S& s, int) { return s.solver.cg_tolerance; },
-       .set = [](S& s, int, double v) { s.solver.cg_tolerance = v; }},
+       .set = [](S& s, int, double v) { s.solver.cg_tolerance = v; },
+       .method = "mpm"},
       {.key = "solver.cg_max_iterations",
        .label = "CG iteration cap",
        .unit = "1",
@@ -193,7 +204,8 @@ std::vector<NumericParameter> declare() {
        .integer = true,
        .help = "implicit solve's CG (Sec 4.2): iterations per Newton step",
        .get = [](const S& s, int) { return double(s.solver.cg_max_iterations); },
-       .set = [](S& s, int, double v) { s.solver.cg_max_iterations = int(std::min(v, 1e9)); }},
+       .set = [](S& s, int, double v) { s.solver.cg_max_iterations = int(std::min(v, 1e9)); },
+       .method = "mpm"},
       {.key = "solver.blowup_energy_factor",
        .label = "blow-up energy factor",
        .unit = "1",
@@ -223,7 +235,7 @@ std::vector<NumericParameter> declare() {
                "30, 33)",
        .get = [](const S& s, int) { return s.solver.eol.alpha; },
        .set = [](S& s, int, double v) { s.solver.eol.alpha = v; },
-       .method = "eol"},
+       .method = "eol eulerian"},
       {.key = "solver.contact_cell",
        .label = "collision cell",
        .unit = "m",
@@ -233,7 +245,7 @@ std::vector<NumericParameter> declare() {
                "plane, one contact row per cell (Fan et al. 2013, Sec 3.5); 0 = the grid cell",
        .get = [](const S& s, int) { return s.solver.eol.contact_cell; },
        .set = [](S& s, int, double v) { s.solver.eol.contact_cell = v; },
-       .method = "eol"},
+       .method = "eol eulerian"},
       {.key = "solver.padding",
        .label = "grid padding",
        .unit = "1",
@@ -268,7 +280,6 @@ std::vector<NumericParameter> declare() {
        .label = "Young's modulus E",
        .unit = "Pa",
        .range = kPositive,
-       .default_value = 1000.0,
        .required = true,
        .help = "stiffness; with nu gives the Lame parameters mu = E/(2(1+nu)), lambda = E "
                "nu/((1+nu)(1-2nu))",
@@ -279,7 +290,6 @@ std::vector<NumericParameter> declare() {
        .label = "Poisson's ratio nu",
        .unit = "1",
        .range = Range{-1, 0.5, true, true},
-       .default_value = 0.3,
        .required = true,
        .help = "compressibility; the Lame lambda diverges at 0.5 (incompressible) and mu at -1",
        .get = [](const S& s, int i) { return s.materials[size_t(i)].nu; },
@@ -290,7 +300,6 @@ std::vector<NumericParameter> declare() {
        .unit = "kg/m^2",
        .unit_3d = "kg/m^3",
        .range = kPositive,
-       .default_value = 1.0,
        .required = true,
        .help = "mass per area (2D) or volume (3D); particle mass m_p = rho V_p",
        .get = [](const S& s, int i) { return s.materials[size_t(i)].rho; },
@@ -391,6 +400,16 @@ std::string NumericParameter::describe() const {
          (integer ? ", integer" : "") + "; default: " + default_text() + "]";
 }
 
+bool NumericParameter::read_by(std::string_view solver_method) const {
+  if (method.empty()) return true;
+  for (std::size_t at = 0; at <= method.size();) {
+    const std::size_t end = std::min(method.find(' ', at), method.size());
+    if (method.substr(at, end - at) == solver_method) return true;
+    at = end + 1;
+  }
+  return false;
+}
+
 const std::vector<NumericParameter>& numeric_parameters() {
   static const std::vector<NumericParameter> all = declare();
   return all;
@@ -428,6 +447,15 @@ std::optional<std::string> parameter_error(const NumericParameter& p, int index,
   return file + ": key '" + p.key_at(index) + "': " + std::string(p.label) + " " +
          format_value(value) + " is outside the allowed range " + p.range.text() +
          (p.integer ? " (integers)" : "");
+}
+
+// Numbers start at the registry's defaults; an optional key (is_set) starts unset.
+SceneDesc::SceneDesc() {
+  for (const NumericParameter& p : numeric_parameters()) {
+    if (p.is_set) continue;
+    const int n = p.count ? p.count(*this) : 1;
+    for (int i = 0; i < n; ++i) p.set(*this, i, p.default_value);
+  }
 }
 
 void validate(const SceneDesc& s) {

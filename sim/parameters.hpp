@@ -27,8 +27,10 @@ struct NumericParameter {
   std::string_view unit;          // SI; "1" for dimensionless
   std::string_view unit_3d = {};  // when it differs in 3D (density); empty: same as unit
   Range range;
-  double default_value = 0;  // the reader's default (unused when required)
-  bool required = false;     // the scene must give it
+  // The one statement of the default: SceneDesc() starts from it and the reader keeps it for a key
+  // the file leaves out (unused when required).
+  double default_value = 0;
+  bool required = false;  // the scene must give it
   bool integer = false;
   std::string_view help;  // cites the paper where there is a source
   double (*get)(const SceneDesc&, int index);
@@ -39,14 +41,19 @@ struct NumericParameter {
   bool (*is_set)(const SceneDesc&, int index) = nullptr;
   // What the default is when is_set says the key is unset; empty: "from the integrator".
   std::string_view unset_default = {};
-  // The solver method whose `solver` section holds the key ("eol": the EoL family, eol and
-  // eulerian); empty: every method's scenes take it.
+  // The solver methods whose `solver` section holds the key, space-separated ("mpm", "eol
+  // eulerian"); empty: every method's scenes take it.
   std::string_view method = {};
+  // Whether the scene must give it, where that depends on other keys (the fixed rule's step).
+  bool (*required_for)(const SceneDesc&) = nullptr;
+  // The default where it depends on other keys (the two-step rule's dt_max); null: default_value.
+  double (*default_for)(const SceneDesc&) = nullptr;
 
-  std::string key_at(int index) const;  // "materials.*.E", 0 -> "materials.0.E"
-  std::string unit_for(int dim) const;  // unit in a scene of this dimension
-  std::string default_text() const;     // "1", "required", ...
-  std::string describe() const;         // help, unit, range and default in one line
+  std::string key_at(int index) const;                 // "materials.*.E", 0 -> "materials.0.E"
+  std::string unit_for(int dim) const;                 // unit in a scene of this dimension
+  std::string default_text() const;                    // "1", "required", ...
+  std::string describe() const;                        // help, unit, range and default in one line
+  bool read_by(std::string_view solver_method) const;  // whether that method's scenes take it
 };
 
 const std::vector<NumericParameter>& numeric_parameters();

@@ -137,13 +137,6 @@ class SectionOf final : public SceneSection {
  public:
   explicit SectionOf(Reader& r) : r_(r) {}
   bool has(const std::string& key) const override { return r_.has(key); }
-  double number(const std::string& key, double fallback) override {
-    return r_.number(key, fallback);
-  }
-  double positive(const std::string& key, double fallback) override {
-    return r_.positive(key, fallback);
-  }
-  int integer(const std::string& key, int fallback) override { return r_.integer(key, fallback); }
   bool boolean(const std::string& key, bool fallback) override { return r_.boolean(key, fallback); }
   std::string string(const std::string& key, const std::string& fallback) override {
     return r_.string(key, fallback);
@@ -156,15 +149,36 @@ class SectionOf final : public SceneSection {
   Reader& r_;
 };
 
+// The registry's numbers of one section (`prefix` "", "domain.", "time.dt.", "solver.",
+// "materials.*."), so none is read by hand: each one the section gives is a number (an integer
+// where the registry says so), a vector key ("gravity.*") one per axis; one it leaves out is
+// refused when required, else keeps its default. `index`: the material's.
+void read_numbers(Reader& r, SceneDesc& s, std::string_view prefix, int index = 0) {
+  for (const NumericParameter& p : numeric_parameters()) {
+    if (!p.key.starts_with(prefix) || !p.read_by(s.solver.method)) continue;
+    std::string_view name = p.key.substr(prefix.size());
+    const bool vector = name.ends_with(".*");
+    if (vector) name.remove_suffix(2);
+    if (name.find('.') != std::string_view::npos) continue;  // a key of a child section
+    const std::string key(name);
+    if (!r.has(key)) {
+      if (p.required || (p.required_for && p.required_for(s)))
+        r.fail(key, "required key is missing");
+      if (p.default_for) p.set(s, index, p.default_for(s));
+      continue;
+    }
+    if (!vector) {
+      p.set(s, index, p.integer ? r.integer(key, 0) : r.number(key, 0));
+      continue;
+    }
+    const Vec3d v = r.vec(key, {0, 0, 0}, s.dim);
+    for (int a = 0; a < s.dim; ++a) p.set(s, a, v[a]);
+  }
+}
+
 void read_domain(Reader r, SceneDesc& s) {
   auto& d = s.domain;
-  d.min = r.vec("min", {0, 0, 0}, s.dim, true);
-  d.max = r.vec("max", {1, 1, 1}, s.dim, true);
-  d.dx = r.number("dx", 0, true);
-  if (s.dim == 2) {
-    d.min[2] = 0;
-    d.max[2] = 0;
-  }
+  read_numbers(r, s, "domain.");
   d.walls.fill(BoundaryCondition::slip);
   if (r.has("boundary")) {
     const json& b = r.raw("boundary");
@@ -192,19 +206,12 @@ void read_domain(Reader r, SceneDesc& s) {
 
 void read_time(Reader r, SceneDesc& s) {
   auto& t = s.time;
-  t.end = r.number("end", t.end);
-  t.fps = r.number("fps", t.fps);
+  read_numbers(r, s, "time.");
   if (r.has("dt")) {
     Reader d = r.child("dt");
     t.rule = d.choice("rule", dt_rule_choices(), t.rule, "time-step rule");
-    // fixed: the step; other rules: an upper bound (default: none beyond the frame time).
-    t.dt = d.number("value", t.rule == DtRule::two_step ? 0.005 : 1e30, t.rule == DtRule::fixed);
-    t.nu = d.number("nu", t.nu);
-    t.dt_min = d.number("min", t.dt_min);
-    t.v_tau = d.number("v_tau", t.v_tau);
+    read_numbers(d, s, "time.dt.");  // after the rule, which decides whether value is required
     t.land_on_frames = d.boolean("land_on_frames", t.land_on_frames);
-  } else {
-    t.dt = 1e30;
   }
 }
 
@@ -218,19 +225,17 @@ void read_solver(Reader r, SceneDesc& s, const std::set<std::string>& left_out) 
     for (const std::string& n : method_names()) names += (names.empty() ? "" : ", ") + n;
     r.fail("method", "unknown solver method '" + s.solver.method + "' (one of: " + names + ")");
   }
+  read_numbers(r, s, "solver.");  // the hook's checks see the scene's numbers
   SectionOf section(r);
   method->validate(section, s);
   for (const std::string& key : left_out) r.accept(key);
 }
 
-MaterialDesc read_material(Reader r, int index) {
-  MaterialDesc m;
+void read_material(Reader r, SceneDesc& s, int index) {
+  MaterialDesc& m = s.materials.emplace_back();
   m.name = r.string("name", "material" + std::to_string(index));
   m.model = r.choice("model", material_choices(), m.model, "material model");
-  m.E = r.number("E", m.E, true);
-  m.nu = r.number("nu", m.nu, true);
-  m.rho = r.number("rho", m.rho, true);
-  return m;
+  read_numbers(r, s, "materials.*.", index);
 }
 
 // rotation.random_seed: an angle uniform in [0, 360). mt19937_64's output is fixed by the
@@ -416,15 +421,14 @@ SceneDesc parse_json(const json& j, const std::string& file,
   if (s.dim != 2 && s.dim != 3) r.fail("dim", "must be 2 or 3");
   if (!r.has("domain")) r.fail("domain", "missing");
   read_domain(r.child("domain"), s);
-  s.gravity = r.vec("gravity", {0, 0, 0}, s.dim);
+  read_numbers(r, s, "");  // gravity
   if (r.has("time")) read_time(r.child("time"), s);
   if (r.has("solver")) read_solver(r.child("solver"), s, left_out);
   if (!r.has("materials") || !r.raw("materials").is_array() || r.raw("materials").empty())
     r.fail("materials", "expected a non-empty array");
   const json& mats = r.raw("materials");
   for (size_t i = 0; i < mats.size(); ++i)
-    s.materials.push_back(
-        read_material(Reader(mats[i], "materials." + std::to_string(i), file), int(i)));
+    read_material(Reader(mats[i], "materials." + std::to_string(i), file), s, int(i));
   // Every numeric parameter is read by now: ranges and the relations between values are
   // checked before any object is placed in the domain.
   validate(s);

@@ -1,5 +1,7 @@
 // Scene description: everything a paper scene states, as plain data read from JSON
 // (docs/architecture.md, Scenes). All values are double; the solver converts to its scalar type.
+// A number a scene file sets has its default in the numeric registry (sim/parameters.cpp) alone:
+// SceneDesc() starts from it. A word's default is written here; the choice table reports it.
 #pragma once
 #include <array>
 #include <cmath>
@@ -21,21 +23,21 @@ struct SceneError : std::runtime_error {
 };
 
 struct DomainDesc {
-  Vec3d min{0, 0, 0}, max{1, 1, 1};
-  double dx = 0.0;
+  Vec3d min{}, max{};
+  double dx{};
   // Walls in the order x-, x+, y-, y+, z-, z+.
   std::array<BoundaryCondition, 6> walls{};
   bool periodic(int axis) const { return walls[2 * axis] == BoundaryCondition::periodic; }
 };
 
 struct TimeDesc {
-  double end = 1.0;
-  double fps = 24.0;
+  double end{};
+  double fps{};
   DtRule rule = DtRule::elastic;
-  double dt = 1e30;      // fixed rule: the step; other rules: an upper bound
-  double nu = 0.5;       // Courant number for cfl, elastic and two-step rules
-  double dt_min = 1e-6;  // two-step rule (Sec 6.7)
-  double v_tau = 0.01;   // two-step rule (Sec 6.7)
+  double dt{};      // fixed rule: the step; other rules: an upper bound
+  double nu{};      // Courant number for cfl, elastic and two-step rules
+  double dt_min{};  // two-step rule (Sec 6.7)
+  double v_tau{};   // two-step rule (Sec 6.7)
   // Fixed rule: the step is honoured exactly and a frame is the step at or just past its time;
   // land_on_frames shortens the steps that would pass a frame time instead. The adaptive rules
   // always land on frame times.
@@ -45,43 +47,41 @@ struct TimeDesc {
 
 // The Eulerian-on-Lagrangian methods' keys of the `solver` section (sim/eol/eol_method.cpp).
 struct EolSolverDesc {
-  double alpha = 0.5;      // advection Courant bound of eq 30 (Fan et al. 2013, Sec 3.6)
-  int padding = 3;         // eol: empty cells around the rest shape in its grid
-  double cell = 0;         // eol: the objects' cell size; 0 = domain.dx
-  double grid_extent = 0;  // eol: side of each object's grid; 0 = rest shape + padding
+  double alpha{};        // advection Courant bound of eq 30 (Fan et al. 2013, Sec 3.6)
+  int padding{};         // eol: empty cells around the rest shape in its grid
+  double cell{};         // eol: the objects' cell size; 0 = domain.dx
+  double grid_extent{};  // eol: side of each object's grid; 0 = rest shape + padding
   // Contact with walls and colliders (sim/eol/surface_contact.hpp): the surface rows of eqs
   // 27-28, one per collision cell of side contact_cell (0 = the grid cell), or one row per node
   // on or behind a plane.
   enum class Contact { surface, nodes };
   Contact contact = Contact::surface;
-  double contact_cell = 0;
+  double contact_cell{};
 };
 
 struct SolverDesc {
   std::string method =
       "mpm";  // the solver family (sim/method_registry.hpp); the keys below are MPM's
   Scheme scheme = Scheme::apic;
-  double flip_alpha = 1.0;  // eq 3 blend: 1 = pure FLIP, 0 = PIC
+  double flip_alpha{};  // eq 3 blend: 1 = pure FLIP, 0 = PIC
   // ASFLIP (Fei et al. 2021): the position correction β for separating particles; 0 = the plain
   // APIC/FLIP blend.
-  double asflip_beta = 1.0;
-  int xpic_order = 2;  // XPIC(m) (Hammerquist and Nairn 2017): m ≥ 1, XPIC(1) = PIC
+  double asflip_beta{};
+  int xpic_order{};  // XPIC(m) (Hammerquist and Nairn 2017): m ≥ 1, XPIC(1) = PIC
   KernelType kernel = KernelType::quadratic;
   Integrator integrator = Integrator::symplectic;
   // Multilinear kernel only: APIC's C as lagged Σ ṽ ∇wᵀ or as the unstable B D_p⁻¹ (Sec 5.9).
   ApicLinearForm apic_linear_form = ApicLinearForm::lagged;
   // PolyPIC (Fu et al. 2017): modes kept per velocity component, 0 = all (9 in 2D, 27 in 3D).
-  int polypic_modes = 0;
+  int polypic_modes{};
   std::optional<double> lambda;  // λ of eqs 27-30 for the lambda integrator only
-  double newton_tolerance = 1e-6;
-  // A step that converges stops at its tolerance, so the cap decides only where it would not:
-  // ringing's first backward Euler step at 16x the explicit limit takes 31 damped iterations.
-  int newton_max_iterations = 50;
-  double cg_tolerance = 1e-6;
-  int cg_max_iterations = 200;
+  double newton_tolerance{};
+  int newton_max_iterations{};
+  double cg_tolerance{};
+  int cg_max_iterations{};
   CgPreconditioner preconditioner = CgPreconditioner::block_jacobi;
   bool stop_on_nonconvergence = false;
-  double blowup_energy_factor = 10.0;
+  double blowup_energy_factor{};
   // solver.max_memory_gb: cap on the estimated memory (sim/memory_estimate.hpp); empty: the
   // machine's available memory (--max-memory none sets it to 1e300).
   std::optional<double> max_memory_gb;
@@ -107,6 +107,7 @@ struct SolverDesc {
 struct MaterialDesc {
   std::string name;
   MaterialModel model = MaterialModel::neo_hookean;
+  // The scene must give all three; these make a usable material for scenes built in code.
   double E = 1000.0, nu = 0.3, rho = 1.0;
   double mu() const { return E / (2.0 * (1.0 + nu)); }
   double lambda() const { return E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)); }
@@ -157,6 +158,7 @@ struct ColliderDesc {
 };
 
 struct SceneDesc {
+  SceneDesc();  // every number at its registry default (sim/parameters.cpp)
   std::string name, description;
   std::string source;  // file it came from, for messages and relative paths
   // Where relative mesh files are looked for after the scene's own folder and its parent
@@ -164,7 +166,7 @@ struct SceneDesc {
   std::vector<std::string> asset_dirs;
   int dim = 2;
   DomainDesc domain;
-  Vec3d gravity{0, 0, 0};
+  Vec3d gravity{};
   TimeDesc time;
   SolverDesc solver;
   std::vector<MaterialDesc> materials;
@@ -174,14 +176,11 @@ struct SceneDesc {
 
 // A section of the scene file as a method's validate hook sees it (sim/method_registry.hpp):
 // strict, so a key left unread is an error, and every failure is one SceneError line naming the
-// file and key.
+// file and key. Its numbers are read from the registry before the hook runs.
 class SceneSection {
  public:
   virtual ~SceneSection() = default;
   virtual bool has(const std::string& key) const = 0;
-  virtual double number(const std::string& key, double fallback) = 0;
-  virtual double positive(const std::string& key, double fallback) = 0;
-  virtual int integer(const std::string& key, int fallback) = 0;
   virtual bool boolean(const std::string& key, bool fallback) = 0;
   virtual std::string string(const std::string& key, const std::string& fallback) = 0;
   // "file: key 'solver.KEY'", the prefix of every error about that key.

@@ -9,8 +9,11 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -54,7 +57,7 @@ const std::string kGoodLambda = [] {
 // The scene text whose solver section takes p's key.
 const std::string& good_text_for(const NumericParameter& p) {
   if (p.key == "solver.lambda") return kGoodLambda;
-  return p.method.empty() ? kGood : kGoodEol;
+  return p.read_by("mpm") ? kGood : kGoodEol;
 }
 
 // Runs `fn`, expects a SceneError whose message is one line and contains every needle.
@@ -562,6 +565,113 @@ TEST(Parameters, GuiEditPathRejectsWhatTheReaderRejects) {
                      {"good.json", "materials.3.E"}, "no material 3");
   expect_scene_error([&] { apply_parameter(gui, "solver.scheme", 1); },
                      {"good.json", "solver.scheme"}, "not numeric");
+}
+
+// `text` with the numeric key at an index ("materials.0.E", "domain.min.1") set to `value` in the
+// JSON itself; a count is written as a JSON integer.
+std::string with_number(const std::string& text, const NumericParameter& p, const std::string& key,
+                        double value) {
+  nlohmann::json j = nlohmann::json::parse(text);
+  nlohmann::json* node = &j;
+  std::stringstream parts(key);
+  for (std::string part; std::getline(parts, part, '.');)
+    node = node->is_array() ? &(*node)[std::stoul(part)] : &(*node)[part];
+  if (p.integer)
+    *node = static_cast<long long>(value);
+  else
+    *node = value;
+  return j.dump();
+}
+
+// A value outside p's range, or none when every real is allowed.
+std::optional<double> outside_value(const NumericParameter& p) {
+  const Range& r = p.range;
+  if (std::isfinite(r.lo)) return r.lo - (p.integer ? 1 : 1e-3 * std::max(1.0, std::abs(r.lo)));
+  if (std::isfinite(r.hi)) return r.hi + (p.integer ? 1 : 1e-3 * std::max(1.0, std::abs(r.hi)));
+  return std::nullopt;
+}
+
+// One declaration per number: every registry key, at every index the scene has, is read from the
+// scene file itself, set alike by --set, listed in the generated key table (docs_generated keeps
+// it equal to `apiclab docs scene-keys`), and refused out of range with one message from the
+// file, from --set and from the GUI's path (apply_parameter).
+TEST(Parameters, EveryKeyIsReadFromTheFileListedSetAndRefusedAlike) {
+  std::ifstream table_file(std::string(APICLAB_SOURCE_DIR) + "/docs/scene-keys.md");
+  const std::string table((std::istreambuf_iterator<char>(table_file)),
+                          std::istreambuf_iterator<char>());
+  ASSERT_FALSE(table.empty());
+  int refused = 0;
+  for (const auto& p : numeric_parameters()) {
+    EXPECT_NE(table.find("| `" + std::string(p.key) + "` |"), std::string::npos) << p.key;
+    const std::string& text = good_text_for(p);
+    const SceneDesc base = parse_scene_text(text, "good.json");
+    const int n = p.count ? p.count(base) : 1;
+    for (int i = 0; i < n; ++i) {
+      const std::string key = p.key_at(i);
+      SCOPED_TRACE(key);
+      const double value = another_valid_value(p, p.get(base, i));
+      ASSERT_NE(value, p.get(base, i));
+      SceneDesc file, set;
+      ASSERT_NO_THROW(file = parse_scene_text(with_number(text, p, key, value), "good.json"));
+      EXPECT_EQ(p.get(file, i), value);
+      ASSERT_NO_THROW(set = parse_scene_text(text, "good.json", {key + "=" + format_value(value)}));
+      EXPECT_EQ(p.get(set, i), value);
+      const std::optional<double> outside = outside_value(p);
+      if (!outside) continue;
+      ++refused;
+      const std::string expected = *parameter_error(p, i, *outside, "good.json");
+      EXPECT_EQ(reader_message({}, with_number(text, p, key, *outside)), expected) << "the file";
+      EXPECT_EQ(reader_message({key + "=" + format_value(*outside)}, text), expected) << "--set";
+      SceneDesc gui = base;
+      try {
+        apply_parameter(gui, key, *outside);
+        ADD_FAILURE() << "the GUI's path accepted " << format_value(*outside);
+      } catch (const SceneError& e) {
+        EXPECT_EQ(std::string(e.what()), expected) << "the GUI's path";
+      }
+    }
+  }
+  EXPECT_GE(refused, 25);
+}
+
+// The defaults are stated once, in the registry: SceneDesc() starts from them, and a scene that
+// leaves a key out keeps them (the two-step rule's dt_max is the one that depends on the scene).
+TEST(Parameters, DefaultsComeFromTheRegistryAlone) {
+  const SceneDesc fresh;
+  nlohmann::json minimal = nlohmann::json::parse(kGood);
+  minimal.erase("time");
+  minimal.erase("solver");
+  minimal.erase("gravity");
+  nlohmann::json minimal_eol = minimal;
+  minimal_eol["solver"] = {{"method", "eol"}};
+  const SceneDesc mpm = parse_scene_text(minimal.dump(), "minimal.json");
+  const SceneDesc eol = parse_scene_text(minimal_eol.dump(), "minimal.json");
+  for (const auto& p : numeric_parameters()) {
+    SCOPED_TRACE(std::string(p.key));
+    if (p.required) continue;
+    const SceneDesc& read = p.read_by("mpm") ? mpm : eol;
+    if (p.is_set) {
+      EXPECT_FALSE(p.is_set(fresh, 0));
+      EXPECT_FALSE(p.is_set(read, 0));
+      continue;
+    }
+    for (int i = 0; i < (p.count ? p.count(read) : 1); ++i) {
+      EXPECT_EQ(p.get(fresh, i), p.default_value) << i;
+      EXPECT_EQ(p.get(read, i), p.default_value) << i;
+    }
+  }
+  EXPECT_EQ(parse_scene_text(minimal.dump(), "m.json", {R"(time.dt={"rule":"two-step"})"}).time.dt,
+            0.005);
+  expect_scene_error(
+      [&] { parse_scene_text(minimal.dump(), "m.json", {R"(time.dt={"rule":"fixed"})"}); },
+      {"m.json", "'time.dt.value'", "required key is missing"}, "fixed rule without its step");
+  // A method reads the keys the registry names it for: eulerian has no object grids.
+  expect_scene_error(
+      [&] {
+        parse_scene_text(kGoodEol, "good.json", {"solver.method=eulerian", "solver.padding=4"});
+      },
+      {"good.json", "'solver.padding'", "unknown key"}, "eol's key under eulerian");
+  EXPECT_EQ(parse_scene_text(kGoodEol, "good.json", {"solver.padding=4"}).solver.eol.padding, 4);
 }
 
 TEST(Parameters, LambdaIsOptional) {

@@ -17,25 +17,15 @@ std::unique_ptr<Simulation> make_eol_family(const SceneDesc& scene, bool lagrang
   return std::make_unique<eol::EolSimulation<double, 3>>(scene, lagrangian);
 }
 
-void validate_common(SceneSection& r, SceneDesc& s) {
+// The numbers are read by now (the registry's keys of each method); ranges are checked once, for
+// every method, by validate() (sim/parameters.hpp).
+void validate_eol_family(SceneSection& r, SceneDesc& s) {
   auto& e = s.solver.eol;
-  // Ranges are checked once, for every method, by validate() (sim/parameters.hpp).
-  e.alpha = r.number("alpha", e.alpha);
   e.contact = r.choice("contact", eol_contact_choices(), e.contact, "contact");
-  e.contact_cell = r.number("contact_cell", e.contact_cell);
-  s.solver.blowup_energy_factor = r.number("blowup_energy_factor", s.solver.blowup_energy_factor);
   for (int a = 0; a < s.dim; ++a)
     if (s.domain.periodic(a))
       throw SceneError(s.source + ": key 'domain.boundary': the " + s.solver.method +
                        " solver has no periodic walls");
-}
-
-void validate_eol(SceneSection& r, SceneDesc& s) {
-  validate_common(r, s);
-  auto& e = s.solver.eol;
-  e.padding = r.integer("padding", e.padding);
-  e.cell = r.number("cell", e.cell);
-  e.grid_extent = r.number("grid_extent", e.grid_extent);
 }
 
 template <int D>
@@ -62,14 +52,16 @@ SolverMethod eol_method() {
   return {"eol",
           "Eulerian-on-Lagrangian: a rigid frame and an Eulerian grid per object, least-squares "
           "split (Fan et al. 2013)",
-          [](const SceneDesc& s, Precision) { return make_eol_family(s, true); }, validate_eol};
+          [](const SceneDesc& s, Precision) { return make_eol_family(s, true); },
+          validate_eol_family};
 }
 
 SolverMethod eulerian_method() {
   return {"eulerian",
           "pure-Eulerian baseline of Fan et al. 2013: the EoL solver with the frame locked to the "
           "world, one grid over the domain",
-          [](const SceneDesc& s, Precision) { return make_eol_family(s, false); }, validate_common};
+          [](const SceneDesc& s, Precision) { return make_eol_family(s, false); },
+          validate_eol_family};
 }
 
 }  // namespace apiclab

@@ -8,7 +8,9 @@ set -euo pipefail
   {
     grep -oh '\(number\|positive\|integer\|boolean\|string\|raw\|has\|choice\|vec\|fail\)("[a-z_]*"' \
       sim/scene.cpp sim/mpm_method.cpp sim/eol/eol_method.cpp | sed 's/.*("//;s/"$//'
-    grep -oh '\.key = "[a-z_.*]*"' sim/parameters.cpp | sed 's/.*= "//;s/"$//;s/\.\*$//'
+    # The registry's key paths and their last names (the reader walks the registry).
+    grep -oh '\.key = "[A-Za-z_.*]*"' sim/parameters.cpp | sed 's/.*= "//;s/"$//;s/\.\*$//' |
+      sed 'p;s/.*\.//'
     grep -oh '{"[a-z-]*",' sim/registry.hpp | sed 's/{"//;s/",$//'
   } | grep -v '^$' | sort -u | sed 's/.*/"&"/'
   printf '%s\n' '"{"' '"}"' '"["' '"]"' '":"' '","' '"true"' '"false"' '"null"' '"1e308"' \
