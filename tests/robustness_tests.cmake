@@ -8,7 +8,8 @@ set(APICLAB_FUZZ_BUILD_DIR ${CMAKE_BINARY_DIR}/fuzz-build
 set(_fuzz_build ${APICLAB_FUZZ_BUILD_DIR})
 set(_fuzz_script ${CMAKE_CURRENT_SOURCE_DIR}/fuzz/fuzz_test.sh)
 add_test(NAME fuzz.build COMMAND bash ${_fuzz_script} build ${CMAKE_SOURCE_DIR} ${_fuzz_build})
-# The timeout leaves room for a shared machine: 1,197 s beside other compiles on 2 cores.
+# The timeout leaves room for a machine shared with other compiles (the ledger of build times:
+# docs/testing.md).
 set_tests_properties(fuzz.build PROPERTIES LABELS "fuzz;full" TIMEOUT 2400 FIXTURES_SETUP fuzz_targets
                                            SKIP_REGULAR_EXPRESSION "^SKIP:")
 foreach(_target scene set obj)
