@@ -14,12 +14,12 @@
 
 #include "app/cli_checks.hpp"
 #include "app/set_conflicts.hpp"
-#include "sim/input_file.hpp"
-#include "sim/memory_estimate.hpp"
-#include "sim/message_text.hpp"
+#include "sim/scene/input_file.hpp"
+#include "sim/scene/memory_estimate.hpp"
+#include "sim/scene/message_text.hpp"
 #include "sim/method_registry.hpp"
-#include "sim/parameters.hpp"
-#include "sim/scene_method.hpp"
+#include "sim/scene/parameters.hpp"
+#include "sim/scene/scene_method.hpp"
 
 namespace apiclab::cli {
 

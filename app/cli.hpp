@@ -11,7 +11,7 @@
 #include "app/clock.hpp"  // now_seconds
 #include "app/particle_export.hpp"
 #include "app/run_length.hpp"
-#include "sim/scene.hpp"
+#include "sim/scene/scene.hpp"
 #include "sim/simulation.hpp"
 
 namespace apiclab::cli {
@@ -47,7 +47,7 @@ struct RunOptionSet {
 };
 
 // Registers the common options on a subcommand; the numeric ones take their help, unit,
-// allowed range and default from the parameter registry (sim/parameters.hpp).
+// allowed range and default from the parameter registry (sim/scene/parameters.hpp).
 void add_run_options(CLI::App* cmd, RunOptions& o, RunOptionSet which = {});
 
 // The options as `--set` overrides, after checking each (app/cli_checks.hpp), so that the same

@@ -32,7 +32,7 @@ void check_numeric_option(const std::string& flag, std::string_view key, double 
 // Each numeric option of `o`, and --frames with --t-end.
 void check_run_options(const RunOptions& o);
 
-// --lambda: in range, at most 1/2 (sim/parameters.hpp), and only with --integrator lambda or
+// --lambda: in range, at most 1/2 (sim/scene/parameters.hpp), and only with --integrator lambda or
 // none (it then implies lambda); beside another integrator an error naming both options.
 void check_lambda_option(const RunOptions& o);
 
@@ -50,7 +50,7 @@ std::optional<double> max_memory_gb(const std::string& text);
 // GUI also keeps each pane's initial state): one line with the estimate, exit 2.
 void check_memory_for(const SceneDesc& scene, Precision precision, int copies);
 
-// Prints "apiclab: warning: ..." for each pair of objects that overlap (sim/object_overlap.hpp).
+// Prints "apiclab: warning: ..." for each pair of objects that overlap (sim/geometry/object_overlap.hpp).
 void warn_about_overlaps(const SceneDesc& scene);
 
 // Prints one "apiclab: warning: ..." line when the scene runs PolyPIC with its G modes, which

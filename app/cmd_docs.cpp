@@ -7,9 +7,9 @@
 #include "app/cli_checks.hpp"
 #include "cli.hpp"
 #include "commands.hpp"
-#include "sim/choice_parameters.hpp"
-#include "sim/parameters.hpp"
-#include "sim/scheme_facts.hpp"
+#include "sim/scene/choice_parameters.hpp"
+#include "sim/scene/parameters.hpp"
+#include "sim/mpm/schemes/scheme_facts.hpp"
 
 namespace apiclab::cli {
 namespace {
@@ -67,10 +67,10 @@ void print_choice_keys() {
 
 int print_scene_keys() {
   std::printf(
-      "Numbers (`sim/parameters.cpp`; `*` stands for an index: `materials.0.E`, "
+      "Numbers (`sim/scene/parameters.cpp`; `*` stands for an index: `materials.0.E`, "
       "`gravity.1`):\n\n");
   print_numeric_keys();
-  std::printf("\nWords and switches (`sim/choice_parameters.cpp`):\n\n");
+  std::printf("\nWords and switches (`sim/scene/choice_parameters.cpp`):\n\n");
   print_choice_keys();
   return 0;
 }

@@ -1,5 +1,5 @@
 // `apiclab gui [SCENE] [--schemes a,b,c] [--screenshot FILE --frames N]`: the viewer.
-// Compiled only with the GUI (app/app_extra.cmake defines APICLAB_HAVE_GUI).
+// Compiled only with the GUI (app/charts_and_viewer.cmake defines APICLAB_HAVE_GUI).
 #ifdef APICLAB_HAVE_GUI
 #include <algorithm>
 #include <cstdio>

@@ -6,8 +6,8 @@
 
 #include "cli.hpp"
 #include "commands.hpp"
-#include "sim/input_file.hpp"
-#include "sim/scene_json.hpp"
+#include "sim/scene/input_file.hpp"
+#include "sim/scene/scene_json.hpp"
 
 namespace apiclab::cli {
 

@@ -17,8 +17,8 @@
 #include "app/video.hpp"
 #include "cli.hpp"
 #include "commands.hpp"
-#include "sim/diagnostics.hpp"
-#include "sim/scheme_label.hpp"
+#include "sim/measure/diagnostics.hpp"
+#include "sim/mpm/schemes/scheme_label.hpp"
 
 namespace apiclab::cli {
 namespace {
@@ -203,7 +203,7 @@ int compare(const RenderOptions& o) {
   // start from the same particles; each starts with its own initial state (APIC's C = ω*).
   struct Pane {
     std::string key;
-    std::string label;  // the key with its scheme's parameter, "xpic(3)" (sim/scheme_label.hpp)
+    std::string label;  // the key with its scheme's parameter, "xpic(3)" (sim/mpm/schemes/scheme_label.hpp)
     std::unique_ptr<Simulation> sim;
     RowFile csv;
     bool reported = false;

@@ -5,8 +5,8 @@
 #include "app/cli_checks.hpp"
 #include "cli.hpp"
 #include "commands.hpp"
-#include "sim/memory_estimate.hpp"
-#include "sim/roundtrip.hpp"
+#include "sim/scene/memory_estimate.hpp"
+#include "sim/mpm/roundtrip.hpp"
 
 namespace apiclab::cli {
 

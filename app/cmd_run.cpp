@@ -15,9 +15,9 @@
 #include "app/sweep/record.hpp"
 #include "cli.hpp"
 #include "commands.hpp"
-#include "sim/diagnostics.hpp"
-#include "sim/run_summary.hpp"
-#include "sim/scheme_label.hpp"
+#include "sim/measure/diagnostics.hpp"
+#include "sim/measure/run_summary.hpp"
+#include "sim/mpm/schemes/scheme_label.hpp"
 
 namespace apiclab::cli {
 namespace {

@@ -7,7 +7,7 @@
 
 #include "app/lockstep.hpp"
 #include "app/run_length.hpp"
-#include "sim/scene.hpp"
+#include "sim/scene/scene.hpp"
 
 namespace apiclab {
 

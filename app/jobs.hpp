@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "app/thread_pool.hpp"
-#include "sim/scheme_label.hpp"
+#include "sim/mpm/schemes/scheme_label.hpp"
 #include "sim/simulation.hpp"
 
 namespace apiclab::jobs {

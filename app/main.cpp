@@ -9,9 +9,9 @@
 #include "app/output_file.hpp"
 #include "cli.hpp"
 #include "commands.hpp"
-#include "sim/input_file.hpp"
-#include "sim/message_text.hpp"
-#include "sim/scene.hpp"
+#include "sim/scene/input_file.hpp"
+#include "sim/scene/message_text.hpp"
+#include "sim/scene/scene.hpp"
 
 namespace {
 

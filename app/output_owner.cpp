@@ -10,7 +10,7 @@
 #include <set>
 
 #include "app/cli.hpp"
-#include "sim/sampling.hpp"
+#include "sim/geometry/sampling.hpp"
 
 namespace apiclab::cli {
 namespace {

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "sim/scene.hpp"
+#include "sim/scene/scene.hpp"
 
 namespace apiclab::cli {
 

@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "sim/registry.hpp"
-#include "sim/scene.hpp"
+#include "sim/scene/registry.hpp"
+#include "sim/scene/scene.hpp"
 
 namespace apiclab {
 

@@ -1,5 +1,5 @@
 // `--dump DIR --dump-format csv,vtk,ply,obj`: one file per frame and format, from the solver's
-// ParticleTable (sim/particle_table.hpp). VTK: `.vtp` PolyData with appended binary (zlib blocks
+// ParticleTable (sim/measure/particle_table.hpp). VTK: `.vtp` PolyData with appended binary (zlib blocks
 // as VTK's own writer makes them; `vtk-raw` uncompressed) and a `series.pvd` time series (ParaView
 // opens the run in one click); PLY: binary little-endian with position, velocity and object
 // (Houdini, Blender); OBJ: one vertex list per frame, as the 3D seed wrote for Houdini. The VTK XML
@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "sim/particle_table.hpp"
+#include "sim/measure/particle_table.hpp"
 #include "sim/snapshot.hpp"
 
 namespace apiclab {

@@ -18,5 +18,5 @@
 #include <string>
 #include <vector>
 
-#include "sim/scene.hpp"
+#include "sim/scene/scene.hpp"
 #include "sim/simulation.hpp"

@@ -13,7 +13,7 @@
 #include "app/particle_frame.hpp"
 #include "app/video.hpp"
 #include "render/snapshot_stats.hpp"
-#include "sim/message_text.hpp"
+#include "sim/scene/message_text.hpp"
 
 namespace apiclab::cli {
 namespace {

@@ -4,8 +4,8 @@
 #pragma once
 #include <string>
 
-#include "sim/diagnostics.hpp"
-#include "sim/scene.hpp"
+#include "sim/measure/diagnostics.hpp"
+#include "sim/scene/scene.hpp"
 
 namespace apiclab {
 

@@ -9,9 +9,9 @@
 #include <vector>
 
 #include "app/output_file.hpp"
-#include "sim/diagnostics.hpp"
-#include "sim/run_summary.hpp"
-#include "sim/scene.hpp"
+#include "sim/measure/diagnostics.hpp"
+#include "sim/measure/run_summary.hpp"
+#include "sim/scene/scene.hpp"
 #include "sim/snapshot.hpp"
 
 namespace apiclab {
@@ -21,7 +21,7 @@ std::string apiclab_version();
 
 // Every setting a run used: scene (name, file), solver choices, time-step rule, precision, the
 // --set overrides given, and every numeric scene parameter with its value (registry keys,
-// sim/parameters.hpp), so the run can be repeated from it.
+// sim/scene/parameters.hpp), so the run can be repeated from it.
 nlohmann::json run_settings(const SceneDesc& scene, Precision precision,
                             const std::vector<std::string>& overrides);
 

@@ -5,7 +5,7 @@
 #include <optional>
 
 #include "app/cli.hpp"
-#include "sim/scene_json.hpp"
+#include "sim/scene/scene_json.hpp"
 
 namespace apiclab::cli {
 namespace {

@@ -8,7 +8,7 @@
 #include <chrono>
 
 #include "app/clock.hpp"
-#include "sim/memory_estimate.hpp"
+#include "sim/scene/memory_estimate.hpp"
 #include "sim/method_registry.hpp"
 
 namespace apiclab::gui {

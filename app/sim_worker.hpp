@@ -16,7 +16,7 @@
 
 #include "app/frame_loop.hpp"
 #include "app/lockstep.hpp"
-#include "sim/run_summary.hpp"
+#include "sim/measure/run_summary.hpp"
 #include "sim/simulation.hpp"
 
 namespace apiclab::gui {

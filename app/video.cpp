@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "cli.hpp"
-#include "sim/message_text.hpp"
+#include "sim/scene/message_text.hpp"
 
 extern char** environ;
 

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <limits>
 
-#include "math.hpp"
-#include "registry.hpp"
+#include "sim/math.hpp"
+#include "sim/scene/registry.hpp"
 
 namespace apiclab {
 

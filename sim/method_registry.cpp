@@ -1,4 +1,4 @@
-#include "method_registry.hpp"
+#include "sim/method_registry.hpp"
 
 #include <algorithm>
 #include <map>

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "scene.hpp"
+#include "sim/scene/scene.hpp"
 
 namespace apiclab {
 
@@ -38,7 +38,7 @@ std::vector<std::string> method_names();
 std::string scheme_conflict(const SolverDesc& solver);
 
 // The built-in methods, each defined with its solver.
-SolverMethod mpm_method();       // sim/mpm_method.cpp
+SolverMethod mpm_method();       // sim/mpm/mpm_method.cpp
 SolverMethod eol_method();       // sim/eol/eol_method.cpp
 SolverMethod eulerian_method();  // sim/eol/eol_method.cpp
 

@@ -1,9 +1,9 @@
-#include "simulation.hpp"
+#include "sim/simulation.hpp"
 
 #include <cmath>
 #include <sstream>
 
-#include "method_registry.hpp"
+#include "sim/method_registry.hpp"
 
 namespace apiclab {
 

@@ -8,10 +8,10 @@
 #include <optional>
 #include <string>
 
-#include "diagnostics.hpp"
-#include "particle_table.hpp"
-#include "scene.hpp"
-#include "snapshot.hpp"
+#include "sim/measure/diagnostics.hpp"
+#include "sim/measure/particle_table.hpp"
+#include "sim/scene/scene.hpp"
+#include "sim/snapshot.hpp"
 
 namespace apiclab {
 
@@ -81,7 +81,7 @@ class TransferControls {
   virtual void fill_velocity_noise(Snapshot& s) const = 0;
   // Particle state as CSV (docs/architecture.md, --dump), one row per particle ordered by id.
   virtual void write_particles_csv(std::ostream& out) const = 0;
-  // The same state as named columns, for the other --dump formats (sim/particle_table.hpp).
+  // The same state as named columns, for the other --dump formats (sim/measure/particle_table.hpp).
   virtual ParticleTable particle_table() const = 0;
 };
 

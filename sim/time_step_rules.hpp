@@ -7,12 +7,12 @@
 // cubic k = 1/3); with B_p = C_p D_p = k Δx² C_p the particle term is |v_p| + 6√d k Δx ‖C_p‖_F.
 // For the multilinear kernel D_p is not invertible and Sec 5.9 shows the grid velocity of an
 // affine particle is unbounded (∇w_ip / w_ip), so there is no CFL bound: the scene reader
-// rejects the `cfl` rule with the linear kernel (validate_mpm, sim/mpm_method.cpp).
+// rejects the `cfl` rule with the linear kernel (validate_mpm, sim/mpm/mpm_method.cpp).
 #pragma once
 #include <cmath>
 
-#include "mpm.hpp"
-#include "transfer_polypic.hpp"
+#include "sim/mpm/mpm.hpp"
+#include "sim/mpm/schemes/polypic.hpp"
 
 namespace apiclab {
 

@@ -108,7 +108,7 @@ expect_error "--set on a missing path (solver.nope.x)" "$DISK" "solver.nope" -- 
 expect_error "--set on a missing index (materials.5.E)" "$DISK" "materials.5" -- run "$DISK" --set materials.5.E=1
 expect_error "--set of an unknown key (materials.0.Ee)" "$DISK" "'materials.0.Ee'" -- run "$DISK" --set materials.0.Ee=5
 expect_error "--set of an invalid value (materials.0.nu=0.7)" "$DISK" "'materials.0.nu'" -- run "$DISK" --set materials.0.nu=0.7
-# Flags go through --set, so the registry's range and message apply (sim/parameters.hpp).
+# Flags go through --set, so the registry's range and message apply (sim/scene/parameters.hpp).
 # The message names the option, and the scene key it sets, never the scene file.
 expect_error "--dt 0 (fixed step)" "--dt 0" "'time.dt.value'" "(0, inf)" "!$DISK" -- run "$DISK" --dt 0
 expect_error "--flip-alpha 1.5" "--flip-alpha 1.5" "'solver.flip_alpha'" "[0, 1]" "!$DISK" -- run "$DISK" --flip-alpha 1.5

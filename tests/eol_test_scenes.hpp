@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "sim/eol/eol_simulation.hpp"
-#include "sim/scene.hpp"
+#include "sim/scene/scene.hpp"
 #include "sim/simulation.hpp"
 
 namespace apiclab::test {

@@ -32,7 +32,7 @@ if(NOT APICLAB_TSAN)
   list(APPEND APICLAB_FULL_TIER_TARGETS test_gui_worker_tsan)
 endif()
 
-# The loops the commands share (app/frame_loop, lockstep, jobs; sim/run_summary.hpp).
+# The loops the commands share (app/frame_loop, lockstep, jobs; sim/measure/run_summary.hpp).
 add_executable(test_app_core test_app_core.cpp)
 target_link_libraries(test_app_core PRIVATE apiclab_app_core GTest::gtest_main)
 target_compile_definitions(test_app_core PRIVATE APICLAB_SOURCE_DIR="${CMAKE_SOURCE_DIR}")

@@ -24,6 +24,6 @@
 #include <string>
 #include <vector>
 
-#include "sim/mpm.hpp"
-#include "sim/scene.hpp"
+#include "sim/mpm/mpm.hpp"
+#include "sim/scene/scene.hpp"
 #include "sim/simulation.hpp"

@@ -16,8 +16,8 @@
 #include "app/jobs.hpp"
 #include "app/lockstep.hpp"
 #include "app/run_length.hpp"
-#include "sim/run_summary.hpp"
-#include "sim/scene.hpp"
+#include "sim/measure/run_summary.hpp"
+#include "sim/scene/scene.hpp"
 
 namespace apiclab {
 namespace {

@@ -1,4 +1,4 @@
-// The implicit solve's CG preconditioners (sim/newton_cg.hpp, sim/implicit.hpp): the
+// The implicit solve's CG preconditioners (sim/mpm/implicit/newton_cg.hpp, sim/mpm/implicit/implicit.hpp): the
 // block-Jacobi blocks are H's node blocks, deflation keeps linear momentum exact however early
 // CG stops, and both preconditioners reach the same step to the Newton tolerance.
 #include <gtest/gtest.h>
@@ -6,8 +6,8 @@
 #include <cmath>
 #include <random>
 
-#include "sim/mpm.hpp"
-#include "sim/scene.hpp"
+#include "sim/mpm/mpm.hpp"
+#include "sim/scene/scene.hpp"
 
 using namespace apiclab;
 

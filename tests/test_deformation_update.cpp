@@ -1,4 +1,4 @@
-// G2P's lane-form deformation update (sim/deformation_update.hpp, eq 40): every entry is the
+// G2P's lane-form deformation update (sim/mpm/simd/deformation_update.hpp, eq 40): every entry is the
 // scalar loop's sum F_ab + Σ_k g_ak F_kb in its order, and the overlapping column stores stay
 // inside the particle's nine scalars.
 #include <gtest/gtest.h>
@@ -9,7 +9,7 @@
 #include <random>
 #include <string>
 
-#include "sim/deformation_update.hpp"
+#include "sim/mpm/simd/deformation_update.hpp"
 
 namespace apiclab {
 namespace {

@@ -13,7 +13,7 @@
 
 #include "sim/eol/advection.hpp"
 #include "sim/eol/least_squares_split.hpp"
-#include "sim/parameters.hpp"
+#include "sim/scene/parameters.hpp"
 #include "tests/eol_test_scenes.hpp"
 
 namespace apiclab {

@@ -16,8 +16,8 @@
 
 #include "eol_test_scenes.hpp"
 #include "sim/eol/rest_shape.hpp"
-#include "sim/obj_mesh.hpp"
-#include "sim/sampling.hpp"
+#include "sim/geometry/obj_mesh.hpp"
+#include "sim/geometry/sampling.hpp"
 
 namespace apiclab {
 namespace {

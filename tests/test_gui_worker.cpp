@@ -11,9 +11,9 @@
 
 #include "app/frame_loop.hpp"
 #include "app/sim_worker.hpp"
-#include "sim/memory_estimate.hpp"
-#include "sim/registry.hpp"
-#include "sim/scene.hpp"
+#include "sim/scene/memory_estimate.hpp"
+#include "sim/scene/registry.hpp"
+#include "sim/scene/scene.hpp"
 
 namespace apiclab::gui {
 namespace {

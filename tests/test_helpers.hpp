@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "sim/mpm.hpp"
-#include "sim/scene.hpp"
+#include "sim/mpm/mpm.hpp"
+#include "sim/scene/scene.hpp"
 
 namespace apiclab::test {
 

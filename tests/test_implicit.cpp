@@ -9,9 +9,9 @@
 #include <string>
 #include <vector>
 
-#include "sim/mpm.hpp"
-#include "sim/round_off_floor.hpp"
-#include "sim/scene.hpp"
+#include "sim/mpm/mpm.hpp"
+#include "sim/mpm/implicit/round_off_floor.hpp"
+#include "sim/scene/scene.hpp"
 
 using namespace apiclab;
 
@@ -357,7 +357,7 @@ TEST(Implicit, RingingFlipKeepsNoiseApicAndPicDoNot) {
 }
 
 // In float, Newton's and CG's tolerances are held to what float can resolve
-// (sim/round_off_floor.hpp). One torus of torus-drop at the scene's resolution (8.5k particles;
+// (sim/mpm/implicit/round_off_floor.hpp). One torus of torus-drop at the scene's resolution (8.5k particles;
 // the whole scene stalled: 20 Newton and 2,268 CG iterations, not converged, on one free-fall
 // step) takes one large midpoint step in free fall: it must converge in a few Newton
 // iterations, and every particle must move at -g dt. Without the floor this torus alone stalls
@@ -423,7 +423,7 @@ SolveCounts run_counting(const SceneDesc& s) {
 
 // The flagship scene as shipped (midpoint, steps of the cfl rule) converges at every step. Its
 // Newton solve used to stop after 2 of 20 iterations at a residual 7 % above the tolerance: the
-// line search could not see E fall below E's own round-off (sim/newton_cg.hpp).
+// line search could not see E fall below E's own round-off (sim/mpm/implicit/newton_cg.hpp).
 TEST(Implicit, RotatingDiskConvergesAtEveryStep) {
   const SolveCounts c = run_counting(load_scene(scene_path("rotating-disk")));
   ASSERT_FALSE(c.failure) << c.failure->message;

@@ -9,9 +9,9 @@
 #include <random>
 #include <vector>
 
-#include "sim/grid.hpp"
-#include "sim/kernels.hpp"
-#include "sim/stencil.hpp"
+#include "sim/mpm/grid.hpp"
+#include "sim/mpm/kernels.hpp"
+#include "sim/mpm/stencil.hpp"
 #include "test_helpers.hpp"
 
 namespace apiclab {

@@ -1,9 +1,9 @@
-// Node lane groups (sim/lanes.hpp) in every layout the targets use: one register of 8 lanes
+// Node lane groups (sim/mpm/simd/lanes.hpp) in every layout the targets use: one register of 8 lanes
 // (AVX-512 double, AVX2 float), two or more register-sized parts (AVX2 double, SSE). P2G and G2P
 // address lanes by index, so each layout must keep lane i at index i through every operation.
 #include <gtest/gtest.h>
 
-#include "sim/lanes.hpp"
+#include "sim/mpm/simd/lanes.hpp"
 
 namespace apiclab {
 namespace {

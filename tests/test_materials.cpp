@@ -7,7 +7,7 @@
 #include <random>
 
 #include "sim/materials.hpp"
-#include "sim/scene.hpp"
+#include "sim/scene/scene.hpp"
 
 namespace apiclab {
 namespace {

@@ -1,4 +1,4 @@
-// The memory guard (sim/memory_estimate.hpp): the estimate is measured against the resident
+// The memory guard (sim/scene/memory_estimate.hpp): the estimate is measured against the resident
 // memory a real scene takes, and a scene whose estimate exceeds the cap is refused at once.
 #include <gtest/gtest.h>
 
@@ -8,8 +8,8 @@
 #include <string>
 
 #include "sim/math.hpp"
-#include "sim/memory_estimate.hpp"
-#include "sim/scene.hpp"
+#include "sim/scene/memory_estimate.hpp"
+#include "sim/scene/scene.hpp"
 #include "sim/simulation.hpp"
 
 namespace apiclab {
@@ -48,7 +48,7 @@ TEST(MemoryEstimate, WithinTwiceTheMeasuredResidentGrowth) {
   const SceneDesc scene = parse_scene_text(block_scene(1.0 / 64), "block");
   const MemoryEstimate e = estimate_memory(scene, Precision::dbl);
   EXPECT_NEAR(e.particles, 262144, 1);  // (0.5 / (dx / 2))^3
-  // The grid stores the active box only (sim/grid.hpp): the block spans domain nodes 18..50
+  // The grid stores the active box only (sim/mpm/grid.hpp): the block spans domain nodes 18..50
   // (two ghost nodes below 0), blocks of 4 cells 4..12, widened to nodes [14, 55) per axis.
   EXPECT_NEAR(e.grid_nodes, 41.0 * 41 * 41, 1);
   const double before = resident_bytes();

@@ -1,5 +1,5 @@
-// The mesh sampler's inside test (sim/mesh_inside.hpp, MeshSolid) and the OBJ reader's checks
-// (sim/obj_mesh.hpp): lattice counts of cubes and octahedra whose edges, vertices and faces lie
+// The mesh sampler's inside test (sim/geometry/mesh_inside.hpp, MeshSolid) and the OBJ reader's checks
+// (sim/geometry/obj_mesh.hpp): lattice counts of cubes and octahedra whose edges, vertices and faces lie
 // on the lattice's rays and sites, against counts taken independently from the shapes' own
 // inequalities; overlapping and nested components; the one-line messages of bad files; the
 // time and memory of a large mesh.
@@ -17,11 +17,11 @@
 #include <string>
 #include <vector>
 
-#include "sim/memory_estimate.hpp"
-#include "sim/mesh_inside.hpp"
-#include "sim/obj_mesh.hpp"
-#include "sim/sampling.hpp"
-#include "sim/scene.hpp"
+#include "sim/scene/memory_estimate.hpp"
+#include "sim/geometry/mesh_inside.hpp"
+#include "sim/geometry/obj_mesh.hpp"
+#include "sim/geometry/sampling.hpp"
+#include "sim/scene/scene.hpp"
 #include "sim/simulation.hpp"
 
 #if defined(__SANITIZE_ADDRESS__)

@@ -1,11 +1,11 @@
-// The sweep's metrics (sim/metrics.hpp) on cases with known answers: a run against itself, a
+// The sweep's metrics (sim/measure/metrics.hpp) on cases with known answers: a run against itself, a
 // run shifted by a known displacement, different particles of the same motion, constructed
 // diagnostics rows and a power law.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
-#include "sim/metrics.hpp"
+#include "sim/measure/metrics.hpp"
 
 namespace apiclab::metrics {
 namespace {

@@ -12,7 +12,7 @@
 #include "app/frame_loop.hpp"
 #include "app/lockstep.hpp"
 #include "app/run_outputs.hpp"
-#include "sim/parameters.hpp"
+#include "sim/scene/parameters.hpp"
 
 namespace apiclab {
 namespace {

@@ -18,8 +18,8 @@
 #include <string>
 #include <vector>
 
-#include "sim/sampling.hpp"
-#include "sim/scene.hpp"
+#include "sim/geometry/sampling.hpp"
+#include "sim/scene/scene.hpp"
 #include "sim/simulation.hpp"
 
 namespace apiclab {

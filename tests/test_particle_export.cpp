@@ -14,7 +14,7 @@
 #include <sstream>
 
 #include "app/particle_export.hpp"
-#include "sim/scene.hpp"
+#include "sim/scene/scene.hpp"
 #include "sim/simulation.hpp"
 #include "sim/snapshot.hpp"
 

@@ -1,5 +1,5 @@
 // The diagnostics row's particle sums that G2P takes for a step asked for its row
-// (step_fixed_measured, step; sim/particle_sums.hpp) against measure()'s own pass over the same
+// (step_fixed_measured, step; sim/mpm/particle_sums.hpp) against measure()'s own pass over the same
 // particles (particle_sums, the readable oracle), for 2D and 3D, float and double, several
 // schemes and kernels, on one and two threads. Also: taking the sums leaves the step unchanged.
 #include <gtest/gtest.h>
@@ -15,9 +15,9 @@
 #include <string>
 #include <vector>
 
-#include "sim/mpm.hpp"
-#include "sim/particle_sums.hpp"
-#include "sim/scene.hpp"
+#include "sim/mpm/mpm.hpp"
+#include "sim/mpm/particle_sums.hpp"
+#include "sim/scene/scene.hpp"
 
 namespace apiclab {
 namespace {
@@ -86,7 +86,7 @@ template <class T>
 constexpr int float_pair_add = sizeof(T) == 4 ? 1 : 0;
 
 // The fused sums differ from the oracle's in each particle's terms, which both evaluate in T
-// (sim/particle_sums.hpp, mpm_measure.hpp), and in the order of the double sums. Per term, the
+// (sim/mpm/particle_sums.hpp, mpm_measure.hpp), and in the order of the double sums. Per term, the
 // largest count of roundings in T (each ε_T of the term, all terms of the kinetic energy being
 // positive): the fused kinetic energy ½ m (|v|² + k |C|²) takes D + D² + 3 (|v|² and |C|² with
 // FMA, k |C|², the add, m), the oracle's ½ m |v|² + ½ m tr(C D Cᵀ) 2D + 2 (|v|², C D, the trace);
@@ -273,7 +273,7 @@ template <class T, int D>
 void same_on_one_and_two_threads(const std::string& scheme) {
   SCOPED_TRACE(std::to_string(D) + "D " + (sizeof(T) == 4 ? "float " : "double ") + scheme);
   const int threads_before = omp_get_max_threads();
-  // Finer than the other tests' block: three chunks of 1024 particles or more (sim/g2p.hpp).
+  // Finer than the other tests' block: three chunks of 1024 particles or more (sim/mpm/g2p.hpp).
   MpmSimulation<T, D> one(spinning_block(D, scheme, "quadratic", D == 2 ? 80 : 32));
   MpmSimulation<T, D> two = one;
   ASSERT_GT(one.particles().size(), 2048u);

@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "sim/transfer_polypic.hpp"
+#include "sim/mpm/schemes/polypic.hpp"
 #include "test_helpers.hpp"
 
 namespace apiclab {

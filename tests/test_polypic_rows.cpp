@@ -1,4 +1,4 @@
-// PolyPIC's transfers in row form (sim/transfer_polypic.hpp: gather_modes_rows,
+// PolyPIC's transfers in row form (sim/mpm/schemes/polypic.hpp: gather_modes_rows,
 // scatter_modes_rows, what the step runs) against the plain per-mode sums (gather_modes,
 // scatter_modes: one product per mode per node, the readable definition), for every number of
 // kept modes in 2D and 3D, on random particles and a random grid velocity field.
@@ -10,9 +10,9 @@
 #include <random>
 #include <vector>
 
-#include "sim/lanes.hpp"
-#include "sim/stencil.hpp"
-#include "sim/transfer_polypic.hpp"
+#include "sim/mpm/simd/lanes.hpp"
+#include "sim/mpm/stencil.hpp"
+#include "sim/mpm/schemes/polypic.hpp"
 #include "test_helpers.hpp"
 
 namespace apiclab {

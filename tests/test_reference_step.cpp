@@ -1,5 +1,5 @@
 // The optimised explicit step (MpmSimulation::step_fixed) against the readable one in
-// sim/reference_step.hpp: same state, 20 steps, every scheme × kernel, 2D and 3D, walls (with a
+// sim/reference/reference_step.hpp: same state, 20 steps, every scheme × kernel, 2D and 3D, walls (with a
 // collider plane) and periodic; x, v, C and F must agree to round-off.
 #include <gtest/gtest.h>
 
@@ -9,8 +9,8 @@
 #include <random>
 #include <string>
 
-#include "sim/mpm.hpp"
-#include "sim/reference_setup.hpp"
+#include "sim/mpm/mpm.hpp"
+#include "sim/reference/reference_setup.hpp"
 
 namespace apiclab {
 namespace {

@@ -21,7 +21,7 @@
 #include "render/target.hpp"
 #include "render/text.hpp"
 #include "render_scenes.hpp"
-#include "sim/scheme_facts.hpp"
+#include "sim/mpm/schemes/scheme_facts.hpp"
 #include "sim/simulation.hpp"
 
 namespace {

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "sim/roundtrip.hpp"
+#include "sim/mpm/roundtrip.hpp"
 
 namespace apiclab {
 namespace {
@@ -90,7 +90,7 @@ TEST(RoundTrip, RpicEqualsPicForCurlFreeField) {
 }
 
 // The errors the probe measured before it ran the solver's phases, when it had its own scalar
-// transfer (sim/roundtrip.cpp at 3e5bf5d: Stencil::for_each, v = Σ w v_i, B = Σ w v_i rᵀ,
+// transfer (sim/mpm/roundtrip.cpp at 3e5bf5d: Stencil::for_each, v = Σ w v_i, B = Σ w v_i rᵀ,
 // C = B/(kΔx²) or Σ v_i ∇wᵀ for linear weights, RPIC skew(C)). The solver's 8-lane G2P and
 // coloured P2G must give the same numbers up to summation order: 1e-11 relative, or 1e-14
 // absolute where the error itself is round-off (linear APIC reproduces the field exactly).

@@ -17,12 +17,12 @@
 #include <string>
 #include <vector>
 
-#include "sim/mpm.hpp"
-#include "sim/obj_mesh.hpp"
-#include "sim/object_overlap.hpp"
-#include "sim/parameters.hpp"
-#include "sim/scene.hpp"
-#include "sim/scheme_label.hpp"
+#include "sim/mpm/mpm.hpp"
+#include "sim/geometry/obj_mesh.hpp"
+#include "sim/geometry/object_overlap.hpp"
+#include "sim/scene/parameters.hpp"
+#include "sim/scene/scene.hpp"
+#include "sim/mpm/schemes/scheme_label.hpp"
 #include "sim/simulation.hpp"
 
 namespace apiclab {
@@ -423,7 +423,7 @@ TEST(Scene, LoadSceneFromFileNamesFile) {
   fs::remove_all(dir);
 }
 
-// ---- The numeric-parameter registry (sim/parameters.hpp) -----------------------------------
+// ---- The numeric-parameter registry (sim/scene/parameters.hpp) -----------------------------------
 
 // The message the reader gives for a value outside its range: the one format every path uses.
 std::string range_message(const std::string& key, double value, const std::string& file) {

@@ -2,13 +2,13 @@
 // rewinds a pane) gives back the arrays only the old scheme used: XPIC(m)'s two node arrays and
 // PolyPIC's modes ("model no more than a scene needs"). Capacity is checked, not size:
 // clear() keeps the memory. And every label names the parameter of a scheme that has one:
-// XPIC(3), PolyPIC(9 modes), ASFLIP(α, β), from the scene a simulation runs (sim/scheme_label.hpp).
+// XPIC(3), PolyPIC(9 modes), ASFLIP(α, β), from the scene a simulation runs (sim/mpm/schemes/scheme_label.hpp).
 #include <gtest/gtest.h>
 
 #include <cstdio>
 #include <utility>
 
-#include "sim/scheme_label.hpp"
+#include "sim/mpm/schemes/scheme_label.hpp"
 #include "test_helpers.hpp"
 
 namespace apiclab {

@@ -11,7 +11,7 @@
 #include <cstdio>
 #include <random>
 
-#include "sim/parameters.hpp"
+#include "sim/scene/parameters.hpp"
 #include "test_helpers.hpp"
 
 namespace apiclab {

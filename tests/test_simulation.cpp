@@ -158,7 +158,7 @@ TEST(Simulation, InternalForcesSumToZero) {
 // Coloured-block P2G: no two threads ever add into the same node, and each node receives its
 // contributions in a fixed order, so the state is bit-identical for any thread count.
 // The explicit step computes the next step's stress at its end, and that pass also sums the
-// elastic energy measure() reports (sim/p2g.hpp compute_stress). After every step, including
+// elastic energy measure() reports (sim/mpm/p2g.hpp compute_stress). After every step, including
 // those that re-sort the particles, the reported energy equals Σ V_p Ψ(F_p) summed afresh, and
 // the stress the next step uses is that of the current F (the trajectory matches a simulation
 // whose cache is dropped before every step).

@@ -1,4 +1,4 @@
-// The grid stores only the active box the particles reach (sim/grid.hpp): the same
+// The grid stores only the active box the particles reach (sim/mpm/grid.hpp): the same
 // scene in a tight domain and in one 100× the area (2D) or 20× the volume (3D) allocates the same
 // grid and follows the same trajectory bit for bit; a projectile's grid stays the size of its
 // box; the memory estimate predicts the allocation.
@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "sim/memory_estimate.hpp"
+#include "sim/scene/memory_estimate.hpp"
 #include "test_helpers.hpp"
 
 namespace apiclab {

@@ -1,4 +1,4 @@
-// StencilBatch (sim/stencil_batch.hpp) gives each particle the stencil Stencil::compute gives
+// StencilBatch (sim/mpm/simd/stencil_batch.hpp) gives each particle the stencil Stencil::compute gives
 // it, for every kernel, in 2D and 3D, float and double, on slip and periodic grids, for partial
 // batches, and at positions on nodes and half-nodes, where a floor taken another way would move
 // the stencil by a node. Node offsets must be equal. Weights, gradients and x_i − x_p may differ
@@ -14,8 +14,8 @@
 #include <random>
 #include <vector>
 
-#include "sim/grid.hpp"
-#include "sim/stencil_batch.hpp"
+#include "sim/mpm/grid.hpp"
+#include "sim/mpm/simd/stencil_batch.hpp"
 #include "test_helpers.hpp"
 
 namespace apiclab {

@@ -1,11 +1,11 @@
-// The implicit solve's per-particle ∂P/∂F (sim/stress_hessian.hpp): against finite differences
+// The implicit solve's per-particle ∂P/∂F (sim/mpm/implicit/stress_hessian.hpp): against finite differences
 // of P, and its projection: unchanged where positive definite (the Cholesky shortcut), the
 // eigenvalues clamped at zero where not; both cases met, in 2D and 3D, for both models.
 #include <gtest/gtest.h>
 
 #include <random>
 
-#include "sim/stress_hessian.hpp"
+#include "sim/mpm/implicit/stress_hessian.hpp"
 
 using namespace apiclab;
 

@@ -1,4 +1,4 @@
-// The 3D fixed-corotated stress of several particles at a time (sim/stress_lanes.hpp) against
+// The 3D fixed-corotated stress of several particles at a time (sim/mpm/simd/stress_lanes.hpp) against
 // the scalar formula (first_piola_and_energy), lane by lane, with a different μ, λ and volume in
 // every lane, on deformations from near-rest to singular values e^±3.5, inverted and
 // near-singular ones among them: those lanes must be handed back to the scalar path.
@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "sim/materials.hpp"
-#include "sim/stress_lanes.hpp"
+#include "sim/mpm/simd/stress_lanes.hpp"
 
 namespace apiclab {
 namespace {

@@ -16,7 +16,7 @@
 #include "app/lockstep.hpp"
 #include "app/sweep/open.hpp"
 #include "app/sweep/record.hpp"
-#include "sim/parameters.hpp"
+#include "sim/scene/parameters.hpp"
 #include "sim/simulation.hpp"
 
 namespace apiclab::sweep {
@@ -31,7 +31,7 @@ std::shared_ptr<const OpenedSweep> opened() {
   return s;
 }
 
-// Every value a scene file sets, compared: every numeric registry key (sim/parameters.hpp) at
+// Every value a scene file sets, compared: every numeric registry key (sim/scene/parameters.hpp) at
 // every index, the choices, and each object's sampling.
 void expect_same_scene(const SceneDesc& a, const SceneDesc& b, const std::string& what) {
   SCOPED_TRACE(what);

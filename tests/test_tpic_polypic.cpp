@@ -9,7 +9,7 @@
 #include <cstdio>
 #include <random>
 
-#include "sim/transfer_polypic.hpp"
+#include "sim/mpm/schemes/polypic.hpp"
 #include "test_helpers.hpp"
 
 namespace apiclab {

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "app/figures/chart_canvas.hpp"
-#include "sim/scheme_label.hpp"
+#include "sim/mpm/schemes/scheme_label.hpp"
 
 namespace apiclab::figures {
 
@@ -17,7 +17,7 @@ struct SchemeStyle {
 };
 SchemeStyle style_of(const std::string& scheme_key);
 // The same with the scheme's parameter in the label, "XPIC(2)", "PolyPIC(9 modes)"
-// (sim/scheme_label.hpp).
+// (sim/mpm/schemes/scheme_label.hpp).
 SchemeStyle style_of(const std::string& scheme_key, const SchemeParameters& parameters,
                      double flip_alpha);
 

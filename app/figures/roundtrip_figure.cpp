@@ -11,7 +11,7 @@
 #include "app/gui/plot.hpp"
 #include "app/jobs.hpp"
 #include "render/image.hpp"
-#include "sim/roundtrip.hpp"
+#include "sim/mpm/roundtrip.hpp"
 
 namespace apiclab::figures {
 namespace {

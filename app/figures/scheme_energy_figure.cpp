@@ -11,8 +11,8 @@
 #include "app/jobs.hpp"
 #include "render/image.hpp"
 #include "sim/method_registry.hpp"
-#include "sim/registry.hpp"
-#include "sim/scene.hpp"
+#include "sim/scene/registry.hpp"
+#include "sim/scene/scene.hpp"
 
 namespace apiclab::figures {
 namespace {

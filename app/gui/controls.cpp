@@ -1,6 +1,6 @@
 // The control column: scene, playback, panes and schemes (live), solver and material values
 // (restart), view options, and throughput. Every combo is built from the registry's keys and
-// every number field from the numeric-parameter registry (sim/parameters.hpp), whose
+// every number field from the numeric-parameter registry (sim/scene/parameters.hpp), whose
 // validation an edit passes before it reaches the solver.
 #include <algorithm>
 #include <cmath>
@@ -12,7 +12,7 @@
 #include "app/gui/viewer_state.hpp"
 #include "render/color.hpp"
 #include "sim/method_registry.hpp"
-#include "sim/parameters.hpp"
+#include "sim/scene/parameters.hpp"
 
 namespace apiclab::gui {
 namespace {
@@ -387,7 +387,7 @@ void solver_section(ViewerState& st, SimWorker& worker) {
   if (choice_combo("kernel", s.solver.kernel, kernel_choices()))
     restart_because(st, worker, "Kernel");
   if (choice_combo("integrator", s.solver.integrator, integrator_choices())) {
-    // solver.lambda belongs to the lambda integrator alone (sim/parameters.cpp).
+    // solver.lambda belongs to the lambda integrator alone (sim/scene/parameters.cpp).
     if (s.solver.integrator != Integrator::lambda_family)
       s.solver.lambda.reset();
     else if (!s.solver.lambda)

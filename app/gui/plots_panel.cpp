@@ -98,7 +98,7 @@ void draw_plots(ViewerState& st, const Published& pub, ImVec2 pos, ImVec2 size) 
     const History& h = pub.panes[k].history;
     if (h.empty()) continue;
     const std::string name = pane_label(pub.panes[k]);
-    // Run's rule (sim/run_summary.hpp), round-off momenta as zero (app/drift_series.hpp).
+    // Run's rule (sim/measure/run_summary.hpp), round-off momenta as zero (app/drift_series.hpp).
     const auto row = [&h](std::size_t i) -> const DiagnosticsRow& { return h[i]; };
     const MomentumRoundOff round_off =
         pub.scene ? momentum_round_off(row, h.size(), pub.panes[k].total_mass,

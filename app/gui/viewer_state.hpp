@@ -15,7 +15,7 @@
 #include "render/auto_scale.hpp"
 #include "render/camera.hpp"
 #include "render/color.hpp"
-#include "sim/scene.hpp"
+#include "sim/scene/scene.hpp"
 
 namespace apiclab::gui {
 

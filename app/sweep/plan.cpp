@@ -11,8 +11,8 @@
 #include "app/assets.hpp"
 #include "app/cli.hpp"
 #include "app/run_length.hpp"
-#include "sim/input_file.hpp"
-#include "sim/parameters.hpp"
+#include "sim/scene/input_file.hpp"
+#include "sim/scene/parameters.hpp"
 #include "sim/simulation.hpp"
 
 namespace apiclab::sweep {

@@ -10,7 +10,7 @@
 
 #include "app/cli.hpp"
 #include "app/sweep/spec.hpp"
-#include "sim/scene.hpp"
+#include "sim/scene/scene.hpp"
 
 namespace apiclab::sweep {
 

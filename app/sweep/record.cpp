@@ -19,7 +19,7 @@
 #include "app/particle_export.hpp"
 #include "app/run_outputs.hpp"
 #include "sim/eol/eol_positions.hpp"
-#include "sim/run_summary.hpp"
+#include "sim/measure/run_summary.hpp"
 
 namespace apiclab::sweep {
 namespace {

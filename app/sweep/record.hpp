@@ -8,7 +8,7 @@
 #include <string>
 
 #include "app/cli.hpp"
-#include "sim/metrics.hpp"
+#include "sim/measure/metrics.hpp"
 
 namespace apiclab::sweep {
 

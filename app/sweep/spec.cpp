@@ -9,9 +9,9 @@
 #include "app/assets.hpp"
 #include "app/cli.hpp"
 #include "sim/method_registry.hpp"
-#include "sim/parameters.hpp"
-#include "sim/registry.hpp"
-#include "sim/scene_json.hpp"
+#include "sim/scene/parameters.hpp"
+#include "sim/scene/registry.hpp"
+#include "sim/scene/scene_json.hpp"
 
 namespace apiclab::sweep {
 namespace {

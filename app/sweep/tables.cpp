@@ -6,7 +6,7 @@
 #include <map>
 #include <numeric>
 
-#include "sim/metrics.hpp"
+#include "sim/measure/metrics.hpp"
 
 namespace apiclab::sweep {
 namespace {

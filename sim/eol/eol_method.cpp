@@ -1,10 +1,10 @@
 // The Eulerian-on-Lagrangian family as registered methods (Fan et al. 2013): `eol` (a rigid
 // frame and a grid per object) and `eulerian` (the baseline: the frame locked to the world, one
 // grid over the domain), with the validation of their keys in the scene's `solver` section.
-#include "sim/choice_parameters.hpp"
+#include "sim/scene/choice_parameters.hpp"
 #include "sim/eol/eol_positions.hpp"
 #include "sim/eol/eol_simulation.hpp"
-#include "sim/memory_estimate.hpp"
+#include "sim/scene/memory_estimate.hpp"
 #include "sim/method_registry.hpp"
 
 namespace apiclab {
@@ -18,7 +18,7 @@ std::unique_ptr<Simulation> make_eol_family(const SceneDesc& scene, bool lagrang
 }
 
 // The numbers are read by now (the registry's keys of each method); ranges are checked once, for
-// every method, by validate() (sim/parameters.hpp).
+// every method, by validate() (sim/scene/parameters.hpp).
 void validate_eol_family(SceneSection& r, SceneDesc& s) {
   auto& e = s.solver.eol;
   e.contact = r.choice("contact", eol_contact_choices(), e.contact, "contact");

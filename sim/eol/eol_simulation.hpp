@@ -188,7 +188,7 @@ class EolSimulation final : public Simulation {
   std::vector<SplitSums<D, 1>> split_partial_;  // the same for finish_step's split
 };
 
-// Compiled once, in sim/eol/eol_{2d,3d}.cpp (see sim/mpm.hpp).
+// Compiled once, in sim/eol/eol_{2d,3d}.cpp (see sim/mpm/mpm.hpp).
 extern template class EolSimulation<double, 2>;
 extern template class EolSimulation<double, 3>;
 

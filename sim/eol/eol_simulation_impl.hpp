@@ -10,7 +10,7 @@
 #include "sim/eol/least_squares_split.hpp"
 #include "sim/eol/rest_shape.hpp"
 #include "sim/eol/surface_placement.hpp"
-#include "sim/round_off_floor.hpp"
+#include "sim/mpm/implicit/round_off_floor.hpp"
 
 namespace apiclab::eol {
 namespace detail {
@@ -563,7 +563,7 @@ double EolSimulation<T, D>::energy_reference() const {
     g += scene_.gravity[std::size_t(a)] * scene_.gravity[std::size_t(a)];
     height += std::pow(scene_.domain.max[std::size_t(a)] - scene_.domain.min[std::size_t(a)], 2);
   }
-  // A body at rest shows round-off energy, no blow-up (sim/round_off_floor.hpp).
+  // A body at rest shows round-off energy, no blow-up (sim/mpm/implicit/round_off_floor.hpp).
   const double rest = energy_round_off<T>(total_mass() * max_wave_speed_ * max_wave_speed_, D);
   return std::max(
       {r.kinetic + r.elastic + total_mass() * std::sqrt(g) * std::sqrt(height), rest, 1e-300});

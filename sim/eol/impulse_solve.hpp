@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "sim/math.hpp"
-#include "sim/registry.hpp"
-#include "sim/scene.hpp"
+#include "sim/scene/registry.hpp"
+#include "sim/scene/scene.hpp"
 
 namespace apiclab::eol {
 

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <limits>
 
-#include "sim/sampling.hpp"
+#include "sim/geometry/sampling.hpp"
 
 namespace apiclab::eol {
 namespace {

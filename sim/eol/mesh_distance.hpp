@@ -18,8 +18,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "sim/obj_mesh.hpp"
-#include "sim/scene.hpp"
+#include "sim/geometry/obj_mesh.hpp"
+#include "sim/scene/scene.hpp"
 
 namespace apiclab::eol {
 

@@ -1,7 +1,7 @@
 #include "sim/eol/rest_shape.hpp"
 
-#include "sim/obj_mesh.hpp"
-#include "sim/sampling.hpp"
+#include "sim/geometry/obj_mesh.hpp"
+#include "sim/geometry/sampling.hpp"
 
 namespace apiclab::eol {
 

@@ -9,8 +9,8 @@
 #include <memory>
 
 #include "sim/eol/mesh_distance.hpp"
-#include "sim/sampling.hpp"
-#include "sim/scene.hpp"
+#include "sim/geometry/sampling.hpp"
+#include "sim/scene/scene.hpp"
 
 namespace apiclab::eol {
 

@@ -1,0 +1,97 @@
+// One step: the phases in the paper's order, and step()'s failure checks.
+#pragma once
+#include <chrono>
+#include <cmath>
+#include <sstream>
+
+#include "sim/mpm/kernel_dispatch.hpp"
+#include "sim/mpm/mpm.hpp"
+
+namespace apiclab {
+
+// Block sort for the coloured parallel P2G (sim/mpm/block_partition.hpp).
+template <class T, int D>
+void MpmSimulation<T, D>::sort_particles() {
+  if (blocks_.sort(p_, scratch_, grid_, boundary_, scene_.solver.kernel, parallel_worthwhile())) {
+    rebuild_index_of_id();
+    if (stress_of_current_F_) {  // the stress follows its particles; the energy sum stands
+      const double energy = particle_elastic_energy_;
+      compute_stress();
+      particle_elastic_energy_ = energy;
+    }
+  }
+}
+
+template <class T, int D>
+void MpmSimulation<T, D>::step_fixed(double dt) {
+  step_fixed_summing(dt, nullptr);
+}
+
+template <class T, int D>
+DiagnosticsRow MpmSimulation<T, D>::step_fixed_measured(double dt) {
+  ParticleSums sums;
+  return step_fixed_summing(dt, &sums) ? row_of(sums) : measure();
+}
+
+template <class T, int D>
+bool MpmSimulation<T, D>::step_fixed_summing(double dt, ParticleSums* sums) {
+  // A non-finite position would index the grid out of range: the state stays frozen, and
+  // step() (or the caller of step_fixed, through measure()) reports it.
+  if (non_finite_) return false;
+  sort_particles();
+  clear_grid();
+  if (!uses_implicit_solve()) {
+    particles_to_grid(true);  // forces at F^n, fused into the transfer
+    if (!mesh_.empty())
+      with_kernel(scene_.solver.kernel, [&](auto kernel) { add_mesh_forces<decltype(kernel)>(); });
+    grid_velocity_update(T(dt));
+    last_solve_ = NewtonCgReport{};
+  } else {
+    particles_to_grid(false);
+    with_kernel(scene_.solver.kernel,
+                [&](auto kernel) { implicit_velocity_update<decltype(kernel)>(T(dt)); });
+  }
+  apply_boundary_conditions();
+  grid_to_particles(T(dt), sums);
+  stress_of_current_F_ = false;
+  // An explicit step computes the next step's stress now: its pass also sums the elastic energy
+  // that measure() reports after this step, so the diagnostics need no decomposition of their own.
+  if (!uses_implicit_solve() && !non_finite_) compute_stress();
+  time_ += dt;
+  ++steps_;
+  return true;
+}
+
+template <class T, int D>
+std::optional<Failure> MpmSimulation<T, D>::step(double t_limit, DiagnosticsRow* row) {
+  if (failure_) return failure_;
+  if (!(t_limit > time_)) return std::nullopt;
+  auto start = std::chrono::steady_clock::now();
+  double dt = choose_dt(t_limit);
+  ParticleSums sums;  // the row's particle sums, taken by G2P (sim/mpm/particle_sums.hpp)
+  const bool summed = step_fixed_summing(dt, &sums);
+  // Landing on t_limit (a sum of steps is off by round-off): within 1e-12 of the time scale for
+  // the landing rules; for an exact fixed step within 1e-6 of a step, which n·Δt accumulated in
+  // double misses only after ~1e9 steps, so a frame time that is a whole number of steps is met.
+  const double landing =
+      scene_.time.lands_on_frames() ? 1e-12 * std::max(1.0, std::abs(t_limit)) : 1e-6 * dt;
+  if (std::abs(t_limit - time_) < landing) time_ = t_limit;
+  DiagnosticsRow r = summed ? row_of(sums) : measure();
+  r.dt = dt;
+  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (row) *row = r;
+  if (!last_solve_.converged && scene_.solver.stop_on_nonconvergence) {
+    std::ostringstream d;
+    d << "did not converge in " << last_solve_.newton_iterations << " Newton iterations (residual "
+      << last_solve_.residual << ", tolerance " << last_solve_.tolerance << ")";
+    failure_ = failure_at(steps_, time_, "implicit solve", d.str());
+  } else if (non_finite_) {  // a frozen state whose energies may still read finite
+    failure_ = failure_at(steps_, time_, "particle state", "became non-finite (NaN or Inf)");
+  } else {
+    failure_ = energy_failure(r, steps_, time_, "particle state",
+                              scene_.solver.blowup_energy_factor, energy_ref_);
+  }
+  return failure_;
+}
+
+}  // namespace apiclab

@@ -1,0 +1,606 @@
+#include "sim/scene/scene.hpp"
+
+#include <climits>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <random>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include "sim/scene/input_file.hpp"
+#include "sim/scene/message_text.hpp"
+#include "sim/method_registry.hpp"
+#include "sim/scene/parameters.hpp"
+#include "sim/scene/scene_json.hpp"
+#include "sim/scene/scene_method.hpp"
+
+namespace apiclab {
+namespace {
+
+using nlohmann::json;
+
+// A value or --set as a message quotes it on one readable line (sim/scene/message_text.hpp).
+std::string shown(const std::string& s) { return message_text(s); }
+
+// Reads one JSON object strictly: every key must be consumed, so a misspelled key is an error.
+class Reader {
+ public:
+  Reader(const json& j, std::string path, const std::string& file)
+      : j_(j), path_(std::move(path)), file_(file) {
+    if (!j_.is_object()) fail("", "expected an object");
+  }
+  ~Reader() noexcept(false) {
+    if (std::uncaught_exceptions()) return;
+    for (auto it = j_.begin(); it != j_.end(); ++it)
+      if (!used_.count(it.key())) fail(it.key(), "unknown key");
+  }
+  [[noreturn]] void fail(const std::string& key, const std::string& what) const {
+    throw SceneError(file_ + ": key '" + shown(join(key)) + "': " + what);
+  }
+  std::string join(const std::string& key) const {
+    if (path_.empty()) return key;
+    return key.empty() ? path_ : path_ + "." + key;
+  }
+  bool has(const std::string& key) const { return j_.contains(key); }
+  // A key left unread on purpose (not an unknown key).
+  void accept(const std::string& key) { used_.insert(key); }
+  const json& raw(const std::string& key) {
+    if (!has(key)) fail(key, "required key is missing");
+    used_.insert(key);
+    return j_.at(key);
+  }
+  double number(const std::string& key, double fallback, bool required = false) {
+    if (!has(key)) {
+      if (required) fail(key, "required key is missing");
+      return fallback;
+    }
+    const json& v = raw(key);
+    if (!v.is_number()) fail(key, "expected a number, got " + shown(v.dump()));
+    double d = v.get<double>();
+    if (!std::isfinite(d)) fail(key, "not finite");
+    return d;
+  }
+  double positive(const std::string& key, double fallback, bool required = false) {
+    double d = number(key, fallback, required);
+    if (!(d > 0)) fail(key, "must be positive, got " + fmt(d));
+    return d;
+  }
+  int integer(const std::string& key, int fallback) {
+    if (!has(key)) return fallback;
+    const json& v = raw(key);
+    if (!v.is_number_integer() || v < json(INT_MIN) || v > json(INT_MAX))
+      fail(key, "expected an integer, got " + shown(v.dump()));
+    return v.get<int>();
+  }
+  bool boolean(const std::string& key, bool fallback) {
+    if (!has(key)) return fallback;
+    const json& v = raw(key);
+    if (!v.is_boolean()) fail(key, "expected true or false, got " + shown(v.dump()));
+    return v.get<bool>();
+  }
+  std::string string(const std::string& key, const std::string& fallback, bool required = false) {
+    if (!has(key)) {
+      if (required) fail(key, "required key is missing");
+      return fallback;
+    }
+    const json& v = raw(key);
+    if (!v.is_string()) fail(key, "expected a string, got " + shown(v.dump()));
+    return v.get<std::string>();
+  }
+  // A vector of `dim` numbers (missing trailing components stay as in fallback).
+  Vec3d vec(const std::string& key, Vec3d fallback, int dim, bool required = false) {
+    if (!has(key)) {
+      if (required) fail(key, "required key is missing");
+      return fallback;
+    }
+    const json& v = raw(key);
+    if (!v.is_array() || int(v.size()) != dim)
+      fail(key, "expected " + std::to_string(dim) + " numbers, got " + shown(v.dump()));
+    Vec3d out = fallback;
+    for (int i = 0; i < dim; ++i) {
+      if (!v[i].is_number()) fail(key, "expected numbers, got " + shown(v.dump()));
+      out[i] = v[i].get<double>();
+      if (!std::isfinite(out[i])) fail(key, "not finite");
+    }
+    return out;
+  }
+  template <class E>
+  E choice(const std::string& key, const std::vector<Choice<E>>& choices, E fallback,
+           const char* what) {
+    if (!has(key)) return fallback;
+    std::string s = string(key, "");
+    try {
+      return parse_choice(choices, s, what);
+    } catch (const std::invalid_argument& e) {
+      fail(key, e.what());
+    }
+  }
+  Reader child(const std::string& key) { return Reader(raw(key), join(key), file_); }
+  static std::string fmt(double d) {
+    std::ostringstream o;
+    o << d;
+    return o.str();
+  }
+  const std::string& file() const { return file_; }
+  std::string path() const { return path_; }
+
+ private:
+  const json& j_;
+  std::string path_;
+  const std::string& file_;
+  std::set<std::string> used_;
+};
+
+// A Reader as the SceneSection a method's validate hook sees.
+class SectionOf final : public SceneSection {
+ public:
+  explicit SectionOf(Reader& r) : r_(r) {}
+  bool has(const std::string& key) const override { return r_.has(key); }
+  bool boolean(const std::string& key, bool fallback) override { return r_.boolean(key, fallback); }
+  std::string string(const std::string& key, const std::string& fallback) override {
+    return r_.string(key, fallback);
+  }
+  std::string where(const std::string& key) const override {
+    return r_.file() + ": key '" + r_.join(key) + "'";
+  }
+
+ private:
+  Reader& r_;
+};
+
+// The registry's numbers of one section (`prefix` "", "domain.", "time.dt.", "solver.",
+// "materials.*."), so none is read by hand: each one the section gives is a number (an integer
+// where the registry says so), a vector key ("gravity.*") one per axis; one it leaves out is
+// refused when required, else keeps its default. `index`: the material's.
+void read_numbers(Reader& r, SceneDesc& s, std::string_view prefix, int index = 0) {
+  for (const NumericParameter& p : numeric_parameters()) {
+    if (!p.key.starts_with(prefix) || !p.read_by(s.solver.method)) continue;
+    std::string_view name = p.key.substr(prefix.size());
+    const bool vector = name.ends_with(".*");
+    if (vector) name.remove_suffix(2);
+    if (name.find('.') != std::string_view::npos) continue;  // a key of a child section
+    const std::string key(name);
+    if (!r.has(key)) {
+      if (p.required || (p.required_for && p.required_for(s)))
+        r.fail(key, "required key is missing");
+      if (p.default_for) p.set(s, index, p.default_for(s));
+      continue;
+    }
+    if (!vector) {
+      p.set(s, index, p.integer ? r.integer(key, 0) : r.number(key, 0));
+      continue;
+    }
+    const Vec3d v = r.vec(key, {0, 0, 0}, s.dim);
+    for (int a = 0; a < s.dim; ++a) p.set(s, a, v[a]);
+  }
+}
+
+void read_domain(Reader r, SceneDesc& s) {
+  auto& d = s.domain;
+  read_numbers(r, s, "domain.");
+  d.walls.fill(BoundaryCondition::slip);
+  if (r.has("boundary")) {
+    const json& b = r.raw("boundary");
+    if (b.is_string()) {
+      BoundaryCondition bc;
+      try {
+        bc = parse_choice(boundary_choices(), b.get<std::string>(), "boundary condition");
+      } catch (const std::invalid_argument& e) {
+        r.fail("boundary", e.what());
+      }
+      d.walls.fill(bc);
+    } else {
+      Reader br(b, r.join("boundary"), r.file());
+      const char* names[6] = {"x-", "x+", "y-", "y+", "z-", "z+"};
+      for (int w = 0; w < 2 * s.dim; ++w)
+        d.walls[w] =
+            br.choice(names[w], boundary_choices(), BoundaryCondition::slip, "boundary condition");
+      for (int a = 0; a < s.dim; ++a)
+        if ((d.walls[2 * a] == BoundaryCondition::periodic) !=
+            (d.walls[2 * a + 1] == BoundaryCondition::periodic))
+          r.fail("boundary", "periodic must be set on both walls of an axis");
+    }
+  }
+}
+
+void read_time(Reader r, SceneDesc& s) {
+  auto& t = s.time;
+  read_numbers(r, s, "time.");
+  if (r.has("dt")) {
+    Reader d = r.child("dt");
+    t.rule = d.choice("rule", dt_rule_choices(), t.rule, "time-step rule");
+    read_numbers(d, s, "time.dt.");  // after the rule, which decides whether value is required
+    t.land_on_frames = d.boolean("land_on_frames", t.land_on_frames);
+  }
+}
+
+// The solver section: `method` picks the solver family, whose validate hook reads the rest.
+// `left_out`: the file's keys of another method, when `--set solver.method` switched it.
+void read_solver(Reader r, SceneDesc& s, const std::set<std::string>& left_out) {
+  s.solver.method = r.string("method", s.solver.method);
+  const SolverMethod* method = find_method(s.solver.method);
+  if (!method) {
+    std::string names;
+    for (const std::string& n : method_names()) names += (names.empty() ? "" : ", ") + n;
+    r.fail("method", "unknown solver method '" + s.solver.method + "' (one of: " + names + ")");
+  }
+  read_numbers(r, s, "solver.");  // the hook's checks see the scene's numbers
+  SectionOf section(r);
+  method->validate(section, s);
+  for (const std::string& key : left_out) r.accept(key);
+}
+
+void read_material(Reader r, SceneDesc& s, int index) {
+  MaterialDesc& m = s.materials.emplace_back();
+  m.name = r.string("name", "material" + std::to_string(index));
+  m.model = r.choice("model", material_choices(), m.model, "material model");
+  read_numbers(r, s, "materials.*.", index);
+}
+
+// rotation.random_seed: an angle uniform in [0, 360). mt19937_64's output is fixed by the
+// standard (std::uniform_real_distribution's is not), so a seed gives the same angle everywhere.
+double random_rotation_degrees(std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  return 360.0 * double(rng() >> 11) * 0x1.0p-53;
+}
+
+double norm(const Vec3d& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+
+ShapeDesc read_shape(Reader r, int dim) {
+  ShapeDesc sh;
+  std::string type = r.string("type", "", true);
+  try {
+    sh.type = parse_choice(shape_choices(), type, "shape");
+  } catch (const std::invalid_argument& e) {
+    r.fail("type", e.what());
+  }
+  switch (sh.type) {
+    case ShapeType::box:
+      sh.min = r.vec("min", {0, 0, 0}, dim, true);
+      sh.max = r.vec("max", {0, 0, 0}, dim, true);
+      for (int a = 0; a < dim; ++a)
+        if (!(sh.max[a] > sh.min[a])) r.fail("max", "must exceed min on every axis");
+      for (int a = 0; a < dim; ++a) sh.center[a] = 0.5 * (sh.min[a] + sh.max[a]);
+      break;
+    case ShapeType::ball:
+      sh.center = r.vec("center", {0, 0, 0}, dim, true);
+      sh.radius = r.positive("radius", 0, true);
+      break;
+    case ShapeType::annulus:
+    case ShapeType::torus:
+      sh.center = r.vec("center", {0, 0, 0}, dim, true);
+      sh.inner = r.positive("inner", 0, true);
+      sh.outer = r.positive("outer", 0, true);
+      if (!(sh.outer > sh.inner)) r.fail("outer", "must exceed inner");
+      if (dim == 3) {
+        sh.axis = r.vec("axis", {0, 0, 1}, 3);
+        if (!(norm(sh.axis) > 0)) r.fail("axis", "the axis has zero length; give a direction");
+        if (sh.type == ShapeType::annulus) sh.length = r.positive("length", 0, true);
+      }
+      if (sh.type == ShapeType::torus && dim != 3)
+        r.fail("type", "torus needs dim 3 (use annulus in 2D)");
+      break;
+    case ShapeType::mesh:
+      sh.file = r.string("file", "", true);
+      sh.scale = r.positive("scale", 1.0);
+      sh.translate = r.vec("translate", {0, 0, 0}, dim);
+      if (dim != 3) r.fail("type", "mesh needs dim 3");
+      break;
+  }
+  if (r.has("rotation")) {
+    Reader rot = r.child("rotation");
+    sh.rotation_axis = rot.vec("axis", {0, 0, 1}, 3);
+    if (!(norm(sh.rotation_axis) > 0))
+      rot.fail("axis", "the rotation axis has zero length; give a direction");
+    if (rot.has("random_seed")) {
+      if (rot.has("degrees"))
+        rot.fail("random_seed", "give either degrees or random_seed, not both");
+      const json& v = rot.raw("random_seed");
+      if (!v.is_number_integer() || v.get<long long>() < 0)
+        rot.fail("random_seed", "expected a non-negative integer, got " + shown(v.dump()));
+      sh.rotation_seed = v.get<std::int64_t>();
+      sh.rotation_degrees = random_rotation_degrees(std::uint64_t(sh.rotation_seed));
+    } else {
+      sh.rotation_degrees = rot.number("degrees", 0, true);
+    }
+  }
+  return sh;
+}
+
+SamplingDesc read_sampling(Reader r) {
+  SamplingDesc s;
+  std::string type = r.string("type", "ppc");
+  try {
+    s.type = parse_choice(sampling_choices(), type, "sampling");
+  } catch (const std::invalid_argument& e) {
+    r.fail("type", e.what());
+  }
+  if (s.type == SamplingType::lattice || s.type == SamplingType::triangulated)
+    s.spacing = r.positive("spacing", 0, true);
+  if (s.type == SamplingType::ppc) {
+    // A count: particles per cell.
+    s.ppc = r.positive("ppc", 4);
+    if (s.ppc != std::floor(s.ppc) || s.ppc > 1e6)
+      r.fail("ppc", "particles per cell must be a whole number from 1 to 1e6, got " + r.fmt(s.ppc));
+  }
+  if (s.type == SamplingType::poisson) {
+    s.radius = r.positive("radius", 0, true);
+    const int seed = r.integer("seed", 1);
+    if (seed < 0) r.fail("seed", "expected a non-negative integer, got " + std::to_string(seed));
+    s.seed = std::uint64_t(seed);
+  }
+  return s;
+}
+
+ObjectDesc read_object(Reader r, const SceneDesc& s, int index) {
+  ObjectDesc o;
+  o.name = r.string("name", "object" + std::to_string(index));
+  o.shape = read_shape(r.child("shape"), s.dim);
+  if (!r.has("material")) r.fail("material", "missing");
+  const json& m = r.raw("material");
+  if (m.is_number_integer()) {
+    if (m < json(0) || m >= json(s.materials.size()))  // compared as JSON: no int wrap-around
+      r.fail("material", "no material with index " + shown(m.dump()));
+    o.material = m.get<int>();
+  } else if (m.is_string()) {
+    o.material = -1;
+    for (size_t i = 0; i < s.materials.size(); ++i)
+      if (s.materials[i].name == m.get<std::string>()) o.material = int(i);
+    if (o.material < 0) r.fail("material", "no material named " + shown(m.dump()));
+  } else {
+    r.fail("material", "expected a material name or index");
+  }
+  o.sampling = r.has("sampling") ? read_sampling(r.child("sampling")) : SamplingDesc{};
+  o.velocity = r.vec("velocity", {0, 0, 0}, s.dim);
+  if (o.sampling.type == SamplingType::triangulated &&
+      (s.dim != 2 || o.shape.type != ShapeType::box || o.shape.rotation_degrees != 0))
+    r.fail("sampling", "triangulated sampling needs an unrotated box in 2D");
+  if (r.has("anchors")) {
+    Reader a = r.child("anchors");
+    if (!a.has("rows") || !a.raw("rows").is_array())
+      a.fail("rows", "expected an array of top|bottom|left|right");
+    for (const auto& row : a.raw("rows")) {
+      std::string name = row.is_string() ? row.get<std::string>() : "";
+      if (name != "top" && name != "bottom" && name != "left" && name != "right")
+        a.fail("rows", "expected top, bottom, left or right, got " + shown(row.dump()));
+      o.anchors.push_back(name);
+    }
+    o.anchor_stiffness = a.positive("stiffness", o.anchor_stiffness);
+    if (o.sampling.type != SamplingType::triangulated)
+      r.fail("anchors", "anchors need triangulated sampling");
+  }
+  if (r.has("angular_velocity")) {
+    if (s.dim == 2) {
+      o.angular_velocity = {0, 0, r.number("angular_velocity", 0)};
+    } else {
+      o.angular_velocity = r.vec("angular_velocity", {0, 0, 0}, 3);
+    }
+  }
+  // The object's bounding box must lie inside the domain.
+  const ShapeDesc& sh = o.shape;
+  Vec3d lo = sh.min, hi = sh.max;
+  double ext = sh.type == ShapeType::ball ? sh.radius : sh.outer;
+  if (sh.type == ShapeType::annulus && s.dim == 3) ext = std::max(ext, 0.5 * sh.length);
+  if (sh.type == ShapeType::ball || sh.type == ShapeType::annulus || sh.type == ShapeType::torus)
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = sh.center[a] - ext;
+      hi[a] = sh.center[a] + ext;
+    }
+  if (sh.type != ShapeType::mesh)
+    for (int a = 0; a < s.dim; ++a)
+      if (lo[a] < s.domain.min[a] - 1e-12 || hi[a] > s.domain.max[a] + 1e-12)
+        r.fail("shape", "object lies outside the domain on axis " + std::string(1, "xyz"[a]));
+  return o;
+}
+
+ColliderDesc read_collider(Reader r, int dim) {
+  ColliderDesc c;
+  std::string type = r.string("type", "plane");
+  if (type != "plane") r.fail("type", "unknown collider type '" + type + "' (expected plane)");
+  c.point = r.vec("point", {0, 0, 0}, dim, true);
+  c.normal = r.vec("normal", {0, 1, 0}, dim, true);
+  double n =
+      std::sqrt(c.normal[0] * c.normal[0] + c.normal[1] * c.normal[1] + c.normal[2] * c.normal[2]);
+  if (!(n > 0)) r.fail("normal", "must be non-zero");
+  for (double& x : c.normal) x /= n;
+  c.condition = r.choice("condition", boundary_choices(), c.condition, "boundary condition");
+  if (c.condition == BoundaryCondition::periodic)
+    r.fail("condition", "a collider cannot be periodic");
+  return c;
+}
+
+SceneDesc parse_json(const json& j, const std::string& file,
+                     const std::set<std::string>& left_out = {}) {
+  SceneDesc s;
+  s.source = file;
+  Reader r(j, "", file);
+  s.name = r.string("name", std::filesystem::path(file).stem().string());
+  s.description = r.string("description", "");
+  s.dim = r.integer("dim", 2);
+  if (s.dim != 2 && s.dim != 3) r.fail("dim", "must be 2 or 3");
+  if (!r.has("domain")) r.fail("domain", "missing");
+  read_domain(r.child("domain"), s);
+  read_numbers(r, s, "");  // gravity
+  if (r.has("time")) read_time(r.child("time"), s);
+  if (r.has("solver")) read_solver(r.child("solver"), s, left_out);
+  if (!r.has("materials") || !r.raw("materials").is_array() || r.raw("materials").empty())
+    r.fail("materials", "expected a non-empty array");
+  const json& mats = r.raw("materials");
+  for (size_t i = 0; i < mats.size(); ++i)
+    read_material(Reader(mats[i], "materials." + std::to_string(i), file), s, int(i));
+  // Every numeric parameter is read by now: ranges and the relations between values are
+  // checked before any object is placed in the domain.
+  validate(s);
+  if (!r.has("objects") || !r.raw("objects").is_array() || r.raw("objects").empty())
+    r.fail("objects", "expected a non-empty array");
+  const json& objs = r.raw("objects");
+  for (size_t i = 0; i < objs.size(); ++i)
+    s.objects.push_back(
+        read_object(Reader(objs[i], "objects." + std::to_string(i), file), s, int(i)));
+  if (r.has("colliders")) {
+    const json& cols = r.raw("colliders");
+    if (!cols.is_array()) r.fail("colliders", "expected an array");
+    for (size_t i = 0; i < cols.size(); ++i)
+      s.colliders.push_back(
+          read_collider(Reader(cols[i], "colliders." + std::to_string(i), file), s.dim));
+  }
+  return s;
+}
+
+// A `--set` value that is not JSON is taken as a string when it is a bare word
+// (solver.scheme=flip); anything else (1e400, nan, [1,) is refused as invalid JSON.
+bool bare_word(const std::string& text) {
+  static const std::regex word("[A-Za-z_][A-Za-z0-9_+-]*");
+  static const std::regex not_a_number("[+-]?(nan|inf|infinity)", std::regex::icase);
+  return std::regex_match(text, word) && !std::regex_match(text, not_a_number);
+}
+
+// `--set a.b.0.c=VALUE`: walks objects and existing array elements; missing keys are added (the
+// strict parser then rejects them if the scene format does not know them). Numeric keys are checked
+// here to be numbers, so the message names the --set that gave the value.
+void apply_override(json& j, const std::string& assignment, const std::string& file) {
+  auto eq = assignment.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw SceneError(file + ": --set '" + shown(assignment) +
+                     "': expected KEY=VALUE with a JSON value, e.g. materials.0.E=2000");
+  std::string key = assignment.substr(0, eq), text = assignment.substr(eq + 1);
+  const std::string where = file + ": --set " + shown(assignment);
+  json value;
+  JsonError error;
+  if (!parse_json_strict(text, value, error)) {
+    // Within a one-line value the position is a column; the key path would be the value's own.
+    std::string at = error.position;
+    if (at.rfind("line 1, ", 0) == 0) at = at.substr(8);
+    if (!bare_word(text))
+      throw SceneError(where + ": the value '" + shown(text) + "' is not valid JSON (" +
+                       error.cause + (at.empty() ? "" : ", at " + at) + ")");
+    value = text;  // a bare word is a string
+  }
+  json* node = &j;
+  std::string walked;
+  std::stringstream ss(key);
+  std::vector<std::string> parts;
+  for (std::string part; std::getline(ss, part, '.');) parts.push_back(part);
+  if (parts.empty() || key.back() == '.')
+    throw SceneError(where + ": '" + shown(key) + "' is not a key path like materials.0.E");
+  for (size_t i = 0; i < parts.size(); ++i) {
+    const std::string& p = parts[i];
+    bool last = i + 1 == parts.size();
+    walked += (walked.empty() ? "" : ".") + p;
+    if (node->is_array()) {
+      char* end = nullptr;
+      long idx = std::strtol(p.c_str(), &end, 10);
+      if (p.empty() || *end || idx < 0 || idx >= long(node->size()))
+        throw SceneError(file + ": --set key '" + shown(walked) + "' does not exist");
+      node = &(*node)[size_t(idx)];
+    } else if (node->is_object()) {
+      // A missing section is created (the strict reader rejects it if the format has no such
+      // key): --scheme works on a scene without a solver section.
+      if (!node->contains(p) && !last) (*node)[p] = json::object();
+      node = &(*node)[p];
+    } else {
+      throw SceneError(file + ": --set key '" + shown(walked) + "' does not exist");
+    }
+  }
+  // The range is the reader's to check (one message for every path, sim/scene/parameters.hpp).
+  if (const NumericParameter* p = find_parameter(key)) {
+    if (!value.is_number())
+      throw SceneError(where + ": " + std::string(p->label) + " must be a number, got " +
+                       shown(value.dump()));
+  }
+  *node = value;
+}
+
+// The solver method the scene's JSON names ("mpm" when none; "" when it is no string).
+std::string method_of(const json& j) {
+  if (!j.is_object() || !j.contains("solver") || !j["solver"].is_object()) return "mpm";
+  const json& solver = j["solver"];
+  if (!solver.contains("method")) return "mpm";
+  return solver["method"].is_string() ? solver["method"].get<std::string>() : "";
+}
+
+// The file's solver keys, when `--set solver.method` gives another method than the file's: they
+// belong to the file's method, and the new one reads those it knows (docs/cli.md). A key that a
+// `--set` gives is the new method's to read.
+std::set<std::string> switched_method_keys(const json& file, const json& set,
+                                           const std::vector<std::string>& overrides) {
+  std::set<std::string> keys;
+  if (method_of(file) == method_of(set) || !file.contains("solver") || !file["solver"].is_object())
+    return keys;
+  for (auto it = file["solver"].begin(); it != file["solver"].end(); ++it)
+    if (it.key() != "method") keys.insert(it.key());
+  for (const std::string& o : overrides)
+    if (o.rfind("solver.", 0) == 0) keys.erase(o.substr(7, o.find_first_of(".=", 7) - 7));
+  return keys;
+}
+
+SceneDesc parse_with_overrides(json j, const std::string& file,
+                               const std::vector<std::string>& overrides) {
+  const json before = overrides.empty() ? json() : j;
+  for (auto& o : overrides) apply_override(j, o, file);
+  try {
+    return parse_json(
+        j, file,
+        overrides.empty() ? std::set<std::string>{} : switched_method_keys(before, j, overrides));
+  } catch (const SceneError&) {
+    throw;
+  } catch (const std::exception& e) {
+    // Not expected (every read above checks the kind first); never shows the library's tag.
+    std::string what = e.what();
+    if (what.rfind("[json.exception.", 0) == 0) what = what.substr(what.find(']') + 2);
+    throw SceneError(file + ": " + what);
+  }
+}
+
+}  // namespace
+
+SceneDesc parse_scene_text(const std::string& text, const std::string& source,
+                           const std::vector<std::string>& overrides) {
+  try {
+    json j;
+    JsonError error;
+    if (!parse_json_strict(text, j, error)) throw SceneError(source + ": " + error.text());
+    return parse_with_overrides(std::move(j), source, overrides);
+  } catch (const SceneError& e) {
+    // Whatever text of the input a message quotes (a key, a value, a choice, a name), it stays
+    // one line: fuzz_scene found a key holding "\n" split the message in two.
+    const std::string what = e.what();
+    if (what.find_first_of(kControlCharacters) == std::string::npos) throw;
+    throw SceneError(message_text(what, std::string::npos));
+  }
+}
+
+SceneMethod scene_method(const std::string& path, const std::vector<std::string>& overrides) {
+  try {
+    json j;
+    JsonError error;
+    if (!parse_json_strict(read_input_file(path, "scene file"), j, error)) return {};
+    SceneMethod m;
+    m.file_method = method_of(j);
+    if (j.is_object() && j.contains("solver") && j["solver"].is_object())
+      for (auto it = j["solver"].begin(); it != j["solver"].end(); ++it)
+        if (it.key() != "method") m.file_keys.push_back(it.key());
+    for (const std::string& o : overrides) apply_override(j, o, path);
+    m.method = method_of(j);
+    if (j.contains("solver") && j["solver"].is_object()) {
+      const json& solver = j["solver"];
+      const auto text = [&](const char* key) {
+        return solver.contains(key) && solver[key].is_string() ? solver[key].get<std::string>()
+                                                               : std::string();
+      };
+      m.scheme = text("scheme");
+      m.kernel = text("kernel");
+      m.integrator = text("integrator");
+    }
+    return m;
+  } catch (const std::exception&) {
+    return {};  // loading the scene reports it
+  }
+}
+
+SceneDesc load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+  return parse_scene_text(read_input_file(path, "scene file"), path, overrides);
+}
+
+}  // namespace apiclab
