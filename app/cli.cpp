@@ -14,10 +14,10 @@
 
 #include "app/cli_checks.hpp"
 #include "app/set_conflicts.hpp"
+#include "sim/method_registry.hpp"
 #include "sim/scene/input_file.hpp"
 #include "sim/scene/memory_estimate.hpp"
 #include "sim/scene/message_text.hpp"
-#include "sim/method_registry.hpp"
 #include "sim/scene/parameters.hpp"
 #include "sim/scene/scene_method.hpp"
 

@@ -8,11 +8,11 @@
 #include <limits>
 #include <regex>
 
+#include "sim/geometry/object_overlap.hpp"
+#include "sim/mpm/schemes/polypic.hpp"
 #include "sim/scene/memory_estimate.hpp"
 #include "sim/scene/message_text.hpp"
-#include "sim/geometry/object_overlap.hpp"
 #include "sim/scene/parameters.hpp"
-#include "sim/mpm/schemes/polypic.hpp"
 
 namespace apiclab::cli {
 

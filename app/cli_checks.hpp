@@ -50,7 +50,8 @@ std::optional<double> max_memory_gb(const std::string& text);
 // GUI also keeps each pane's initial state): one line with the estimate, exit 2.
 void check_memory_for(const SceneDesc& scene, Precision precision, int copies);
 
-// Prints "apiclab: warning: ..." for each pair of objects that overlap (sim/geometry/object_overlap.hpp).
+// Prints "apiclab: warning: ..." for each pair of objects that overlap
+// (sim/geometry/object_overlap.hpp).
 void warn_about_overlaps(const SceneDesc& scene);
 
 // Prints one "apiclab: warning: ..." line when the scene runs PolyPIC with its G modes, which

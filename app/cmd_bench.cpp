@@ -17,10 +17,10 @@
 #include "app/perf_ledger.hpp"
 #include "cli.hpp"
 #include "commands.hpp"
-#include "sim/scene/memory_estimate.hpp"
 #include "sim/mpm/mpm.hpp"
-#include "sim/reference/reference_setup.hpp"
 #include "sim/mpm/schemes/scheme_label.hpp"
+#include "sim/reference/reference_setup.hpp"
+#include "sim/scene/memory_estimate.hpp"
 
 namespace apiclab::cli {
 namespace {
@@ -86,8 +86,8 @@ bool finite_state(const Simulation& sim) {
   return std::isfinite(end.total + end.kinetic);
 }
 
-// The readable reference step (sim/reference/reference_step.hpp) from sim's current particles, `steps`
-// fixed steps of dt in the same precision; particle-steps/s, or nullopt if it blew up.
+// The readable reference step (sim/reference/reference_step.hpp) from sim's current particles,
+// `steps` fixed steps of dt in the same precision; particle-steps/s, or nullopt if it blew up.
 template <class T, int D>
 std::optional<double> reference_rate(const Simulation& sim, double dt, int steps) {
   const auto& mpm = dynamic_cast<const MpmSimulation<T, D>&>(sim);

@@ -7,9 +7,9 @@
 #include "app/cli_checks.hpp"
 #include "cli.hpp"
 #include "commands.hpp"
+#include "sim/mpm/schemes/scheme_facts.hpp"
 #include "sim/scene/choice_parameters.hpp"
 #include "sim/scene/parameters.hpp"
-#include "sim/mpm/schemes/scheme_facts.hpp"
 
 namespace apiclab::cli {
 namespace {

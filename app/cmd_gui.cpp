@@ -91,7 +91,7 @@ void register_gui(CLI::App& root, CommandTable& table) {
                   "its reference [default: the first scene's reference run alone]");
   cmd->add_option("--heartbeat", o->heartbeat,
                   "Rewrite FILE after every frame with 'FRAME SECONDS' (a watchdog's liveness "
-                  "check, tests/gui_soak.sh) [default: none]");
+                  "check, tests/gui/gui_soak.sh) [default: none]");
   table.push_back(
       {cmd, [o, run, schemes, size, fast, frames, sweep_dir, sweep_run, overwrite] {
          o->realtime = !*fast;

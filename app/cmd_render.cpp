@@ -203,7 +203,8 @@ int compare(const RenderOptions& o) {
   // start from the same particles; each starts with its own initial state (APIC's C = ω*).
   struct Pane {
     std::string key;
-    std::string label;  // the key with its scheme's parameter, "xpic(3)" (sim/mpm/schemes/scheme_label.hpp)
+    std::string
+        label;  // the key with its scheme's parameter, "xpic(3)" (sim/mpm/schemes/scheme_label.hpp)
     std::unique_ptr<Simulation> sim;
     RowFile csv;
     bool reported = false;

@@ -5,8 +5,8 @@
 #include "app/cli_checks.hpp"
 #include "cli.hpp"
 #include "commands.hpp"
-#include "sim/scene/memory_estimate.hpp"
 #include "sim/mpm/roundtrip.hpp"
+#include "sim/scene/memory_estimate.hpp"
 
 namespace apiclab::cli {
 

@@ -1,6 +1,6 @@
 // What the GUI's drift and momentum plots draw (app/gui/plots_panel.cpp), computed apart from
-// the drawing so tests can check it: the drift by run's rule (sim/measure/run_summary.hpp DriftRule:
-// |ΔL| absolute when L₀ is below round-off), labelled with which it is, the energy drift
+// the drawing so tests can check it: the drift by run's rule (sim/measure/run_summary.hpp
+// DriftRule: |ΔL| absolute when L₀ is below round-off), labelled with which it is, the energy drift
 // always, and momenta of round-off size drawn as zero rather than as noise.
 #pragma once
 #include <algorithm>

@@ -1,10 +1,10 @@
 // `--dump DIR --dump-format csv,vtk,ply,obj`: one file per frame and format, from the solver's
-// ParticleTable (sim/measure/particle_table.hpp). VTK: `.vtp` PolyData with appended binary (zlib blocks
-// as VTK's own writer makes them; `vtk-raw` uncompressed) and a `series.pvd` time series (ParaView
-// opens the run in one click); PLY: binary little-endian with position, velocity and object
-// (Houdini, Blender); OBJ: one vertex list per frame, as the 3D seed wrote for Houdini. The VTK XML
-// is written by hand: the VTK library is several hundred MB of dependencies for a file format of a
-// page.
+// ParticleTable (sim/measure/particle_table.hpp). VTK: `.vtp` PolyData with appended binary (zlib
+// blocks as VTK's own writer makes them; `vtk-raw` uncompressed) and a `series.pvd` time series
+// (ParaView opens the run in one click); PLY: binary little-endian with position, velocity and
+// object (Houdini, Blender); OBJ: one vertex list per frame, as the 3D seed wrote for Houdini. The
+// VTK XML is written by hand: the VTK library is several hundred MB of dependencies for a file
+// format of a page.
 #pragma once
 #include <string>
 #include <vector>

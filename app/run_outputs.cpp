@@ -6,9 +6,9 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "sim/mpm/schemes/scheme_label.hpp"
 #include "sim/scene/choice_parameters.hpp"
 #include "sim/scene/parameters.hpp"
-#include "sim/mpm/schemes/scheme_label.hpp"
 
 namespace apiclab {
 

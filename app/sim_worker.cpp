@@ -8,8 +8,8 @@
 #include <chrono>
 
 #include "app/clock.hpp"
-#include "sim/scene/memory_estimate.hpp"
 #include "sim/method_registry.hpp"
+#include "sim/scene/memory_estimate.hpp"
 
 namespace apiclab::gui {
 namespace {
@@ -18,7 +18,7 @@ constexpr double kPublishInterval = 1.0 / 120;  // while playing: no faster than
 constexpr double kRateWindow = 0.5;             // seconds of wall time per throughput reading
 constexpr int kSimulationNice = 10;             // below the window thread's priority
 
-// The window must answer at least once a second (tests/gui_soak.sh), and under a software
+// The window must answer at least once a second (tests/gui/gui_soak.sh), and under a software
 // rasteriser a draw of a large 3D scene needs most of a core: left equal, the simulation's
 // OpenMP and pane threads took that core from it and frames came late (docs/performance.md).
 // Linux keeps a nice value per thread and new threads inherit it, so lowering this thread's

@@ -5,7 +5,7 @@
 #include <string_view>
 
 #include "render/math.hpp"
-#include "sim/registry.hpp"
+#include "sim/scene/registry.hpp"
 
 namespace apiclab::render {
 
@@ -13,7 +13,7 @@ struct Rgba8 {
   std::uint8_t r = 0, g = 0, b = 0, a = 255;
 };
 
-// The modes and their keys are in the choice registry (sim/registry.hpp, color_mode_choices).
+// The modes and their keys are in the choice registry (sim/scene/registry.hpp, color_mode_choices).
 using ColorMode = apiclab::ColorMode;
 // Throws std::invalid_argument naming the keys.
 ColorMode parse_color_mode(std::string_view key);

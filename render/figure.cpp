@@ -7,8 +7,8 @@
 #include "render/legend.hpp"
 #include "render/palette.hpp"
 #include "render/snapshot_stats.hpp"
-#include "sim/registry.hpp"
-#include "sim/scheme_label.hpp"
+#include "sim/mpm/schemes/scheme_label.hpp"
+#include "sim/scene/registry.hpp"
 
 namespace apiclab::render {
 namespace {
@@ -107,7 +107,8 @@ std::string scheme_label(std::string_view key, double flip_alpha,
   const auto it =
       std::find_if(schemes.begin(), schemes.end(), [&](const auto& c) { return c.key == key; });
   if (it == schemes.end()) return render::scheme_label(key);
-  // FLIP's blend α (eq 3), XPIC's m, PolyPIC's modes, ASFLIP's α and β (sim/scheme_label.hpp).
+  // FLIP's blend α (eq 3), XPIC's m, PolyPIC's modes, ASFLIP's α and β
+  // (sim/mpm/schemes/scheme_label.hpp).
   return with_scheme_parameter(render::scheme_label(key), it->value, flip_alpha, parameters);
 }
 

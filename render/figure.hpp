@@ -11,7 +11,7 @@
 #include "render/auto_scale.hpp"
 #include "render/figure_style.hpp"
 #include "render/renderer.hpp"
-#include "sim/scheme_label.hpp"
+#include "sim/mpm/schemes/scheme_label.hpp"
 
 namespace apiclab::render {
 
@@ -30,7 +30,8 @@ float draw_pane_scene(Renderer& r, const Snapshot& s, const View& view, Rect rec
                       const SceneStyle& style);
 
 // "APIC", "FLIP(α=0.95)", "XPIC(3)": a registry key's label with its scheme's parameter
-// (sim/scheme_label.hpp); a key outside the registry as render::scheme_label(key) gives it.
+// (sim/mpm/schemes/scheme_label.hpp); a key outside the registry as render::scheme_label(key) gives
+// it.
 std::string scheme_label(std::string_view key, double flip_alpha,
                          const SchemeParameters& parameters);
 std::string scheme_label(const Snapshot& s);  // of the snapshot's scheme and parameters

@@ -1,7 +1,7 @@
 // The one categorical palette: materials, objects, GUI panes, plot series and the schemes'
 // colours in figures all index it, so index k is the same colour everywhere. Okabe & Ito's
 // colour-blind-safe colours, ordered so that the four schemes (pic, flip, apic, rpic) take
-// the first four. tests/figures_tests.sh repeats the schemes' hex values (a shell script
+// the first four. tests/render/figures_tests.sh repeats the schemes' hex values (a shell script
 // cannot include this); test_render's Palette test pins them to the same strings.
 #pragma once
 #include <cctype>
@@ -26,7 +26,7 @@ constexpr Rgba8 palette_color(int index) {
   return kPalette[((index % kPaletteSize) + kPaletteSize) % kPaletteSize];
 }
 
-// Schemes by their registry key (sim/registry.hpp): the palette slot each one owns.
+// Schemes by their registry key (sim/scene/registry.hpp): the palette slot each one owns.
 struct SchemeLook {
   std::string_view key, label;
   int color;

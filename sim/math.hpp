@@ -49,7 +49,8 @@ bool polar_newton_3d(const Mat<T, 3>& F, Mat<T, 3>& R) {
   for (int it = 0; it < 30; ++it) {
     const Mat<T, 3> cof = cofactor<T, 3>(X);  // X⁻ᵀ = cof(X) / det X
     // Frobenius scaling γ = (‖X⁻¹‖ / ‖X‖)^½ (Higham 1986, Sec 3): a square root, which SIMD
-    // lanes have, where |det X|^(-1/3) needs a scalar cbrt per lane (sim/mpm/simd/stress_lanes.hpp).
+    // lanes have, where |det X|^(-1/3) needs a scalar cbrt per lane
+    // (sim/mpm/simd/stress_lanes.hpp).
     const T gamma = step > T(1e-2)
                         ? std::sqrt(std::sqrt(cof.squaredNorm() / (det * det * X.squaredNorm())))
                         : T(1);

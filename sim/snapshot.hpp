@@ -8,8 +8,8 @@
 #include <string>
 #include <vector>
 
-#include "sim/scene/scene.hpp"
 #include "sim/mpm/schemes/scheme_label.hpp"
+#include "sim/scene/scene.hpp"
 
 namespace apiclab {
 

@@ -23,7 +23,7 @@ endforeach()
 if(TARGET apiclab_imgui_glfw)
   add_test(NAME gui.soak
            COMMAND ${CMAKE_COMMAND} -E env APICLAB=$<TARGET_FILE:apiclab>
-                   bash ${CMAKE_CURRENT_SOURCE_DIR}/gui_soak.sh --seconds 120
+                   bash ${CMAKE_CURRENT_SOURCE_DIR}/gui/gui_soak.sh --seconds 120
                    --out ${CMAKE_CURRENT_BINARY_DIR}/gui-soak)
   # RUN_SERIAL: the frame-gap bound is wall time, and on CI's 2 cores the clang fuzz build beside
   # it starved the viewer to a 1.09 s frame at load 4.9 (0.37 s worst when it runs alone).
@@ -31,7 +31,7 @@ if(TARGET apiclab_imgui_glfw)
                                            SKIP_REGULAR_EXPRESSION "^SKIP:")
   add_test(NAME gui.soak_30min
            COMMAND ${CMAKE_COMMAND} -E env APICLAB=$<TARGET_FILE:apiclab>
-                   bash ${CMAKE_CURRENT_SOURCE_DIR}/gui_soak.sh --seconds 1800
+                   bash ${CMAKE_CURRENT_SOURCE_DIR}/gui/gui_soak.sh --seconds 1800
                    --out ${CMAKE_CURRENT_BINARY_DIR}/gui-soak-30min)
   set_tests_properties(gui.soak_30min PROPERTIES LABELS "gui;soak;slow;extended" TIMEOUT 2400 RUN_SERIAL TRUE
                                                   SKIP_REGULAR_EXPRESSION "^SKIP:")
@@ -41,7 +41,7 @@ endif()
 # as gui.tsan_worker does for the viewer's worker: app code and test instrumented, the solver
 # library as built (each job's simulation is touched by one thread).
 if(NOT APICLAB_TSAN)
-  add_executable(test_app_core_tsan EXCLUDE_FROM_ALL test_app_core.cpp ${CMAKE_SOURCE_DIR}/app/jobs.cpp
+  add_executable(test_app_core_tsan EXCLUDE_FROM_ALL app/test_app_core.cpp ${CMAKE_SOURCE_DIR}/app/jobs.cpp
                                     ${CMAKE_SOURCE_DIR}/app/lockstep.cpp
                                     ${CMAKE_SOURCE_DIR}/app/thread_pool.cpp
                                     ${CMAKE_SOURCE_DIR}/app/frame_loop.cpp

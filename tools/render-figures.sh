@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Prints docs/data/figures.csv as the Markdown table of docs/paper-figures.md: every number of
-# the paper figures that tests/figures_tests.sh recomputes, beside the paper's claim.
+# the paper figures that tests/render/figures_tests.sh recomputes, beside the paper's claim.
 #   tools/render-figures.sh [CSV]        (default docs/data/figures.csv; run from the repo root)
 # Values are written as the test formats them (2e-9, -11.4) and shown as 2·10⁻⁹, −11.4.
 set -euo pipefail

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Prints docs/data/two-ring-energy.csv as the Markdown table of docs/transfer-schemes.md, in the
-# very form `apiclab figures --only scheme-energy` prints it (tests/figures_tests.sh compares
+# very form `apiclab figures --only scheme-energy` prints it (tests/render/figures_tests.sh compares
 # the two line by line).
 #   tools/render-two-ring-energy.sh [CSV]   (default docs/data/two-ring-energy.csv)
 set -euo pipefail

@@ -1,6 +1,6 @@
 // `gui --heartbeat FILE`: after every pass of its event loop (a displayed frame, or a wait for
 // events when nothing new is to be drawn) the viewer rewrites FILE with one line, "FRAME
-// SECONDS" (frames drawn since start, monotonic wall clock), so a watchdog (tests/gui_soak.sh)
+// SECONDS" (frames drawn since start, monotonic wall clock), so a watchdog (tests/gui/gui_soak.sh)
 // sees that the window thread is alive: answering events and drawing what changed. Written to
 // FILE.tmp and renamed, so a reader never sees half a line.
 #pragma once

@@ -81,8 +81,8 @@ std::string pane_label(const PaneState& p) {
     return before + render::scheme_label(p.config.method);
   // The registry's spelling ("PolyPIC"), as the command line and the figures write it.
   std::string s = render::scheme_label(key_of(p.config.scheme));
-  // XPIC's m, PolyPIC's modes, ASFLIP's α and β (sim/mpm/schemes/scheme_label.hpp): scene-wide numbers, so
-  // the last snapshot's hold for the pane's current scheme even right after a switch.
+  // XPIC's m, PolyPIC's modes, ASFLIP's α and β (sim/mpm/schemes/scheme_label.hpp): scene-wide
+  // numbers, so the last snapshot's hold for the pane's current scheme even right after a switch.
   const SchemeParameters parameters = p.snapshot       ? p.snapshot->scheme_parameters
                                       : p.config.scene ? scheme_parameters_of(*p.config.scene)
                                                        : SchemeParameters{};

@@ -25,9 +25,10 @@ namespace apiclab::sweep {
 namespace fs = std::filesystem;
 using figures::ChartCanvas;
 
-// A series' legend with its scheme's parameter, "xpic" -> "xpic(2)" (sim/mpm/schemes/scheme_label.hpp), read
-// from the scenes its runs simulated. Unchanged when they name no scheme with a parameter or
-// disagree (another axis varies the parameter, and names it in the label itself).
+// A series' legend with its scheme's parameter, "xpic" -> "xpic(2)"
+// (sim/mpm/schemes/scheme_label.hpp), read from the scenes its runs simulated. Unchanged when they
+// name no scheme with a parameter or disagree (another axis varies the parameter, and names it in
+// the label itself).
 std::string legend_label(const Series& s, const std::vector<RunResult>& results) {
   std::string key, named;
   for (std::size_t i : s.runs) {

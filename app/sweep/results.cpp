@@ -10,8 +10,8 @@
 #include <sstream>
 
 #include "app/output_file.hpp"
-#include "sim/scene/scene.hpp"
 #include "sim/mpm/schemes/scheme_label.hpp"
+#include "sim/scene/scene.hpp"
 
 namespace apiclab::sweep {
 namespace {
@@ -101,7 +101,8 @@ std::vector<RunResult> collect(const Spec& spec, const Plan& plan, const std::st
 
 namespace {
 
-// The run's scheme with its parameter, "xpic(2)" (sim/mpm/schemes/scheme_label.hpp), or its solver method;
+// The run's scheme with its parameter, "xpic(2)" (sim/mpm/schemes/scheme_label.hpp), or its solver
+// method;
 // "" when its scene cannot be read back.
 std::string scheme_label_of(const PlannedRun& run) {
   try {

@@ -1,6 +1,6 @@
 // A sweep's results: every planned run's record read back, classified (completed / noisy / not
-// converged / blew up / no result) and compared with its reference run (sim/measure/metrics.hpp), then
-// written as DIR/runs.csv, one row per run.
+// converged / blew up / no result) and compared with its reference run (sim/measure/metrics.hpp),
+// then written as DIR/runs.csv, one row per run.
 #pragma once
 #include <limits>
 #include <string>

@@ -9,9 +9,9 @@
 #include <mutex>
 #include <random>
 
-#include "sim/scene/input_file.hpp"
 #include "sim/geometry/mesh_inside.hpp"
 #include "sim/geometry/obj_mesh.hpp"
+#include "sim/scene/input_file.hpp"
 
 namespace apiclab {
 namespace {

@@ -39,9 +39,10 @@ class MeshWinding;
 // shape's rotation about the OBJ's origin. MPM's particles and the EoL rest shape both place it so.
 std::vector<Vec3d> place_mesh_vertices(const ShapeDesc& shape, const ObjMesh& obj);
 
-// A closed triangle mesh placed in the world, with an exact inside test (sim/geometry/mesh_inside.hpp):
-// a point is inside where the surface's winding number is nonzero, so overlapping parts of a
-// mesh fill their union and a surface facing in cuts a cavity; a point on the surface is inside.
+// A closed triangle mesh placed in the world, with an exact inside test
+// (sim/geometry/mesh_inside.hpp): a point is inside where the surface's winding number is nonzero,
+// so overlapping parts of a mesh fill their union and a surface facing in cuts a cavity; a point on
+// the surface is inside.
 class MeshSolid {
  public:
   // Loads an OBJ (load_obj_mesh), scaled, rotated and translated as the shape says.

@@ -44,8 +44,8 @@ class TriangleMesh {
   // Φ = Σ_t A_t Ψ(F_t) + Σ ½ c |x − x⁰|² at positions x (by particle index, idx maps id → index);
   // adds ∂Φ/∂x_p into g (by index) when g is given. +∞ for an inverted neo-Hookean triangle.
   // `terms`, when given, gains the size of the terms Φ sums (its round-off over ε, as for the
-  // particles in sim/mpm/implicit/implicit.hpp): A (λ + 2μ)(|F|² + 1) + A|Ψ| a triangle, c |d| (|d| + |x⁰|)
-  // a spring (d = x − x⁰ cancels to ε |x⁰|).
+  // particles in sim/mpm/implicit/implicit.hpp): A (λ + 2μ)(|F|² + 1) + A|Ψ| a triangle, c |d| (|d|
+  // + |x⁰|) a spring (d = x − x⁰ cancels to ε |x⁰|).
   double energy(const std::vector<V>& x, const std::vector<std::uint32_t>& idx, std::vector<V>* g,
                 double* terms = nullptr) const {
     double e = 0;

@@ -1,6 +1,6 @@
 // What a sweep measures of a run: conservation from its diagnostics rows, and its
 // distance to a reference run from the particle positions at frame times. Pure functions of
-// rows and frames, so they are tested on constructed cases (tests/test_metrics.cpp).
+// rows and frames, so they are tested on constructed cases (tests/measure/test_metrics.cpp).
 #pragma once
 #include <array>
 #include <cstdint>
@@ -10,8 +10,8 @@
 
 namespace apiclab::metrics {
 
-// Conservation over a run, by the drift rule of sim/measure/run_summary.hpp: |ΔE|/E₀; |ΔL|/|L₀|, or the
-// absolute |ΔL| where L₀ counts as zero; |Δp| absolute. Max over every row and at the last row.
+// Conservation over a run, by the drift rule of sim/measure/run_summary.hpp: |ΔE|/E₀; |ΔL|/|L₀|, or
+// the absolute |ΔL| where L₀ counts as zero; |Δp| absolute. Max over every row and at the last row.
 struct Conservation {
   double max_energy = 0, final_energy = 0;
   double max_angular = 0, final_angular = 0;

@@ -1,6 +1,7 @@
-// Grid to particles (eqs 37-40) in the reference step's G2P blocks (sim/reference/reference_step.hpp):
-// gather → the gathered sums → the particle update (velocity, affine matrix) → move the particle
-// (F, x) → the diagnostics terms; g2p_impl runs them over fixed chunks of particles.
+// Grid to particles (eqs 37-40) in the reference step's G2P blocks
+// (sim/reference/reference_step.hpp): gather → the gathered sums → the particle update (velocity,
+// affine matrix) → move the particle (F, x) → the diagnostics terms; g2p_impl runs them over fixed
+// chunks of particles.
 //
 // With u_i = λ v_i + (1 − λ) ṽ_i the moved node is x̃_i = x_i + Δt u_i (eq 30), so
 // x_p^{n+1} = Σ w x̃_i = x_p + Δt Σ w u_i (eq 39) and F^{n+1} = (I + Δt Σ u_i ∇wᵀ) F (eq 40).
@@ -12,13 +13,13 @@
 #include <cmath>
 #include <type_traits>
 
-#include "sim/mpm/simd/deformation_update.hpp"
 #include "sim/mpm/kernel_dispatch.hpp"
 #include "sim/mpm/mpm.hpp"
+#include "sim/mpm/schemes/particle_update.hpp"
+#include "sim/mpm/schemes/polypic.hpp"
+#include "sim/mpm/simd/deformation_update.hpp"
 #include "sim/mpm/simd/particle_move_2d.hpp"
 #include "sim/mpm/simd/stencil_batch.hpp"
-#include "sim/mpm/schemes/polypic.hpp"
-#include "sim/mpm/schemes/particle_update.hpp"
 
 namespace apiclab {
 
@@ -67,7 +68,8 @@ struct G2pPass {
   int polypic_kept, polypic_extra;
   bool polypic_g;
   bool extras;        // the row's terms per particle (the multilinear D_p, PolyPIC's modes)
-  bool tail_batched;  // 2D: F and x a batch of particles at a time (sim/mpm/simd/particle_move_2d.hpp)
+  bool tail_batched;  // 2D: F and x a batch of particles at a time
+                      // (sim/mpm/simd/particle_move_2d.hpp)
   T k_inertia;        // k Δx²
   Vec3d gravity;
 
@@ -283,8 +285,8 @@ struct G2pPass {
     }
   }
 
-  // The particle update: v_p and C_p of scheme S (sim/mpm/schemes/particle_update.hpp). MLS-MPM (Hu et al.
-  // 2018) moves F by its new C: ∇u is replaced.
+  // The particle update: v_p and C_p of scheme S (sim/mpm/schemes/particle_update.hpp). MLS-MPM (Hu
+  // et al. 2018) moves F by its new C: ∇u is replaced.
   __attribute__((always_inline)) void update_particle(std::ptrdiff_t q, const Batch& batch,
                                                       int lane, GatheredSums<T, D>& g) const {
     GatheredVelocity<T, D> gathered{g.pic, g.old, Mat<T, D>::Zero()};
@@ -354,9 +356,10 @@ struct G2pPass {
     return std::isfinite(x.sum() + p.v[q].sum());
   }
 
-  // The diagnostics terms that ChunkTerms::sum cannot form from x, v and C (sim/mpm/particle_sums.hpp):
-  // with the multilinear kernel ½ m tr(C D_p Cᵀ) and m (Bᵀ : ε) at x^{n+1}, and PolyPIC's higher
-  // modes' kinetic energy (sim/mpm/schemes/polypic.hpp); particle q is the chunk's j-th.
+  // The diagnostics terms that ChunkTerms::sum cannot form from x, v and C
+  // (sim/mpm/particle_sums.hpp): with the multilinear kernel ½ m tr(C D_p Cᵀ) and m (Bᵀ : ε) at
+  // x^{n+1}, and PolyPIC's higher modes' kinetic energy (sim/mpm/schemes/polypic.hpp); particle q
+  // is the chunk's j-th.
   __attribute__((always_inline)) void diagnostics_terms(ChunkTerms<T, D, chunk>& terms, int j,
                                                         std::ptrdiff_t q) const {
     const T m = p.mass[q];

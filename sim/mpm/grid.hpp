@@ -9,8 +9,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "sim/mpm/simd/lanes.hpp"
 #include "sim/math.hpp"
+#include "sim/mpm/simd/lanes.hpp"
 #include "sim/scene/scene.hpp"
 
 namespace apiclab {
@@ -89,8 +89,8 @@ struct Grid : GridGeometry<T, D> {
   std::vector<Vec<T, D>> velocity;
   std::vector<Vec<T, D>> velocity_new;  // ṽ_i^{n+1} (eq 29), after the grid update
   std::vector<Vec<T, D>> force;         // f_i (eq 34), after P2G with forces
-  // 1 + 2D lanes per node (sim/mpm/simd/lanes.hpp), two uses in one step (nodes of a stencil row are one
-  // contiguous run the compiler can add or load as whole registers):
+  // 1 + 2D lanes per node (sim/mpm/simd/lanes.hpp), two uses in one step (nodes of a stencil row
+  // are one contiguous run the compiler can add or load as whole registers):
   //   clear_grid → particles_to_grid: the P2G accumulator [m, m v (D), f (D), padding];
   //   grid_to_particles: the packed G2P input [ṽ (D), vⁿ (D), padding] (pack_velocities),
   //   read as its first 2D lanes (GatherLanes).

@@ -9,15 +9,15 @@
 #include <string>
 #include <vector>
 
+#include "sim/geometry/triangle_mesh.hpp"
+#include "sim/materials.hpp"
 #include "sim/mpm/block_partition.hpp"
 #include "sim/mpm/grid.hpp"
 #include "sim/mpm/implicit/implicit_state.hpp"
-#include "sim/materials.hpp"
 #include "sim/mpm/particle_sums.hpp"
 #include "sim/mpm/particles.hpp"
-#include "sim/simulation.hpp"
 #include "sim/mpm/stencil.hpp"
-#include "sim/geometry/triangle_mesh.hpp"
+#include "sim/simulation.hpp"
 
 namespace apiclab {
 
@@ -114,8 +114,8 @@ class MpmSimulation final : public Simulation, public TransferControls {
   Eigen::Vector3d total_force() const;
   double elastic_energy() const;
 
-  // Implicit solve (sim/mpm/implicit/implicit.hpp), public so tests can check E, ∇E and H against finite
-  // differences: implicit_begin after particles_to_grid(false), then energy/Hessian at Δv.
+  // Implicit solve (sim/mpm/implicit/implicit.hpp), public so tests can check E, ∇E and H against
+  // finite differences: implicit_begin after particles_to_grid(false), then energy/Hessian at Δv.
   template <class K>
   void implicit_velocity_update(T dt);
   template <class K>
@@ -218,8 +218,8 @@ class MpmSimulation final : public Simulation, public TransferControls {
   std::vector<Stencil<T, D, LinearKernel>> stencils_linear_;
   std::vector<Stencil<T, D, QuadraticKernel>> stencils_quadratic_;
   std::vector<Stencil<T, D, CubicKernel>> stencils_cubic_;
-  // XPIC(m) only, sized on its first step (sim/mpm/schemes/xpic.hpp): the series term (I − S S⁺)^k vⁿ
-  // and the sum e = Σ_{k=1}^{m−1} of those terms, per grid node; freed by set_scheme.
+  // XPIC(m) only, sized on its first step (sim/mpm/schemes/xpic.hpp): the series term (I − S S⁺)^k
+  // vⁿ and the sum e = Σ_{k=1}^{m−1} of those terms, per grid node; freed by set_scheme.
   std::vector<Vec<T, D>> xpic_term_, xpic_shift_;
   ImplicitSolveState<T, D> imp_;
   NewtonCgReport last_solve_;             // the last grid update's (zero iterations when explicit)

@@ -1,9 +1,9 @@
 // The MPM solver family as a registered method: its constructor (dimension × precision) and
 // the validation of its keys in the scene's `solver` section.
-#include "sim/scene/memory_estimate.hpp"
 #include "sim/method_registry.hpp"
 #include "sim/mpm/mpm.hpp"
 #include "sim/mpm/schemes/polypic.hpp"
+#include "sim/scene/memory_estimate.hpp"
 
 namespace apiclab {
 namespace {

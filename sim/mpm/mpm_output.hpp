@@ -6,9 +6,9 @@
 
 #include "sim/mpm/kernel_dispatch.hpp"
 #include "sim/mpm/mpm.hpp"
-#include "sim/mpm/schemes/scheme_label.hpp"
-#include "sim/mpm/schemes/polypic.hpp"
 #include "sim/mpm/schemes/particle_update.hpp"
+#include "sim/mpm/schemes/polypic.hpp"
+#include "sim/mpm/schemes/scheme_label.hpp"
 
 namespace apiclab {
 

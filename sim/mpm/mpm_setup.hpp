@@ -3,10 +3,10 @@
 #pragma once
 #include <cmath>
 
+#include "sim/geometry/sampling.hpp"
+#include "sim/mpm/implicit/round_off_floor.hpp"
 #include "sim/mpm/kernel_dispatch.hpp"
 #include "sim/mpm/mpm.hpp"
-#include "sim/mpm/implicit/round_off_floor.hpp"
-#include "sim/geometry/sampling.hpp"
 #include "sim/mpm/schemes/polypic.hpp"
 
 namespace apiclab {

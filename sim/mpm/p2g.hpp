@@ -4,9 +4,9 @@
 
 #include "sim/mpm/kernel_dispatch.hpp"
 #include "sim/mpm/mpm.hpp"
+#include "sim/mpm/schemes/polypic.hpp"
 #include "sim/mpm/simd/stencil_batch.hpp"
 #include "sim/mpm/simd/stress_lanes.hpp"
-#include "sim/mpm/schemes/polypic.hpp"
 
 namespace apiclab {
 

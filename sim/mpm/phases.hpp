@@ -9,6 +9,6 @@
 #include "sim/mpm/mpm_setup.hpp"
 #include "sim/mpm/mpm_step.hpp"
 #include "sim/mpm/p2g.hpp"
-#include "sim/time_step_rules.hpp"
 #include "sim/mpm/schemes/particle_update.hpp"
 #include "sim/mpm/schemes/xpic.hpp"
+#include "sim/time_step_rules.hpp"

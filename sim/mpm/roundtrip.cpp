@@ -6,8 +6,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "sim/mpm/mpm.hpp"
 #include "sim/geometry/sampling.hpp"
+#include "sim/mpm/mpm.hpp"
 
 namespace apiclab {
 

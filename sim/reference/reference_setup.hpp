@@ -1,6 +1,6 @@
 // A scene and a solver's particles in the form of the readable reference step
-// (sim/reference/reference_step.hpp): what tests/test_reference_step.cpp compares against and what
-// `apiclab bench --reference` times on the same state. The reference step takes the first
+// (sim/reference/reference_step.hpp): what tests/mpm/test_reference_step.cpp compares against and
+// what `apiclab bench --reference` times on the same state. The reference step takes the first
 // material only, no triangle meshes, and symplectic Euler.
 #pragma once
 #include <cmath>

@@ -1,5 +1,5 @@
-// The readable reference step (sim/reference/reference_step.hpp), compiled once for 2D and 3D in float
-// and double, at the solver's optimisation: the bench compares the two steps built alike.
+// The readable reference step (sim/reference/reference_step.hpp), compiled once for 2D and 3D in
+// float and double, at the solver's optimisation: the bench compares the two steps built alike.
 #include "sim/reference/reference_step.hpp"
 
 namespace apiclab::reference {

@@ -2,7 +2,7 @@
 // Teran 2017 ("An angular momentum conserving affine-particle-in-cell method"), one labelled block
 // each, 2D and 3D, with no SIMD, colouring, sorting or active box. Read this before sim/mpm*.
 // The optimised step (MpmSimulation::step_fixed, symplectic integrator) agrees with it to
-// round-off: tests/test_reference_step.cpp checks every scheme and kernel.
+// round-off: tests/mpm/test_reference_step.cpp checks every scheme and kernel.
 //
 // The step is symplectic Euler, λ = 0 in eqs 27-30:
 //   clear grid → P2G (eqs 1, 24-26, 34) → grid update (eq 29 with gravity) → boundary
@@ -19,8 +19,8 @@
 
 #include "sim/materials.hpp"
 #include "sim/math.hpp"
-#include "sim/scene/registry.hpp"
 #include "sim/mpm/schemes/polypic.hpp"  // the order of PolyPIC's modes only
+#include "sim/scene/registry.hpp"
 
 namespace apiclab::reference {
 
@@ -361,7 +361,8 @@ void step(const Setup<T, D>& s, ParticleState<T, D>& ps, T dt) {
   }
 }
 
-// Compiled once, in sim/reference/reference_step.cpp, for the tests and `apiclab bench --reference`.
+// Compiled once, in sim/reference/reference_step.cpp, for the tests and `apiclab bench
+// --reference`.
 extern template void step<float, 2>(const Setup<float, 2>&, ParticleState<float, 2>&, float);
 extern template void step<double, 2>(const Setup<double, 2>&, ParticleState<double, 2>&, double);
 extern template void step<float, 3>(const Setup<float, 3>&, ParticleState<float, 3>&, float);

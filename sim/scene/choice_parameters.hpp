@@ -1,6 +1,6 @@
 // The scene keys whose value is a word chosen from a registry (sim/scene/registry.hpp) or a switch:
 // each key declared once with what it chooses, its words and the reader's default, for help
-// texts and docs/scene-keys.md (`apiclab docs scene-keys`). Numbers: sim/parameters.hpp.
+// texts and docs/scene-keys.md (`apiclab docs scene-keys`). Numbers: sim/scene/parameters.hpp.
 #pragma once
 #include <string>
 #include <string_view>

@@ -6,14 +6,14 @@
 #include <limits>
 #include <sstream>
 
-#include "sim/mpm/block_partition.hpp"
 #include "sim/eol/rest_shape.hpp"
+#include "sim/geometry/sampling.hpp"
+#include "sim/mpm/block_partition.hpp"
 #include "sim/mpm/grid.hpp"
 #include "sim/mpm/kernels.hpp"
 #include "sim/mpm/particles.hpp"
-#include "sim/geometry/sampling.hpp"
-#include "sim/mpm/stencil.hpp"
 #include "sim/mpm/schemes/polypic.hpp"
+#include "sim/mpm/stencil.hpp"
 
 namespace apiclab {
 namespace {
@@ -84,10 +84,10 @@ double particle_count(const SceneDesc& scene) {
   return n;
 }
 
-// The grid stores only the active box (sim/mpm/grid.hpp, sim/mpm/block_partition.hpp): the blocks of B
-// cells that hold particles, widened by the stencil's reach; periodic axes whole. Estimated from
-// the objects' bounding boxes at the start, so a small object in a huge domain is not refused; a
-// box that grows later (objects flying apart) can exceed it.
+// The grid stores only the active box (sim/mpm/grid.hpp, sim/mpm/block_partition.hpp): the blocks
+// of B cells that hold particles, widened by the stencil's reach; periodic axes whole. Estimated
+// from the objects' bounding boxes at the start, so a small object in a huge domain is not refused;
+// a box that grows later (objects flying apart) can exceed it.
 double grid_nodes(const SceneDesc& scene) {
   const int dim = scene.dim;
   Vec3d lo{}, hi{};

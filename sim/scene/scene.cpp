@@ -8,9 +8,9 @@
 #include <set>
 #include <sstream>
 
+#include "sim/method_registry.hpp"
 #include "sim/scene/input_file.hpp"
 #include "sim/scene/message_text.hpp"
-#include "sim/method_registry.hpp"
 #include "sim/scene/parameters.hpp"
 #include "sim/scene/scene_json.hpp"
 #include "sim/scene/scene_method.hpp"

@@ -1,7 +1,7 @@
 // Scene description: everything a paper scene states, as plain data read from JSON
 // (docs/architecture.md, Scenes). All values are double; the solver converts to its scalar type.
-// A number a scene file sets has its default in the numeric registry (sim/scene/parameters.cpp) alone:
-// SceneDesc() starts from it. A word's default is written here; the choice table reports it.
+// A number a scene file sets has its default in the numeric registry (sim/scene/parameters.cpp)
+// alone: SceneDesc() starts from it. A word's default is written here; the choice table reports it.
 #pragma once
 #include <array>
 #include <cmath>

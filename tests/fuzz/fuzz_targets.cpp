@@ -11,17 +11,18 @@
 #include <string_view>
 #include <vector>
 
-#include "sim/scene/memory_estimate.hpp"
 #include "sim/geometry/sampling.hpp"
+#include "sim/scene/memory_estimate.hpp"
 #include "sim/scene/scene.hpp"
 #include "sim/simulation.hpp"
 
 namespace apiclab::fuzz {
 namespace {
 
-// The app refuses a scene whose memory estimate exceeds the machine (sim/scene/memory_estimate.hpp);
-// the fuzzer's cap is far lower so that an input asking for 1e12 particles must be refused by
-// the estimate, never by the allocator (libFuzzer's -rss_limit_mb catches an estimate too low).
+// The app refuses a scene whose memory estimate exceeds the machine
+// (sim/scene/memory_estimate.hpp); the fuzzer's cap is far lower so that an input asking for 1e12
+// particles must be refused by the estimate, never by the allocator (libFuzzer's -rss_limit_mb
+// catches an estimate too low).
 constexpr double kCapGb = 0.05;
 
 std::string source_dir() { return APICLAB_SOURCE_DIR; }

@@ -2,7 +2,7 @@
 // builds something or fails with one clean SceneError line. Anything else (another exception,
 // a message over several lines or carrying a library's tag) is raised as FuzzFinding, so
 // libFuzzer (tests/fuzz/fuzz_main.cpp) reports it as a crash and the replay test
-// (tests/test_fuzz_regressions.cpp) fails on it; crashes and hangs speak for themselves.
+// (tests/fuzz/test_fuzz_regressions.cpp) fails on it; crashes and hangs speak for themselves.
 #pragma once
 #include <cstddef>
 #include <cstdint>

@@ -12,12 +12,12 @@
 // solver.preconditioner mass is CG on M⁻¹H in the mass inner product (Algorithm 1, Sec 4.2:
 // every CG vector velocity-like, Σ m v kept however early CG stops when no external force
 // acts), block-jacobi inverts H's node blocks and deflates the uniform velocities (Σ m v kept
-// with gravity too). The Newton-CG loop itself is generic (sim/mpm/implicit/newton_cg.hpp); its state lives
-// in ImplicitSolveState (sim/mpm/implicit/implicit_state.hpp).
+// with gravity too). The Newton-CG loop itself is generic (sim/mpm/implicit/newton_cg.hpp); its
+// state lives in ImplicitSolveState (sim/mpm/implicit/implicit_state.hpp).
 #pragma once
-#include "sim/mpm/mpm.hpp"
 #include "sim/mpm/implicit/round_off_floor.hpp"
 #include "sim/mpm/implicit/stress_hessian.hpp"
+#include "sim/mpm/mpm.hpp"
 
 namespace apiclab {
 
@@ -142,7 +142,8 @@ double MpmSimulation<T, D>::implicit_energy(const std::vector<Vec<T, D>>& dv, bo
     e += double(grid_.mass[i]) * (half_dv2 - work);
     kinetic_terms += double(grid_.mass[i]) * (half_dv2 + std::abs(work));
   }
-  // Each term is off by ε_T of its size (sim/mpm/implicit/round_off_floor.hpp): E is known to no better.
+  // Each term is off by ε_T of its size (sim/mpm/implicit/round_off_floor.hpp): E is known to no
+  // better.
   imp_.energy_round_off = double(std::numeric_limits<T>::epsilon()) *
                           ((b > T(0) ? phi_terms / double(b) : 0.0) + kinetic_terms);
   if (gradient) {
@@ -341,7 +342,8 @@ void MpmSimulation<T, D>::implicit_velocity_update(T dt) {
   const double vref =
       std::max({imp_.velocity_ref, velocity_scale_, double(imp_.gravity.norm() * dt)});
   const SolverDesc& sv = scene_.solver;
-  // Tolerances below the scalar type's round-off are raised to it (sim/mpm/implicit/round_off_floor.hpp).
+  // Tolerances below the scalar type's round-off are raised to it
+  // (sim/mpm/implicit/round_off_floor.hpp).
   const RoundOffFloor floor = implicit_round_off_floor<T>(vref, double(dt), scene_.domain.dx,
                                                           max_wave_speed_, double(imp_.b));
   NewtonCgOptions options{std::max(sv.newton_tolerance * vref, floor.newton),

@@ -16,8 +16,8 @@ struct ImplicitSolveState {
   T dt = 0, a = 0, b = 0;
   Vec<T, D> gravity = Vec<T, D>::Zero();
   double mass_sum = 0, velocity_ref = 0;  // Σ m_i, and the mass-weighted RMS of v_i^n
-  double energy_round_off = 0;            // of the last E evaluated (sim/mpm/implicit/round_off_floor.hpp)
-  std::vector<std::uint32_t> active;      // nodes with mass
+  double energy_round_off = 0;  // of the last E evaluated (sim/mpm/implicit/round_off_floor.hpp)
+  std::vector<std::uint32_t> active;               // nodes with mass
   std::vector<ConstrainedNode<T, D>> constraints;  // constraints acting this step
   std::vector<Vec<T, D>> dv, grad;                 // Δv = ṽ − v, ∇E(Δv)
   std::vector<Mat<T, D>> Fy;                       // F_p at the force position y

@@ -1,7 +1,7 @@
-// The smallest Newton and CG tolerances the implicit grid update (sim/mpm/implicit/implicit.hpp) can meet in
-// the scalar type T: a tolerance below them is raised to them, so that float does not spend its
-// Newton and CG caps chasing round-off (torus-drop in float spent its 20 Newton iterations and
-// thousands of CG ones on a free-fall step that double solves in one).
+// The smallest Newton and CG tolerances the implicit grid update (sim/mpm/implicit/implicit.hpp)
+// can meet in the scalar type T: a tolerance below them is raised to them, so that float does not
+// spend its Newton and CG caps chasing round-off (torus-drop in float spent its 20 Newton
+// iterations and thousands of CG ones on a free-fall step that double solves in one).
 //
 // Newton's residual is r = M⁻¹ P ∇E, a velocity (sim/mpm/implicit/newton_cg.hpp), with
 //   M⁻¹∇E_i = Δv_i − Δt g − (Δt / m_i) f_i(y),   f_i = −Σ_p V_p P(F_y) F_pᵀ ∇w_ip.

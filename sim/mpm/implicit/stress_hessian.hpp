@@ -1,5 +1,6 @@
 // A particle's ∂P/∂F as a D²×D² matrix, projected to be positive semi-definite: what the
-// implicit grid update's Hessian product and block-Jacobi preconditioner read (sim/mpm/implicit/implicit.hpp).
+// implicit grid update's Hessian product and block-Jacobi preconditioner read
+// (sim/mpm/implicit/implicit.hpp).
 #pragma once
 #include <Eigen/Cholesky>
 #include <Eigen/Eigenvalues>

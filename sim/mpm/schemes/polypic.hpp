@@ -22,8 +22,8 @@
 #include <tuple>
 #include <vector>
 
-#include "sim/mpm/simd/lanes.hpp"
 #include "sim/math.hpp"
+#include "sim/mpm/simd/lanes.hpp"
 
 namespace apiclab::polypic {
 
@@ -38,7 +38,7 @@ constexpr int kept_modes(int setting, int dim) {
 constexpr int extra_modes(int kept, int dim) { return std::max(0, kept - 1 - dim); }
 // Whether the kept modes reach the G's (past the 2^dim multilinear ones): those blow up on
 // impacts, a property of the method (docs/transfer-schemes.md; the projection reads a
-// node of kernel weight w -> 0 at weight 1/2, tests/test_polypic_g_modes.cpp).
+// node of kernel weight w -> 0 at weight 1/2, tests/mpm/test_polypic_g_modes.cpp).
 constexpr bool keeps_g_modes(int kept, int dim) { return kept > (1 << dim); }
 // How many of C's columns (the linear modes x, y, z in order) are kept.
 constexpr int linear_modes(int kept, int dim) { return std::clamp(kept - 1, 0, dim); }
@@ -169,9 +169,9 @@ void scatter_modes(const St& st, T inv_dx, const std::vector<std::vector<Vec<T, 
   });
 }
 
-// The same transfers in the row form of P2G and G2P (sim/mpm/stencil.hpp, sim/mpm/simd/lanes.hpp), used by
-// the step. A mode is a product of per-axis functions, s_r(k) = Π_a b_a[f_a][k_a], so the sums
-// over the 3^D stencil nodes factorise axis by axis (sum factorisation): the projections of
+// The same transfers in the row form of P2G and G2P (sim/mpm/stencil.hpp, sim/mpm/simd/lanes.hpp),
+// used by the step. A mode is a product of per-axis functions, s_r(k) = Π_a b_a[f_a][k_a], so the
+// sums over the 3^D stencil nodes factorise axis by axis (sum factorisation): the projections of
 // every mode at once cost D contractions of F × 3 terms per node row, not (modes × nodes)
 // products, and each term is one multiply-add on a node's lane group. F is the number of
 // per-axis functions the kept modes reach: 2 (1, u) up to the multilinear modes, 3 with the G's.

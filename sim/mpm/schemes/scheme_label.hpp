@@ -7,9 +7,9 @@
 #include <cstdio>
 #include <string>
 
+#include "sim/mpm/schemes/polypic.hpp"
 #include "sim/scene/registry.hpp"
 #include "sim/scene/scene.hpp"
-#include "sim/mpm/schemes/polypic.hpp"
 
 namespace apiclab {
 

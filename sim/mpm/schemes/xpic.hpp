@@ -11,8 +11,8 @@
 // coefficients of the first cancel catastrophically past m ≈ 30 in double.
 //
 // This file leaves e = v* − vⁿ = Σ_{k=1}^{m−1} (I − A)^k vⁿ per node in xpic_shift_; G2P adds
-// Σ w e_i to v^PIC (sim/mpm/schemes/particle_update.hpp). Each of the m − 1 passes is one particle loop
-// (gather u_p = Σ w u_i, scatter m_p w u_p, coloured as P2G) and one node loop; no allocation
+// Σ w e_i to v^PIC (sim/mpm/schemes/particle_update.hpp). Each of the m − 1 passes is one particle
+// loop (gather u_p = Σ w u_i, scatter m_p w u_p, coloured as P2G) and one node loop; no allocation
 // after the first step.
 #pragma once
 #include "sim/mpm/mpm.hpp"

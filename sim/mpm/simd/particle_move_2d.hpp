@@ -4,15 +4,15 @@
 // lane extractions and compares at the end of a long chain from the gather; across the batch
 // they are a few whole-register operations, and the gathers of the batch's particles no longer
 // wait on one another's ends. Same operations in the same order as the per-particle code, so
-// the results are the same bits (tests/test_particle_move_2d.cpp).
+// the results are the same bits (tests/mpm/simd/test_particle_move_2d.cpp).
 #pragma once
 #include <algorithm>
 #include <cmath>
 #include <cstring>
 
-#include "sim/mpm/simd/soa_transpose.hpp"
-#include "sim/mpm/simd/lanes.hpp"
 #include "sim/math.hpp"
+#include "sim/mpm/simd/lanes.hpp"
+#include "sim/mpm/simd/soa_transpose.hpp"
 
 namespace apiclab {
 

@@ -1,8 +1,9 @@
 // The entries of `count` consecutive small vectors or matrices (n scalars each, column-major as
 // Eigen stores them) as one register per entry, particle l in lane l, and back: how the stress
-// pass (sim/mpm/simd/stress_lanes.hpp), the diagnostics row's sums (sim/mpm/particle_sums.hpp) and the float
-// stencil batches (sim/mpm/simd/stencil_batch.hpp) read the particles' F, x, v and C several particles at
-// a time. Lane by lane these moves were a third of the 2D and a quarter of the 3D stress pass.
+// pass (sim/mpm/simd/stress_lanes.hpp), the diagnostics row's sums (sim/mpm/particle_sums.hpp) and
+// the float stencil batches (sim/mpm/simd/stencil_batch.hpp) read the particles' F, x, v and C
+// several particles at a time. Lane by lane these moves were a third of the 2D and a quarter of the
+// 3D stress pass.
 #pragma once
 #include <utility>
 

@@ -3,17 +3,17 @@
 // products per axis, about a fifth of G2P in 2D float when done per particle.
 // Same operations per lane as Stencil::compute; the results agree to the rounding of x / Δx,
 // not bit for bit, because GCC fuses (x − origin) / Δx into the following adds (FMA) in one and
-// not always in the other (tests/test_stencil_batch.cpp). G2P, P2G and the stencils P2G keeps
-// for the implicit solve and mesh forces come from here; XPIC's and PolyPIC's extra passes and
-// the diagnostics still use Stencil::compute. In 3D the rows' products are formed here too.
+// not always in the other (tests/mpm/simd/test_stencil_batch.cpp). G2P, P2G and the stencils P2G
+// keeps for the implicit solve and mesh forces come from here; XPIC's and PolyPIC's extra passes
+// and the diagnostics still use Stencil::compute. In 3D the rows' products are formed here too.
 #pragma once
 #include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <type_traits>
 
-#include "sim/mpm/simd/soa_transpose.hpp"
 #include "sim/mpm/simd/lanes.hpp"
+#include "sim/mpm/simd/soa_transpose.hpp"
 #include "sim/mpm/stencil.hpp"
 
 namespace apiclab {
@@ -39,10 +39,10 @@ struct StencilBatch {
   void compute(const Vec<T, D>* x, int count, const GridGeometry<T, D>& g) {
     using One = Stencil<T, D, K>;
     // x's entries per axis. A whole float batch a register of particles at a time
-    // (sim/mpm/simd/soa_transpose.hpp): copied lane by lane, they were 16 scalar copies and compares an axis,
-    // and the vector loads of the axis loop below waited on those stores (a failed store
-    // forward). Double keeps the copies: GCC floors its 4 lanes one by one from the scalars,
-    // which forward, and the register loads were slower there.
+    // (sim/mpm/simd/soa_transpose.hpp): copied lane by lane, they were 16 scalar copies and
+    // compares an axis, and the vector loads of the axis loop below waited on those stores (a
+    // failed store forward). Double keeps the copies: GCC floors its 4 lanes one by one from the
+    // scalars, which forward, and the register loads were slower there.
     alignas(64) T xs[D][L];
     const bool by_registers = sizeof(T) == 4 && count == L;
     if constexpr (sizeof(T) == 4) {

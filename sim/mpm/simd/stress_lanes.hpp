@@ -9,9 +9,9 @@
 #include <limits>
 #include <utility>
 
-#include "sim/mpm/simd/soa_transpose.hpp"
-#include "sim/mpm/simd/lanes.hpp"
 #include "sim/math.hpp"
+#include "sim/mpm/simd/lanes.hpp"
+#include "sim/mpm/simd/soa_transpose.hpp"
 
 namespace apiclab {
 
