@@ -15,6 +15,7 @@
 #include "app/cli_checks.hpp"
 #include "app/set_conflicts.hpp"
 #include "sim/method_registry.hpp"
+#include "sim/scene/choice_parameters.hpp"
 #include "sim/scene/input_file.hpp"
 #include "sim/scene/memory_estimate.hpp"
 #include "sim/scene/message_text.hpp"
@@ -55,6 +56,18 @@ std::string parameter_table() {
   std::string out = "Numeric scene keys (--set KEY=VALUE; * is a material index or an axis):\n";
   for (const auto& p : numeric_parameters())
     out += "  " + std::string(p.key) + "  " + std::string(p.label) + ": " + p.describe() + "\n";
+  return out;
+}
+
+std::string choice_table() {
+  std::string out = "\nWord and switch scene keys (--set KEY=WORD; * is an index):\n";
+  for (const ChoiceParameter& c : choice_parameters()) {
+    std::string words;
+    for (const ChoiceOption& o : c.options) words += (words.empty() ? "" : ", ") + o.key;
+    out += "  " + std::string(c.key) + "  " + std::string(c.what) + ": " + words +
+           " [default: " + (c.default_key.empty() ? "required" : c.default_key) +
+           (c.method.empty() ? "" : "; solver.method " + std::string(c.method)) + "]\n";
+  }
   return out;
 }
 
@@ -118,7 +131,7 @@ void add_run_options(CLI::App* cmd, RunOptions& o, RunOptionSet which) {
                   "default: 1e6]")
       ->check(number_above(0));
   if (which.quiet) cmd->add_flag("--quiet", o.quiet, "no progress line [default: off]");
-  cmd->footer(scheme_table() + parameter_table());
+  cmd->footer(scheme_table() + parameter_table() + choice_table());
 }
 
 std::vector<DumpFormat> dump_formats_of(const RunOptions& o, bool particles) {
@@ -206,7 +219,7 @@ std::vector<std::string> option_overrides(const RunOptions& o) {
 // with an implicit integrator): an error naming the option and the fix, not the file's key.
 static void check_scheme_options(const RunOptions& o, const SceneMethod& m) {
   if (o.scheme.empty() && o.kernel.empty() && o.integrator.empty()) return;
-  SolverDesc v;
+  SolverDesc v = SceneDesc().solver;  // the registry's defaults
   try {
     if (!m.scheme.empty()) v.scheme = parse_choice(scheme_choices(), m.scheme, "scheme");
     if (!m.kernel.empty()) v.kernel = parse_choice(kernel_choices(), m.kernel, "kernel");

@@ -143,10 +143,9 @@ void check_numeric_option(const std::string& flag, std::string_view key, double 
   int index = 0;
   const NumericParameter* p = find_parameter(key, &index);
   if (!p) throw std::logic_error("no numeric parameter " + std::string(key));
-  if (!parameter_error(*p, index, value, "")) return;
-  throw UsageError(flag + " " + format_value(value) + ": " + std::string(p->label) +
-                   " is outside the allowed range " + p->range.text() + " (scene key '" +
-                   std::string(key) + "')");
+  // The registry's message, as --set KEY=VALUE and the GUI give it, naming the flag for the file.
+  if (auto e = parameter_error(*p, index, value, flag + " " + format_value(value)))
+    throw UsageError(*e);
 }
 
 void check_run_options(const RunOptions& o) {

@@ -24,9 +24,9 @@ void check_option_kinds(CLI::App& app);
 // The candidate nearest to `word` by edit distance, if near enough to be a typo; else "".
 std::string nearest(const std::string& word, const std::vector<std::string>& candidates);
 
-// A numeric option against its scene key's range in the parameter registry; the message names
-// the option: "--t-end nan: end time is outside the allowed range (0, inf) (scene key
-// 'time.end')".
+// A numeric option against its scene key's range in the parameter registry, with the message
+// --set KEY=VALUE and the GUI give, naming the option where they name the file: "--t-end nan: key
+// 'time.end': end time nan is outside the allowed range (0, inf)".
 void check_numeric_option(const std::string& flag, std::string_view key, double value);
 
 // Each numeric option of `o`, and --frames with --t-end.

@@ -4,7 +4,6 @@
 #include "sim/eol/eol_positions.hpp"
 #include "sim/eol/eol_simulation.hpp"
 #include "sim/method_registry.hpp"
-#include "sim/scene/choice_parameters.hpp"
 #include "sim/scene/memory_estimate.hpp"
 
 namespace apiclab {
@@ -17,11 +16,9 @@ std::unique_ptr<Simulation> make_eol_family(const SceneDesc& scene, bool lagrang
   return std::make_unique<eol::EolSimulation<double, 3>>(scene, lagrangian);
 }
 
-// The numbers are read by now (the registry's keys of each method); ranges are checked once, for
-// every method, by validate() (sim/scene/parameters.hpp).
-void validate_eol_family(SceneSection& r, SceneDesc& s) {
-  auto& e = s.solver.eol;
-  e.contact = r.choice("contact", eol_contact_choices(), e.contact, "contact");
+// The words and numbers are read by now (the registries' keys of each method); ranges are checked
+// once, for every method, by validate() (sim/scene/parameters.hpp).
+void validate_eol_family(SceneSection&, SceneDesc& s) {
   for (int a = 0; a < s.dim; ++a)
     if (s.domain.periodic(a))
       throw SceneError(s.source + ": key 'domain.boundary': the " + s.solver.method +

@@ -18,28 +18,21 @@ std::unique_ptr<Simulation> make_mpm(const SceneDesc& scene, Precision precision
                 : std::unique_ptr<Simulation>(new MpmSimulation<double, 3>(scene));
 }
 
-// The numbers are read by now (the registry's keys of method mpm); ranges are checked once, for
-// every method, by validate() (sim/scene/parameters.hpp).
+// The words and numbers are read by now (the registries' keys of method mpm); ranges are checked
+// once, for every method, by validate() (sim/scene/parameters.hpp). What is left is how they
+// combine.
 void validate_mpm(SceneSection& r, SceneDesc& s) {
-  auto& v = s.solver;
-  v.scheme = r.choice("scheme", scheme_choices(), v.scheme, "scheme");
-  v.kernel = r.choice("kernel", kernel_choices(), v.kernel, "kernel");
+  const auto& v = s.solver;
   if (v.kernel == KernelType::linear && s.time.rule == DtRule::cfl)  // see sim/time_step_rules.hpp
     r.fail("kernel",
            "the 'cfl' time-step rule needs the quadratic or cubic kernel (Sec 4.3 bounds D_p^-1 "
            "(x_i - x_p) "
            "only when D_p = k dx^2 I; Sec 5.9)");
-  v.apic_linear_form = r.choice("apic_linear_form", apic_linear_form_choices(), v.apic_linear_form,
-                                "APIC linear form");
-  v.integrator = r.choice("integrator", integrator_choices(), v.integrator, "integrator");
-  v.preconditioner = r.choice("preconditioner", cg_preconditioner_choices(), v.preconditioner,
-                              "CG preconditioner");
   if (v.scheme == Scheme::polypic && v.polypic_modes > polypic::full_modes(s.dim))
     r.fail("polypic_modes", "PolyPIC has " + std::to_string(polypic::full_modes(s.dim)) +
                                 " modes in " + std::to_string(s.dim) + "D (got " +
                                 std::to_string(v.polypic_modes) + ")");
   if (const std::string why = scheme_conflict(v); !why.empty()) r.fail("scheme", why);
-  v.stop_on_nonconvergence = r.boolean("stop_on_nonconvergence", v.stop_on_nonconvergence);
 }
 
 }  // namespace

@@ -1,9 +1,12 @@
 #include "sim/scene/choice_parameters.hpp"
 
 #include "sim/method_registry.hpp"
+#include "sim/scene/parameters.hpp"
 
 namespace apiclab {
 namespace {
+
+using S = SceneDesc;
 
 template <class E>
 std::vector<ChoiceOption> options_of(const std::vector<Choice<E>>& choices) {
@@ -28,52 +31,142 @@ std::vector<ChoiceOption> switch_options(std::string_view on, std::string_view o
   return {{"true", std::string(on)}, {"false", std::string(off)}};
 }
 
+bool switch_value(std::string_view word) {
+  if (word != "true" && word != "false")
+    throw std::invalid_argument("expected true or false, got '" + message_text(std::string(word)) +
+                                "'");
+  return word == "true";
+}
+
 std::string word(bool b) { return b ? "true" : "false"; }
 
+std::string solver_method(std::string_view word) {
+  const std::string name(word);
+  if (find_method(name)) return name;
+  std::string names;
+  for (const std::string& n : method_names()) names += (names.empty() ? "" : ", ") + n;
+  throw std::invalid_argument("unknown solver method '" + message_text(name) +
+                              "' (one of: " + names + ")");
+}
+
 std::vector<ChoiceParameter> make_table() {
-  const SceneDesc d;  // the reader's defaults
-  const auto& sv = d.solver;
   return {
       {"domain.boundary", "every wall's condition, or an object of walls x-, x+, y-, y+, z-, z+",
-       std::string(key_of(BoundaryCondition::slip)), "", options_of(boundary_choices())},
-      {"time.dt.rule", "time-step rule", std::string(key_of(d.time.rule)), "",
-       options_of(dt_rule_choices())},
+       "slip", "", options_of(boundary_choices()),
+       [](S& s, int, std::string_view w) {
+         s.domain.walls.fill(parse_choice(boundary_choices(), w, "boundary condition"));
+       },
+       [](const S& s, int) { return std::string(key_of(s.domain.walls[0])); }},
+      {"time.dt.rule", "time-step rule", "elastic", "", options_of(dt_rule_choices()),
+       [](S& s, int, std::string_view w) {
+         s.time.rule = parse_choice(dt_rule_choices(), w, "time-step rule");
+       },
+       [](const S& s, int) { return std::string(key_of(s.time.rule)); }},
       {"time.dt.land_on_frames", "fixed rule: shorten the steps that would pass a frame time",
-       word(d.time.land_on_frames), "",
-       switch_options("frames exactly on f/fps", "the frame is the step at or just past f/fps")},
-      {"solver.method", "solver family", sv.method, "", method_options()},
-      {"solver.scheme", "transfer scheme", std::string(key_of(sv.scheme)), "mpm",
-       options_of(scheme_choices())},
-      {"solver.kernel", "interpolation kernel", std::string(key_of(sv.kernel)), "mpm",
-       options_of(kernel_choices())},
-      {"solver.integrator", "grid update", std::string(key_of(sv.integrator)), "mpm",
-       options_of(integrator_choices())},
-      {"solver.apic_linear_form", "APIC's C with the multilinear kernel",
-       std::string(key_of(sv.apic_linear_form)), "mpm", options_of(apic_linear_form_choices())},
-      {"solver.preconditioner", "CG preconditioner of the implicit solve",
-       std::string(key_of(sv.preconditioner)), "mpm", options_of(cg_preconditioner_choices())},
+       "false", "",
+       switch_options("frames exactly on f/fps", "the frame is the step at or just past f/fps"),
+       [](S& s, int, std::string_view w) { s.time.land_on_frames = switch_value(w); },
+       [](const S& s, int) { return word(s.time.land_on_frames); }},
+      {"solver.method", "solver family", "mpm", "", method_options(),
+       [](S& s, int, std::string_view w) { s.solver.method = solver_method(w); },
+       [](const S& s, int) { return s.solver.method; }},
+      {"solver.scheme", "transfer scheme", "apic", "mpm", options_of(scheme_choices()),
+       [](S& s, int, std::string_view w) {
+         s.solver.scheme = parse_choice(scheme_choices(), w, "scheme");
+       },
+       [](const S& s, int) { return std::string(key_of(s.solver.scheme)); }},
+      {"solver.kernel", "interpolation kernel", "quadratic", "mpm", options_of(kernel_choices()),
+       [](S& s, int, std::string_view w) {
+         s.solver.kernel = parse_choice(kernel_choices(), w, "kernel");
+       },
+       [](const S& s, int) { return std::string(key_of(s.solver.kernel)); }},
+      {"solver.integrator", "grid update", "symplectic", "mpm", options_of(integrator_choices()),
+       [](S& s, int, std::string_view w) {
+         s.solver.integrator = parse_choice(integrator_choices(), w, "integrator");
+       },
+       [](const S& s, int) { return std::string(key_of(s.solver.integrator)); }},
+      {"solver.apic_linear_form", "APIC's C with the multilinear kernel", "lagged", "mpm",
+       options_of(apic_linear_form_choices()),
+       [](S& s, int, std::string_view w) {
+         s.solver.apic_linear_form =
+             parse_choice(apic_linear_form_choices(), w, "APIC linear form");
+       },
+       [](const S& s, int) { return std::string(key_of(s.solver.apic_linear_form)); }},
+      {"solver.preconditioner", "CG preconditioner of the implicit solve", "block-jacobi", "mpm",
+       options_of(cg_preconditioner_choices()),
+       [](S& s, int, std::string_view w) {
+         s.solver.preconditioner =
+             parse_choice(cg_preconditioner_choices(), w, "CG preconditioner");
+       },
+       [](const S& s, int) { return std::string(key_of(s.solver.preconditioner)); }},
       {"solver.stop_on_nonconvergence", "a missed implicit tolerance ends the run (exit 3)",
-       word(sv.stop_on_nonconvergence), "mpm",
-       switch_options("stop with exit 3", "count it and carry on")},
-      {"solver.contact", "contact rows against walls and colliders",
-       std::string(choice_key(eol_contact_choices(), sv.eol.contact)), "eol eulerian",
-       options_of(eol_contact_choices())},
-      {"materials.*.model", "constitutive model", std::string(key_of(MaterialDesc{}.model)), "",
-       options_of(material_choices())},
-      {"objects.*.shape.type", "shape", "", "", options_of(shape_choices())},
-      {"objects.*.sampling.type", "how the shape is filled with particles",
-       std::string(choice_key(sampling_choices(), SamplingDesc{}.type)), "",
-       options_of(sampling_choices())},
-      {"colliders.*.condition", "the plane's condition",
-       std::string(key_of(ColliderDesc{}.condition)), "", collider_options()},
+       "false", "mpm", switch_options("stop with exit 3", "count it and carry on"),
+       [](S& s, int, std::string_view w) { s.solver.stop_on_nonconvergence = switch_value(w); },
+       [](const S& s, int) { return word(s.solver.stop_on_nonconvergence); }},
+      {"solver.contact", "contact rows against walls and colliders", "surface", "eol eulerian",
+       options_of(eol_contact_choices()),
+       [](S& s, int, std::string_view w) {
+         s.solver.eol.contact = parse_choice(eol_contact_choices(), w, "contact");
+       },
+       [](const S& s, int) {
+         return std::string(choice_key(eol_contact_choices(), s.solver.eol.contact));
+       }},
+      {"materials.*.model", "constitutive model", "neo-hookean", "", options_of(material_choices()),
+       [](S& s, int i, std::string_view w) {
+         s.materials[size_t(i)].model = parse_choice(material_choices(), w, "material model");
+       },
+       [](const S& s, int i) { return std::string(key_of(s.materials[size_t(i)].model)); }},
+      {"objects.*.shape.type", "shape", "", "", options_of(shape_choices()),
+       [](S& s, int i, std::string_view w) {
+         s.objects[size_t(i)].shape.type = parse_choice(shape_choices(), w, "shape");
+       },
+       [](const S& s, int i) {
+         return std::string(choice_key(shape_choices(), s.objects[size_t(i)].shape.type));
+       }},
+      {"objects.*.sampling.type", "how the shape is filled with particles", "ppc", "",
+       options_of(sampling_choices()),
+       [](S& s, int i, std::string_view w) {
+         s.objects[size_t(i)].sampling.type = parse_choice(sampling_choices(), w, "sampling");
+       },
+       [](const S& s, int i) {
+         return std::string(choice_key(sampling_choices(), s.objects[size_t(i)].sampling.type));
+       }},
+      // Periodic is parsed (the reader refuses it on a collider by name) but not offered.
+      {"colliders.*.condition", "the plane's condition", "slip", "", collider_options(),
+       [](S& s, int i, std::string_view w) {
+         s.colliders[size_t(i)].condition =
+             parse_choice(boundary_choices(), w, "boundary condition");
+       },
+       [](const S& s, int i) { return std::string(key_of(s.colliders[size_t(i)].condition)); }},
   };
 }
 
 }  // namespace
 
+std::string ChoiceParameter::key_at(int index) const {
+  std::string k(key);
+  if (const auto star = k.find('*'); star != std::string::npos)
+    k.replace(star, 1, std::to_string(index));
+  return k;
+}
+
+bool ChoiceParameter::is_switch() const {
+  return options.size() == 2 && options[0].key == "true" && options[1].key == "false";
+}
+
+bool ChoiceParameter::read_by(std::string_view solver_method) const {
+  return method_listed(method, solver_method);
+}
+
 const std::vector<ChoiceParameter>& choice_parameters() {
   static const std::vector<ChoiceParameter> table = make_table();
   return table;
+}
+
+const ChoiceParameter* find_choice(std::string_view key, int* index) {
+  for (const ChoiceParameter& c : choice_parameters())
+    if (key_matches(c.key, key, index)) return &c;
+  return nullptr;
 }
 
 const std::vector<Choice<EolSolverDesc::Contact>>& eol_contact_choices() {

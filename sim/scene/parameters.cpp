@@ -6,6 +6,8 @@
 #include <limits>
 #include <sstream>
 
+#include "sim/scene/choice_parameters.hpp"
+
 namespace apiclab {
 namespace {
 
@@ -400,14 +402,18 @@ std::string NumericParameter::describe() const {
          (integer ? ", integer" : "") + "; default: " + default_text() + "]";
 }
 
-bool NumericParameter::read_by(std::string_view solver_method) const {
-  if (method.empty()) return true;
-  for (std::size_t at = 0; at <= method.size();) {
-    const std::size_t end = std::min(method.find(' ', at), method.size());
-    if (method.substr(at, end - at) == solver_method) return true;
+bool method_listed(std::string_view methods, std::string_view solver_method) {
+  if (methods.empty()) return true;
+  for (std::size_t at = 0; at <= methods.size();) {
+    const std::size_t end = std::min(methods.find(' ', at), methods.size());
+    if (methods.substr(at, end - at) == solver_method) return true;
     at = end + 1;
   }
   return false;
+}
+
+bool NumericParameter::read_by(std::string_view solver_method) const {
+  return method_listed(method, solver_method);
 }
 
 const std::vector<NumericParameter>& numeric_parameters() {
@@ -415,28 +421,31 @@ const std::vector<NumericParameter>& numeric_parameters() {
   return all;
 }
 
-const NumericParameter* find_parameter(std::string_view key, int* index) {
-  for (const auto& p : numeric_parameters()) {
-    const auto star = p.key.find('*');
-    if (star == std::string_view::npos) {
-      if (key != p.key) continue;
-      if (index) *index = 0;
-      return &p;
-    }
-    const std::string_view head = p.key.substr(0, star), tail = p.key.substr(star + 1);
-    if (key.size() <= head.size() + tail.size() || key.substr(0, head.size()) != head ||
-        key.substr(key.size() - tail.size()) != tail)
-      continue;
-    const std::string_view middle = key.substr(head.size(), key.size() - head.size() - tail.size());
-    if (middle == "*") {
-      if (index) *index = 0;
-      return &p;
-    }
-    if (middle.find_first_not_of("0123456789") != std::string_view::npos || middle.size() > 6)
-      continue;
-    if (index) *index = std::stoi(std::string(middle));
-    return &p;
+bool key_matches(std::string_view pattern, std::string_view key, int* index) {
+  const auto star = pattern.find('*');
+  if (star == std::string_view::npos) {
+    if (key != pattern) return false;
+    if (index) *index = 0;
+    return true;
   }
+  const std::string_view head = pattern.substr(0, star), tail = pattern.substr(star + 1);
+  if (key.size() <= head.size() + tail.size() || key.substr(0, head.size()) != head ||
+      key.substr(key.size() - tail.size()) != tail)
+    return false;
+  const std::string_view middle = key.substr(head.size(), key.size() - head.size() - tail.size());
+  if (middle == "*") {
+    if (index) *index = 0;
+    return true;
+  }
+  if (middle.find_first_not_of("0123456789") != std::string_view::npos || middle.size() > 6)
+    return false;
+  if (index) *index = std::stoi(std::string(middle));
+  return true;
+}
+
+const NumericParameter* find_parameter(std::string_view key, int* index) {
+  for (const auto& p : numeric_parameters())
+    if (key_matches(p.key, key, index)) return &p;
   return nullptr;
 }
 
@@ -449,13 +458,15 @@ std::optional<std::string> parameter_error(const NumericParameter& p, int index,
          (p.integer ? " (integers)" : "");
 }
 
-// Numbers start at the registry's defaults; an optional key (is_set) starts unset.
+// Numbers and words start at the registries' defaults; an optional key (is_set) starts unset.
 SceneDesc::SceneDesc() {
   for (const NumericParameter& p : numeric_parameters()) {
     if (p.is_set) continue;
     const int n = p.count ? p.count(*this) : 1;
     for (int i = 0; i < n; ++i) p.set(*this, i, p.default_value);
   }
+  for (const ChoiceParameter& c : choice_parameters())
+    if (c.key.find('*') == std::string_view::npos) c.set(*this, 0, c.default_key);
 }
 
 void validate(const SceneDesc& s) {

@@ -58,6 +58,13 @@ struct NumericParameter {
 
 const std::vector<NumericParameter>& numeric_parameters();
 
+// Whether a key's method list ("mpm", "eol eulerian"; "" every method) names `solver_method`.
+bool method_listed(std::string_view methods, std::string_view solver_method);
+
+// Whether `key` ("materials.0.E", "materials.*.E") is the registry key `pattern`
+// ("materials.*.E"), and the index its '*' stands for (0 when none).
+bool key_matches(std::string_view pattern, std::string_view key, int* index = nullptr);
+
 // A key like "materials.0.E" or "solver.flip_alpha" (or a pattern "materials.*.E"): the
 // parameter and the index its '*' stands for (0 when none). Null when the key is not numeric.
 const NumericParameter* find_parameter(std::string_view key, int* index = nullptr);

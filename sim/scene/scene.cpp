@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "sim/method_registry.hpp"
+#include "sim/scene/choice_parameters.hpp"
 #include "sim/scene/input_file.hpp"
 #include "sim/scene/message_text.hpp"
 #include "sim/scene/parameters.hpp"
@@ -176,65 +177,71 @@ void read_numbers(Reader& r, SceneDesc& s, std::string_view prefix, int index = 
   }
 }
 
-void read_domain(Reader r, SceneDesc& s) {
-  auto& d = s.domain;
-  read_numbers(r, s, "domain.");
-  d.walls.fill(BoundaryCondition::slip);
-  if (r.has("boundary")) {
-    const json& b = r.raw("boundary");
-    if (b.is_string()) {
-      BoundaryCondition bc;
-      try {
-        bc = parse_choice(boundary_choices(), b.get<std::string>(), "boundary condition");
-      } catch (const std::invalid_argument& e) {
-        r.fail("boundary", e.what());
-      }
-      d.walls.fill(bc);
-    } else {
-      Reader br(b, r.join("boundary"), r.file());
-      const char* names[6] = {"x-", "x+", "y-", "y+", "z-", "z+"};
-      for (int w = 0; w < 2 * s.dim; ++w)
-        d.walls[w] =
-            br.choice(names[w], boundary_choices(), BoundaryCondition::slip, "boundary condition");
-      for (int a = 0; a < s.dim; ++a)
-        if ((d.walls[2 * a] == BoundaryCondition::periodic) !=
-            (d.walls[2 * a + 1] == BoundaryCondition::periodic))
-          r.fail("boundary", "periodic must be set on both walls of an axis");
+// The registry's words and switches of one section, as read_numbers reads its numbers: each one
+// the section gives is a word of the key's list (a switch: true or false), one it leaves out is
+// refused when the registry has no default, else keeps the default. A method's keys are read
+// once solver.method, the solver section's first, is known.
+void read_choices(Reader& r, SceneDesc& s, std::string_view prefix, int index = 0) {
+  for (const ChoiceParameter& p : choice_parameters()) {
+    if (!p.key.starts_with(prefix) || !p.read_by(s.solver.method)) continue;
+    const std::string key(p.key.substr(prefix.size()));
+    if (key.find('.') != std::string::npos) continue;  // a key of a child section
+    if (!r.has(key)) {
+      if (p.default_key.empty()) r.fail(key, "required key is missing");
+      p.set(s, index, p.default_key);
+      continue;
+    }
+    const std::string word =
+        p.is_switch() ? (r.boolean(key, false) ? "true" : "false") : r.string(key, "");
+    try {
+      p.set(s, index, word);
+    } catch (const std::invalid_argument& e) {
+      r.fail(key, e.what());
     }
   }
 }
 
+// domain.boundary: a word for every wall (the registry's key), or an object of walls each
+// defaulting to the registry's word.
+void read_domain(Reader r, SceneDesc& s) {
+  auto& d = s.domain;
+  read_numbers(r, s, "domain.");
+  if (!r.has("boundary") || r.raw("boundary").is_string()) return read_choices(r, s, "domain.");
+  find_choice("domain.boundary")->set(s, 0, find_choice("domain.boundary")->default_key);
+  Reader br(r.raw("boundary"), r.join("boundary"), r.file());
+  const char* names[6] = {"x-", "x+", "y-", "y+", "z-", "z+"};
+  for (int w = 0; w < 2 * s.dim; ++w)
+    d.walls[w] = br.choice(names[w], boundary_choices(), d.walls[w], "boundary condition");
+  for (int a = 0; a < s.dim; ++a)
+    if ((d.walls[2 * a] == BoundaryCondition::periodic) !=
+        (d.walls[2 * a + 1] == BoundaryCondition::periodic))
+      r.fail("boundary", "periodic must be set on both walls of an axis");
+}
+
 void read_time(Reader r, SceneDesc& s) {
-  auto& t = s.time;
   read_numbers(r, s, "time.");
   if (r.has("dt")) {
     Reader d = r.child("dt");
-    t.rule = d.choice("rule", dt_rule_choices(), t.rule, "time-step rule");
+    read_choices(d, s, "time.dt.");
     read_numbers(d, s, "time.dt.");  // after the rule, which decides whether value is required
-    t.land_on_frames = d.boolean("land_on_frames", t.land_on_frames);
   }
 }
 
-// The solver section: `method` picks the solver family, whose validate hook reads the rest.
-// `left_out`: the file's keys of another method, when `--set solver.method` switched it.
+// The solver section: `method` picks the solver family, whose keys the registries name; its
+// validate hook checks how they combine. `left_out`: the file's keys of another method, when
+// `--set solver.method` switched it.
 void read_solver(Reader r, SceneDesc& s, const std::set<std::string>& left_out) {
-  s.solver.method = r.string("method", s.solver.method);
-  const SolverMethod* method = find_method(s.solver.method);
-  if (!method) {
-    std::string names;
-    for (const std::string& n : method_names()) names += (names.empty() ? "" : ", ") + n;
-    r.fail("method", "unknown solver method '" + s.solver.method + "' (one of: " + names + ")");
-  }
+  read_choices(r, s, "solver.");
   read_numbers(r, s, "solver.");  // the hook's checks see the scene's numbers
   SectionOf section(r);
-  method->validate(section, s);
+  find_method(s.solver.method)->validate(section, s);
   for (const std::string& key : left_out) r.accept(key);
 }
 
 void read_material(Reader r, SceneDesc& s, int index) {
   MaterialDesc& m = s.materials.emplace_back();
   m.name = r.string("name", "material" + std::to_string(index));
-  m.model = r.choice("model", material_choices(), m.model, "material model");
+  read_choices(r, s, "materials.*.", index);
   read_numbers(r, s, "materials.*.", index);
 }
 
@@ -247,14 +254,11 @@ double random_rotation_degrees(std::uint64_t seed) {
 
 double norm(const Vec3d& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
 
-ShapeDesc read_shape(Reader r, int dim) {
-  ShapeDesc sh;
-  std::string type = r.string("type", "", true);
-  try {
-    sh.type = parse_choice(shape_choices(), type, "shape");
-  } catch (const std::invalid_argument& e) {
-    r.fail("type", e.what());
-  }
+// Object `index`'s shape, its type read through the registry.
+void read_shape(Reader r, SceneDesc& s, int index) {
+  read_choices(r, s, "objects.*.shape.", index);
+  ShapeDesc& sh = s.objects[size_t(index)].shape;
+  const int dim = s.dim;
   switch (sh.type) {
     case ShapeType::box:
       sh.min = r.vec("min", {0, 0, 0}, dim, true);
@@ -305,17 +309,12 @@ ShapeDesc read_shape(Reader r, int dim) {
       sh.rotation_degrees = rot.number("degrees", 0, true);
     }
   }
-  return sh;
 }
 
-SamplingDesc read_sampling(Reader r) {
-  SamplingDesc s;
-  std::string type = r.string("type", "ppc");
-  try {
-    s.type = parse_choice(sampling_choices(), type, "sampling");
-  } catch (const std::invalid_argument& e) {
-    r.fail("type", e.what());
-  }
+// Object `index`'s sampling, its type read through the registry.
+void read_sampling(Reader r, SceneDesc& scene, int index) {
+  read_choices(r, scene, "objects.*.sampling.", index);
+  SamplingDesc& s = scene.objects[size_t(index)].sampling;
   if (s.type == SamplingType::lattice || s.type == SamplingType::triangulated)
     s.spacing = r.positive("spacing", 0, true);
   if (s.type == SamplingType::ppc) {
@@ -330,13 +329,13 @@ SamplingDesc read_sampling(Reader r) {
     if (seed < 0) r.fail("seed", "expected a non-negative integer, got " + std::to_string(seed));
     s.seed = std::uint64_t(seed);
   }
-  return s;
 }
 
-ObjectDesc read_object(Reader r, const SceneDesc& s, int index) {
-  ObjectDesc o;
+// Object `index`, added to the scene before it is read (its words are set through the registry).
+void read_object(Reader r, SceneDesc& s, int index) {
+  ObjectDesc& o = s.objects.emplace_back();
   o.name = r.string("name", "object" + std::to_string(index));
-  o.shape = read_shape(r.child("shape"), s.dim);
+  read_shape(r.child("shape"), s, index);
   if (!r.has("material")) r.fail("material", "missing");
   const json& m = r.raw("material");
   if (m.is_number_integer()) {
@@ -351,7 +350,12 @@ ObjectDesc read_object(Reader r, const SceneDesc& s, int index) {
   } else {
     r.fail("material", "expected a material name or index");
   }
-  o.sampling = r.has("sampling") ? read_sampling(r.child("sampling")) : SamplingDesc{};
+  if (r.has("sampling")) {
+    read_sampling(r.child("sampling"), s, index);
+  } else {
+    const ChoiceParameter& sampling = *find_choice("objects.*.sampling.type");
+    sampling.set(s, index, sampling.default_key);
+  }
   o.velocity = r.vec("velocity", {0, 0, 0}, s.dim);
   if (o.sampling.type == SamplingType::triangulated &&
       (s.dim != 2 || o.shape.type != ShapeType::box || o.shape.rotation_degrees != 0))
@@ -391,11 +395,12 @@ ObjectDesc read_object(Reader r, const SceneDesc& s, int index) {
     for (int a = 0; a < s.dim; ++a)
       if (lo[a] < s.domain.min[a] - 1e-12 || hi[a] > s.domain.max[a] + 1e-12)
         r.fail("shape", "object lies outside the domain on axis " + std::string(1, "xyz"[a]));
-  return o;
 }
 
-ColliderDesc read_collider(Reader r, int dim) {
-  ColliderDesc c;
+// Collider `index`, added to the scene before it is read.
+void read_collider(Reader r, SceneDesc& s, int index) {
+  ColliderDesc& c = s.colliders.emplace_back();
+  const int dim = s.dim;
   std::string type = r.string("type", "plane");
   if (type != "plane") r.fail("type", "unknown collider type '" + type + "' (expected plane)");
   c.point = r.vec("point", {0, 0, 0}, dim, true);
@@ -404,10 +409,9 @@ ColliderDesc read_collider(Reader r, int dim) {
       std::sqrt(c.normal[0] * c.normal[0] + c.normal[1] * c.normal[1] + c.normal[2] * c.normal[2]);
   if (!(n > 0)) r.fail("normal", "must be non-zero");
   for (double& x : c.normal) x /= n;
-  c.condition = r.choice("condition", boundary_choices(), c.condition, "boundary condition");
+  read_choices(r, s, "colliders.*.", index);
   if (c.condition == BoundaryCondition::periodic)
     r.fail("condition", "a collider cannot be periodic");
-  return c;
 }
 
 SceneDesc parse_json(const json& j, const std::string& file,
@@ -436,14 +440,12 @@ SceneDesc parse_json(const json& j, const std::string& file,
     r.fail("objects", "expected a non-empty array");
   const json& objs = r.raw("objects");
   for (size_t i = 0; i < objs.size(); ++i)
-    s.objects.push_back(
-        read_object(Reader(objs[i], "objects." + std::to_string(i), file), s, int(i)));
+    read_object(Reader(objs[i], "objects." + std::to_string(i), file), s, int(i));
   if (r.has("colliders")) {
     const json& cols = r.raw("colliders");
     if (!cols.is_array()) r.fail("colliders", "expected an array");
     for (size_t i = 0; i < cols.size(); ++i)
-      s.colliders.push_back(
-          read_collider(Reader(cols[i], "colliders." + std::to_string(i), file), s.dim));
+      read_collider(Reader(cols[i], "colliders." + std::to_string(i), file), s, int(i));
   }
   return s;
 }

@@ -1,7 +1,9 @@
 // Scene description: everything a paper scene states, as plain data read from JSON
 // (docs/architecture.md, Scenes). All values are double; the solver converts to its scalar type.
-// A number a scene file sets has its default in the numeric registry (sim/scene/parameters.cpp)
-// alone: SceneDesc() starts from it. A word's default is written here; the choice table reports it.
+// A number or a word a scene file sets has its default in its registry alone
+// (sim/scene/parameters.cpp, sim/scene/choice_parameters.cpp): SceneDesc() starts from it. A
+// material, object or collider built in code starts as the registry's default says (a test holds
+// them equal).
 #pragma once
 #include <array>
 #include <cmath>
@@ -33,7 +35,7 @@ struct DomainDesc {
 struct TimeDesc {
   double end{};
   double fps{};
-  DtRule rule = DtRule::elastic;
+  DtRule rule{};
   double dt{};      // fixed rule: the step; other rules: an upper bound
   double nu{};      // Courant number for cfl, elastic and two-step rules
   double dt_min{};  // two-step rule (Sec 6.7)
@@ -41,7 +43,7 @@ struct TimeDesc {
   // Fixed rule: the step is honoured exactly and a frame is the step at or just past its time;
   // land_on_frames shortens the steps that would pass a frame time instead. The adaptive rules
   // always land on frame times.
-  bool land_on_frames = false;
+  bool land_on_frames{};
   bool lands_on_frames() const { return rule != DtRule::fixed || land_on_frames; }
 };
 
@@ -55,23 +57,22 @@ struct EolSolverDesc {
   // 27-28, one per collision cell of side contact_cell (0 = the grid cell), or one row per node
   // on or behind a plane.
   enum class Contact { surface, nodes };
-  Contact contact = Contact::surface;
+  Contact contact{};
   double contact_cell{};
 };
 
 struct SolverDesc {
-  std::string method =
-      "mpm";  // the solver family (sim/method_registry.hpp); the keys below are MPM's
-  Scheme scheme = Scheme::apic;
+  std::string method;  // the solver family (sim/method_registry.hpp); the keys below are MPM's
+  Scheme scheme{};
   double flip_alpha{};  // eq 3 blend: 1 = pure FLIP, 0 = PIC
   // ASFLIP (Fei et al. 2021): the position correction β for separating particles; 0 = the plain
   // APIC/FLIP blend.
   double asflip_beta{};
   int xpic_order{};  // XPIC(m) (Hammerquist and Nairn 2017): m ≥ 1, XPIC(1) = PIC
-  KernelType kernel = KernelType::quadratic;
-  Integrator integrator = Integrator::symplectic;
+  KernelType kernel{};
+  Integrator integrator{};
   // Multilinear kernel only: APIC's C as lagged Σ ṽ ∇wᵀ or as the unstable B D_p⁻¹ (Sec 5.9).
-  ApicLinearForm apic_linear_form = ApicLinearForm::lagged;
+  ApicLinearForm apic_linear_form{};
   // PolyPIC (Fu et al. 2017): modes kept per velocity component, 0 = all (9 in 2D, 27 in 3D).
   int polypic_modes{};
   std::optional<double> lambda;  // λ of eqs 27-30 for the lambda integrator only
@@ -79,8 +80,8 @@ struct SolverDesc {
   int newton_max_iterations{};
   double cg_tolerance{};
   int cg_max_iterations{};
-  CgPreconditioner preconditioner = CgPreconditioner::block_jacobi;
-  bool stop_on_nonconvergence = false;
+  CgPreconditioner preconditioner{};
+  bool stop_on_nonconvergence{};
   double blowup_energy_factor{};
   // solver.max_memory_gb: cap on the estimated memory (sim/scene/memory_estimate.hpp); empty: the
   // machine's available memory (--max-memory none sets it to 1e300).
@@ -158,7 +159,7 @@ struct ColliderDesc {
 };
 
 struct SceneDesc {
-  SceneDesc();  // every number at its registry default (sim/scene/parameters.cpp)
+  SceneDesc();  // every number and word at its registry default (sim/scene/parameters.cpp)
   std::string name, description;
   std::string source;  // file it came from, for messages and relative paths
   // Where relative mesh files are looked for after the scene's own folder and its parent

@@ -346,6 +346,17 @@ flip_line=$(grep -F -- "--flip-alpha" "$OUT" | head -n 1)
 case "$flip_line" in *allowed*default*) ;; *) help_problems+=("--flip-alpha line lacks range/default: $flip_line") ;; esac
 if [ ${#help_problems[@]} -eq 0 ]; then ok "run --help shows ranges and defaults"; else nok "run --help" "${help_problems[@]}"; fi
 
+# ---- --help: every scene key of the registries (apiclab docs scene-keys) has its line ---------
+"$APICLAB" docs scene-keys >"$TMP/scene-keys" 2>&1
+keys=$(grep -oE '^\| `[^`]+` \|' "$TMP/scene-keys" | sed -E 's/^\| `([^`]+)` \|/\1/')
+missing=()
+for key in $keys; do grep -qF -- "  $key  " "$OUT" || missing+=("$key"); done
+if [ -n "$keys" ] && [ ${#missing[@]} -eq 0 ]; then
+  ok "run --help: every registry key ($(echo $keys | wc -w)), numeric and word"
+else
+  nok "run --help lacks registry keys" "${missing[@]:-no keys from docs scene-keys}"
+fi
+
 # ---- --help: every scheme key of --scheme has a line with its help (source, equations) --------
 scheme_keys=$(grep -oE -- '--scheme TEXT +transfer scheme: [a-z|]+' "$OUT" | sed 's/.*: //' | tr '|' ' ')
 scheme_problems=()

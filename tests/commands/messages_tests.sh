@@ -67,6 +67,22 @@ refuse "roundtrip --seed -1" "--seed" "whole number" -- roundtrip --seed -1
 refuse "sweep --jobs 0" "--jobs" "from 1 to 4096" -- sweep spec.json --jobs 0
 refuse "run without a scene" "scene is required" -- run
 
+# ---- numeric flags refuse through the registry: --set KEY=VALUE's words, naming the flag ------
+for c in "--dt 0 time.dt.value" "--t-end 0 time.end" "--fps 0 time.fps" \
+  "--flip-alpha 1.5 solver.flip_alpha" "--lambda 2 solver.lambda"; do
+  read -r flag value key <<<"$c"
+  refuse "$flag $value: the registry's message" "apiclab: $flag $value: key '$key': " \
+    "is outside the allowed range" -- run rotating-disk "$flag" "$value"
+  flag_says=$(sed "s/^apiclab: $flag $value: //" "$ERR")
+  run_cli run rotating-disk --set "$key=$value"
+  set_says=$(sed -E "s/^apiclab: [^:]*rotating-disk.json: //" "$ERR")
+  if [ "$RC" -eq 2 ] && [ "$flag_says" = "$set_says" ]; then
+    ok "$flag $value and --set $key=$value say the same"
+  else
+    nok "$flag $value and --set $key=$value differ" "flag: $flag_says" "--set (exit $RC): $set_says"
+  fi
+done
+
 # ---- nlohmann: scene files and --set values that are not JSON --------------------------------
 refuse "scene with comments" "comments.json" "line 1, column 1" "comments (// and /* */) are not part of JSON" -- run "$TMP/comments.json"
 refuse "empty scene file" "empty.json" "the text is empty" -- run "$TMP/empty.json"

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Writes the fuzz dictionary (tests/fuzz/scene.dict) from the sources: the scene reader's keys,
-# the parameter registry's key paths and the registry's choice names, plus JSON punctuation.
+# the numeric and choice registries' key paths and the registry's choice names, plus JSON punctuation.
 # Run from the repository root after adding a key: bash tests/fuzz/make_dict.sh
 set -euo pipefail
 {
@@ -12,6 +12,9 @@ set -euo pipefail
     grep -oh '\.key = "[A-Za-z_.*]*"' sim/scene/parameters.cpp | sed 's/.*= "//;s/"$//;s/\.\*$//' |
       sed 'p;s/.*\.//'
     grep -oh '{"[a-z-]*",' sim/scene/registry.hpp | sed 's/{"//;s/",$//'
+    # The choice registry's key paths and their last names.
+    grep -oh '{"[a-z_]*\.[a-z_.*]*",' sim/scene/choice_parameters.cpp | sed 's/{"//;s/",$//' |
+      sed 'p;s/.*\.//'
   } | grep -v '^$' | sort -u | sed 's/.*/"&"/'
   printf '%s\n' '"{"' '"}"' '"["' '"]"' '":"' '","' '"true"' '"false"' '"null"' '"1e308"' \
     '"-1e-308"' '"0"' '"1e12"' '"="' '"."' '"0."'

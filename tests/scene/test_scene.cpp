@@ -21,6 +21,7 @@
 #include "sim/geometry/object_overlap.hpp"
 #include "sim/mpm/mpm.hpp"
 #include "sim/mpm/schemes/scheme_label.hpp"
+#include "sim/scene/choice_parameters.hpp"
 #include "sim/scene/parameters.hpp"
 #include "sim/scene/scene.hpp"
 #include "sim/simulation.hpp"
@@ -592,10 +593,115 @@ std::optional<double> outside_value(const NumericParameter& p) {
   return std::nullopt;
 }
 
-// One declaration per number: every registry key, at every index the scene has, is read from the
-// scene file itself, set alike by --set, listed in the generated key table (docs_generated keeps
-// it equal to `apiclab docs scene-keys`), and refused out of range with one message from the
-// file, from --set and from the GUI's path (apply_parameter).
+// A numeric key, at every index the scene has: read from the scene file itself, set alike by
+// --set, and refused out of range with one message from the file, from --set and from the GUI's
+// path (apply_parameter). Returns how many values were refused.
+int check_numeric_key(const NumericParameter& p) {
+  int refused = 0;
+  const std::string& text = good_text_for(p);
+  const SceneDesc base = parse_scene_text(text, "good.json");
+  const int n = p.count ? p.count(base) : 1;
+  for (int i = 0; i < n; ++i) {
+    const std::string key = p.key_at(i);
+    SCOPED_TRACE(key);
+    const double value = another_valid_value(p, p.get(base, i));
+    EXPECT_NE(value, p.get(base, i));
+    SceneDesc file, set;
+    EXPECT_NO_THROW(file = parse_scene_text(with_number(text, p, key, value), "good.json"));
+    EXPECT_EQ(p.get(file, i), value);
+    EXPECT_NO_THROW(set = parse_scene_text(text, "good.json", {key + "=" + format_value(value)}));
+    EXPECT_EQ(p.get(set, i), value);
+    const std::optional<double> outside = outside_value(p);
+    if (!outside) continue;
+    ++refused;
+    const std::string expected = *parameter_error(p, i, *outside, "good.json");
+    EXPECT_EQ(reader_message({}, with_number(text, p, key, *outside)), expected) << "the file";
+    EXPECT_EQ(reader_message({key + "=" + format_value(*outside)}, text), expected) << "--set";
+    SceneDesc gui = base;
+    try {
+      apply_parameter(gui, key, *outside);
+      ADD_FAILURE() << "the GUI's path accepted " << format_value(*outside);
+    } catch (const SceneError& e) {
+      EXPECT_EQ(std::string(e.what()), expected) << "the GUI's path";
+    }
+  }
+  return refused;
+}
+
+// The scene text whose sections take the word key c (kGood, or kGoodEol for the EoL methods' keys),
+// with a collider for colliders.*, and where a key needs them the words that let another word run.
+std::string word_text_for(const ChoiceParameter& c) {
+  nlohmann::json j = nlohmann::json::parse(c.read_by("mpm") ? kGood : kGoodEol);
+  j["colliders"] = nlohmann::json::parse(
+      R"([{"type": "plane", "point": [0, 0.1], "normal": [0, 1], "condition": "sticky"}])");
+  // The file's solver keys belong to its method (--set solver.method leaves them out, docs/cli.md).
+  if (c.key == "solver.method") j["solver"] = {{"method", "mpm"}};
+  // A lattice-filled box, which triangulated sampling takes as well.
+  if (c.key == "objects.*.sampling.type") {
+    j["objects"][0]["shape"] = {{"type", "box"}, {"min", {0.3, 0.3}}, {"max", {0.7, 0.7}}};
+    j["objects"][0]["sampling"] = {{"type", "lattice"}, {"spacing", 0.05}};
+  }
+  return j.dump();
+}
+
+// `text` with the key at index 0 set to `word` in the JSON itself (a switch as a JSON boolean).
+std::string with_word(const std::string& text, const ChoiceParameter& c, const std::string& word) {
+  nlohmann::json j = nlohmann::json::parse(text);
+  nlohmann::json* node = &j;
+  std::stringstream parts(std::string(c.key));
+  for (std::string part; std::getline(parts, part, '.');)
+    node = node->is_array() ? &(*node)[0] : &(*node)[part];
+  if (c.is_switch() && (word == "true" || word == "false"))
+    *node = word == "true";
+  else
+    *node = word;
+  return j.dump();
+}
+
+// A word key: each of its words gives the same outcome from the scene file and from --set (read
+// back, or refused with one message, as the fixed rule without its step is), at least one word
+// besides the scene's own is read back, an unknown word is refused alike naming the key, and
+// the default is the registry's for a key the file leaves out and for a scene built in code.
+void check_word_key(const ChoiceParameter& c) {
+  const std::string key(c.key_at(0)), text = word_text_for(c);
+  SCOPED_TRACE(key);
+  const SceneDesc base = parse_scene_text(text, "good.json");
+  int others = 0;
+  for (const ChoiceOption& o : c.options) {
+    SCOPED_TRACE(o.key);
+    const std::string file = reader_message({}, with_word(text, c, o.key));
+    EXPECT_EQ(reader_message({key + "=" + o.key}, text), file) << "--set and the file differ";
+    if (file != "accepted") continue;
+    EXPECT_EQ(c.get(parse_scene_text(with_word(text, c, o.key), "good.json"), 0), o.key);
+    EXPECT_EQ(c.get(parse_scene_text(text, "good.json", {key + "=" + o.key}), 0), o.key);
+    others += o.key != c.get(base, 0);
+  }
+  if (c.key != "objects.*.shape.type") EXPECT_GE(others, 1);  // another shape needs its own keys
+  const std::string unknown = reader_message({}, with_word(text, c, "nosuchword"));
+  EXPECT_EQ(reader_message({key + "=nosuchword"}, text), unknown);
+  for (const std::string& needle : {"good.json: key '" + key + "'", std::string("nosuchword")})
+    EXPECT_NE(unknown.find(needle), std::string::npos) << unknown;
+  if (c.default_key.empty()) return;
+  nlohmann::json left_out = nlohmann::json::parse(text);
+  nlohmann::json* section = &left_out;
+  std::stringstream parts(std::string(c.key));
+  std::vector<std::string> path;
+  for (std::string part; std::getline(parts, part, '.');) path.push_back(part);
+  for (std::size_t i = 0; i + 1 < path.size(); ++i)
+    section = section->is_array() ? &(*section)[0] : &(*section)[path[i]];
+  section->erase(path.back());
+  EXPECT_EQ(c.get(parse_scene_text(left_out.dump(), "good.json"), 0), c.default_key) << "left out";
+  SceneDesc code;
+  code.materials.emplace_back();
+  code.objects.emplace_back();
+  code.colliders.emplace_back();
+  EXPECT_EQ(c.get(code, 0), c.default_key) << "built in code";
+}
+
+// One declaration per parameter: every registry key, numeric or word, is listed in the generated
+// key table (docs_generated keeps it equal to `apiclab docs scene-keys`; cli_tests.sh holds `run
+// --help` to it), read from the scene file, set alike by --set, and a number refused out of range
+// with one message from the file, --set and the GUI's path.
 TEST(Parameters, EveryKeyIsReadFromTheFileListedSetAndRefusedAlike) {
   std::ifstream table_file(std::string(APICLAB_SOURCE_DIR) + "/docs/scene-keys.md");
   const std::string table((std::istreambuf_iterator<char>(table_file)),
@@ -604,35 +710,16 @@ TEST(Parameters, EveryKeyIsReadFromTheFileListedSetAndRefusedAlike) {
   int refused = 0;
   for (const auto& p : numeric_parameters()) {
     EXPECT_NE(table.find("| `" + std::string(p.key) + "` |"), std::string::npos) << p.key;
-    const std::string& text = good_text_for(p);
-    const SceneDesc base = parse_scene_text(text, "good.json");
-    const int n = p.count ? p.count(base) : 1;
-    for (int i = 0; i < n; ++i) {
-      const std::string key = p.key_at(i);
-      SCOPED_TRACE(key);
-      const double value = another_valid_value(p, p.get(base, i));
-      ASSERT_NE(value, p.get(base, i));
-      SceneDesc file, set;
-      ASSERT_NO_THROW(file = parse_scene_text(with_number(text, p, key, value), "good.json"));
-      EXPECT_EQ(p.get(file, i), value);
-      ASSERT_NO_THROW(set = parse_scene_text(text, "good.json", {key + "=" + format_value(value)}));
-      EXPECT_EQ(p.get(set, i), value);
-      const std::optional<double> outside = outside_value(p);
-      if (!outside) continue;
-      ++refused;
-      const std::string expected = *parameter_error(p, i, *outside, "good.json");
-      EXPECT_EQ(reader_message({}, with_number(text, p, key, *outside)), expected) << "the file";
-      EXPECT_EQ(reader_message({key + "=" + format_value(*outside)}, text), expected) << "--set";
-      SceneDesc gui = base;
-      try {
-        apply_parameter(gui, key, *outside);
-        ADD_FAILURE() << "the GUI's path accepted " << format_value(*outside);
-      } catch (const SceneError& e) {
-        EXPECT_EQ(std::string(e.what()), expected) << "the GUI's path";
-      }
-    }
+    refused += check_numeric_key(p);
   }
   EXPECT_GE(refused, 25);
+  for (const ChoiceParameter& c : choice_parameters()) {
+    EXPECT_NE(table.find("| `" + std::string(c.key) + "` |"), std::string::npos) << c.key;
+    int index = -1;
+    EXPECT_EQ(find_choice(c.key_at(2), &index), &c);
+    EXPECT_EQ(index, c.key.find('*') == std::string_view::npos ? 0 : 2);
+    check_word_key(c);
+  }
 }
 
 // The defaults are stated once, in the registry: SceneDesc() starts from them, and a scene that
