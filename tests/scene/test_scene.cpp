@@ -629,15 +629,16 @@ int check_numeric_key(const NumericParameter& p) {
 }
 
 // The scene text whose sections take the word key c (kGood, or kGoodEol for the EoL methods' keys),
-// with a collider for colliders.*, and where a key needs them the words that let another word run.
-std::string word_text_for(const ChoiceParameter& c) {
+// with a collider for colliders.*, and (`companions`) where a key needs them the keys that let
+// another word run.
+std::string word_text_for(const ChoiceParameter& c, bool companions = true) {
   nlohmann::json j = nlohmann::json::parse(c.read_by("mpm") ? kGood : kGoodEol);
   j["colliders"] = nlohmann::json::parse(
       R"([{"type": "plane", "point": [0, 0.1], "normal": [0, 1], "condition": "sticky"}])");
   // The file's solver keys belong to its method (--set solver.method leaves them out, docs/cli.md).
   if (c.key == "solver.method") j["solver"] = {{"method", "mpm"}};
   // A lattice-filled box, which triangulated sampling takes as well.
-  if (c.key == "objects.*.sampling.type") {
+  if (companions && c.key == "objects.*.sampling.type") {
     j["objects"][0]["shape"] = {{"type", "box"}, {"min", {0.3, 0.3}}, {"max", {0.7, 0.7}}};
     j["objects"][0]["sampling"] = {{"type", "lattice"}, {"spacing", 0.05}};
   }
@@ -682,7 +683,7 @@ void check_word_key(const ChoiceParameter& c) {
   for (const std::string& needle : {"good.json: key '" + key + "'", std::string("nosuchword")})
     EXPECT_NE(unknown.find(needle), std::string::npos) << unknown;
   if (c.default_key.empty()) return;
-  nlohmann::json left_out = nlohmann::json::parse(text);
+  nlohmann::json left_out = nlohmann::json::parse(word_text_for(c, false));
   nlohmann::json* section = &left_out;
   std::stringstream parts(std::string(c.key));
   std::vector<std::string> path;
