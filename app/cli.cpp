@@ -59,6 +59,14 @@ std::string parameter_table() {
   return out;
 }
 
+// "eol eulerian" -> "eol or eulerian".
+std::string method_list(std::string_view methods) {
+  std::string out(methods);
+  for (std::size_t at = out.find(' '); at != std::string::npos; at = out.find(' ', at + 4))
+    out.replace(at, 1, " or ");
+  return out;
+}
+
 std::string choice_table() {
   std::string out = "\nWord and switch scene keys (--set KEY=WORD; * is an index):\n";
   for (const ChoiceParameter& c : choice_parameters()) {
@@ -66,7 +74,7 @@ std::string choice_table() {
     for (const ChoiceOption& o : c.options) words += (words.empty() ? "" : ", ") + o.key;
     out += "  " + std::string(c.key) + "  " + std::string(c.what) + ": " + words +
            " [default: " + (c.default_key.empty() ? "required" : c.default_key) +
-           (c.method.empty() ? "" : "; solver.method " + std::string(c.method)) + "]\n";
+           (c.method.empty() ? "" : "; solver.method " + method_list(c.method)) + "]\n";
   }
   return out;
 }
