@@ -25,7 +25,8 @@ struct ChoiceParameter {
 // In the order a scene file reads: domain, time, solver, materials, objects, colliders.
 const std::vector<ChoiceParameter>& choice_parameters();
 
-// The Eulerian-on-Lagrangian contact kinds of `solver.contact` (sim/eol/surface_contact.hpp).
+// The Eulerian-on-Lagrangian contact kinds of `solver.contact`
+// (sim/eol/contact/surface_contact.hpp).
 const std::vector<Choice<EolSolverDesc::Contact>>& eol_contact_choices();
 
 }  // namespace apiclab
