@@ -135,7 +135,7 @@ std::pair<Vec<T, D>, Spin<T, D>> EolSimulation<T, D>::initial_velocity(int s,
     w[0] = T(obj.angular_velocity[2]);
   else
     for (int a = 0; a < 3; ++a) w[a] = T(obj.angular_velocity[std::size_t(a)]);
-  return {V + spin_cross<T, D>(w, Vec<T, D>(x - c)), w};
+  return {Vec<T, D>(V + spin_cross<T, D>(w, Vec<T, D>(x - c))), w};
 }
 
 // eol: the frame moves with the object's initial velocity at its origin; eulerian: each node of

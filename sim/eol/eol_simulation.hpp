@@ -88,7 +88,7 @@ class EolSimulation final : public Simulation {
   void finish_step(double dt);  // impulse, planes, split, frame, advection, extrapolation
   void place_surface(EolObject<T, D>& o);  // Algorithm 2, now
   // Algorithm 2 for every object unless already placed since the last step. step() calls it
-  // when a step lands on its t_limit (a frame time); steps in between do not place the surface.
+  // when a step reaches its t_limit, a frame time (reached_frame_time); steps in between do not.
   void place_surfaces();
   bool surfaces_placed() const { return surfaces_placed_; }
 

@@ -3,7 +3,7 @@
 // path, so colours, vectors and auto-scaling work unchanged), and each object's grid as a
 // GridLayer in its frame with the node fields mass, speed and det(∇X) (empty nodes NaN), and
 // its surface as placed by Algorithm 2 (Sec 3.8) with the interpolated spatial velocity (placed
-// here, on a copy, when the last step did not land on a frame time).
+// here, on a copy, when the last step did not reach a frame time).
 #pragma once
 #include <limits>
 #include <string>
