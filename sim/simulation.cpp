@@ -1,11 +1,61 @@
 #include "sim/simulation.hpp"
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <sstream>
 
 #include "sim/method_registry.hpp"
 
 namespace apiclab {
+
+std::optional<Failure> Simulation::step(double t_limit, DiagnosticsRow* row) {
+  if (failure_) return failure_;
+  if (!(t_limit > time_)) return std::nullopt;
+  const auto start = std::chrono::steady_clock::now();
+  const TimeDesc& tm = scene().time;
+  const FrameStep s = land_on_frame(tm, choose_dt(), t_limit - time_);
+  if (s.by_frame) dt_set_by_frame();
+  DiagnosticsRow r = step_fixed_measured(s.dt);
+  // Landing on t_limit (a sum of steps is off by round-off): within 1e-12 of the time scale for
+  // the landing rules; for an exact fixed step within 1e-6 of a step, which n·Δt accumulated in
+  // double misses only after ~1e9 steps, so a frame time that is a whole number of steps is met.
+  const double landing =
+      tm.lands_on_frames() ? 1e-12 * std::max(1.0, std::abs(t_limit)) : 1e-6 * s.dt;
+  if (std::abs(t_limit - time_) < landing) time_ = t_limit;
+  if (time_ >= t_limit) reached_frame_time();
+  r.t = time_;
+  r.dt = s.dt;
+  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (row) *row = r;
+  failure_ = check_step(r);
+  return failure_;
+}
+
+FrameStep land_on_frame(const TimeDesc& tm, double dt, double to_frame) {
+  if (!tm.lands_on_frames()) return {dt, false};
+  const double frame = 1.0 / tm.fps;
+  FrameStep s{std::min(dt, frame), frame < dt};
+  if (to_frame < 1.001 * s.dt) return {to_frame, true};
+  if (to_frame < 2.0 * s.dt) return {0.5 * to_frame, true};
+  return s;
+}
+
+std::shared_ptr<Snapshot> Simulation::scene_snapshot() const {
+  auto s = std::make_shared<Snapshot>();
+  const SceneDesc& sc = scene();
+  s->dim = dim();
+  s->step = steps_;
+  s->time = time_;
+  s->scene_name = sc.name;
+  s->domain_min = sc.domain.min;
+  s->domain_max = sc.domain.max;
+  s->dx = sc.domain.dx;
+  s->colliders = sc.colliders;
+  for (const auto& m : sc.materials) s->material_names.push_back(m.name);
+  s->failure = failure_;
+  return s;
+}
 
 std::optional<Failure> Simulation::advance_to(
     double t_target, const std::function<void(const DiagnosticsRow&)>& on_step) {

@@ -25,15 +25,16 @@ class Simulation {
   virtual int dim() const = 0;
   virtual Precision precision() const = 0;
   virtual const SceneDesc& scene() const = 0;
-  virtual double time() const = 0;
-  virtual long steps() const = 0;
+  double time() const { return time_; }
+  long steps() const { return steps_; }
   // What a step works on, for progress lines and titles: "25344 particles", "4096 grid nodes".
   virtual std::string model_size() const = 0;
 
-  // Takes one step with the scene's time-step rule, never past t_limit (steps land exactly on
-  // frame times with the Sec 6.7 sliver rule). Returns the step's diagnostics row, or the
-  // failure (non-finite state, energy blow-up); after a failure the state stays frozen.
-  virtual std::optional<Failure> step(double t_limit, DiagnosticsRow* row = nullptr) = 0;
+  // One step, the same for every family: choose Δt by the scene's rule (choose_dt), land it on
+  // t_limit (land_on_frame), advance and measure (step_fixed_measured), then check the row
+  // (check_step). Never past t_limit where the rule lands on frames. Returns the failure
+  // (non-finite state, energy blow-up); after a failure the state stays frozen.
+  std::optional<Failure> step(double t_limit, DiagnosticsRow* row = nullptr);
   // Steps until time() == t_target; on_step sees every row.
   std::optional<Failure> advance_to(double t_target,
                                     const std::function<void(const DiagnosticsRow&)>& on_step = {});
@@ -48,7 +49,7 @@ class Simulation {
 
   virtual DiagnosticsRow measure() const = 0;  // energies and momenta of the current state
   virtual double total_mass() const = 0;
-  virtual const std::optional<Failure>& failure() const = 0;
+  const std::optional<Failure>& failure() const { return failure_; }
 
   // Sees every iteration of an iterative solve inside a step (implicit: the Newton iteration,
   // the CG iterations so far, the last Newton residual), so that a long step can show
@@ -67,6 +68,28 @@ class Simulation {
   // The particle-transfer controls, or nullptr for a family without particle transfers.
   virtual TransferControls* transfers() { return nullptr; }
   virtual const TransferControls* transfers() const { return nullptr; }
+
+ protected:
+  Simulation() = default;
+  Simulation(const Simulation&) = default;
+  Simulation& operator=(const Simulation&) = default;
+
+  // step()'s hooks, in its order. Δt by the scene's time.dt rule, before the landing.
+  virtual double choose_dt() = 0;
+  // The landing shortened the step to meet a frame time (the dt_limit column's "frame").
+  virtual void dt_set_by_frame() {}
+  // The step reached t_limit, a frame time: what is drawn or recorded there (EoL's surfaces).
+  virtual void reached_frame_time() {}
+  // The family's checks of the row (failure_at, energy_failure): the failure, or none.
+  virtual std::optional<Failure> check_step(const DiagnosticsRow& row) const = 0;
+
+  // A snapshot holding what every family fills alike: dim, step, time, the scene's name,
+  // domain, colliders and material names, and the failure.
+  std::shared_ptr<Snapshot> scene_snapshot() const;
+
+  double time_ = 0;
+  long steps_ = 0;
+  std::optional<Failure> failure_;
 };
 
 // What a solver with particle-grid transfers (PIC/FLIP/APIC/RPIC) offers beyond the core.
@@ -90,6 +113,22 @@ inline std::size_t particle_count(const Simulation& sim) {
   const TransferControls* t = sim.transfers();
   return t ? t->particle_count() : 0;
 }
+
+// The precision of a family's scalar type T.
+template <class T>
+constexpr Precision precision_of() {
+  return sizeof(T) == 4 ? Precision::single : Precision::dbl;
+}
+
+// The Sec 6.7 landing rule for a step of dt with to_frame left to the frame time t_limit: the
+// adaptive rules (and the fixed one with time.dt.land_on_frames) cap dt at the frame interval,
+// take the whole rest when it is under 1.001 dt and split a rest under 2 dt into halves, so no
+// sliver step follows; a fixed step is taken exactly and a frame is the step at or just past it.
+struct FrameStep {
+  double dt;
+  bool by_frame;  // the frame, not the rule, set dt
+};
+FrameStep land_on_frame(const TimeDesc& time, double dt, double to_frame);
 
 // The failure every solver family reports: "simulation blew up at step N, t = T: QUANTITY DETAIL".
 Failure failure_at(long step, double t, const std::string& quantity, const std::string& detail);

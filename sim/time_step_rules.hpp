@@ -1,6 +1,5 @@
-// Time-step rules (registry `dt_rule_choices`), then the Sec 6.7 landing rule on t_limit.
-// The fixed rule returns its step unchanged (no landing, no frame-time cap) unless the scene
-// asks for time.dt.land_on_frames; the adaptive rules are capped at the frame interval and land.
+// MPM's time-step rules (registry `dt_rule_choices`): Δt before the Sec 6.7 landing on the
+// frame time, which Simulation::step applies to every family (land_on_frame, sim/simulation.hpp).
 //
 // The CFL rule of Sec 4.3: Δt ≤ ν Δx / max_p (|v_p| + 6√d/Δx ‖B_p‖_F). It bounds the grid
 // velocity of eq 24 through |D_p⁻¹ (x_i − x_p)|, which needs D_p = k Δx² I (quadratic k = 1/4,
@@ -17,10 +16,8 @@
 namespace apiclab {
 
 template <class T, int D>
-double MpmSimulation<T, D>::choose_dt(double t_limit) const {
+double MpmSimulation<T, D>::choose_dt() {
   const TimeDesc& tm = scene_.time;
-  // A fixed step is the step: the frame is the step at or just past its time.
-  if (!tm.lands_on_frames()) return tm.dt;
   const double dx = scene_.domain.dx;
   double dt_star = tm.dt;
   if (tm.rule != DtRule::fixed) {
@@ -61,10 +58,6 @@ double MpmSimulation<T, D>::choose_dt(double t_limit) const {
       dt_star = std::max(tm.dt_min, std::min(tm.dt, tm.nu * dx / std::max(vmax, tm.v_tau)));
     }
   }
-  dt_star = std::min(dt_star, 1.0 / tm.fps);
-  double to_frame = t_limit - time_;
-  if (to_frame < 1.001 * dt_star) return to_frame;      // land on the frame time
-  if (to_frame < 2.0 * dt_star) return 0.5 * to_frame;  // avoid a sliver step
   return dt_star;
 }
 

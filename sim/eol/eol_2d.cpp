@@ -1,6 +1,5 @@
 // The EoL solver in 2D, double precision.
-#include "sim/eol/eol_simulation_impl.hpp"
-#include "sim/eol/eol_snapshot.hpp"
+#include "sim/eol/phases.hpp"
 
 namespace apiclab::eol {
 template class EolSimulation<double, 2>;

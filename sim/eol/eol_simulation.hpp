@@ -8,20 +8,21 @@
 // do not touch each other yet (object–object contact is part 2).
 #pragma once
 #include <algorithm>
+#include <chrono>
 #include <memory>
 #include <optional>
 #include <string>
 #include <vector>
 
-#include "sim/eol/contact_qp.hpp"
+#include "sim/eol/contact/contact_qp.hpp"
+#include "sim/eol/contact/impulse_solve.hpp"
 #include "sim/eol/energy_ledger.hpp"
-#include "sim/eol/eulerian_grid.hpp"
-#include "sim/eol/extrapolation.hpp"
-#include "sim/eol/forces.hpp"
 #include "sim/eol/frame.hpp"
-#include "sim/eol/impulse_solve.hpp"
+#include "sim/eol/grid/eulerian_grid.hpp"
+#include "sim/eol/grid/extrapolation.hpp"
+#include "sim/eol/grid/forces.hpp"
 #include "sim/eol/least_squares_split.hpp"
-#include "sim/eol/rest_surface.hpp"
+#include "sim/eol/surface/rest_surface.hpp"
 #include "sim/eol/time_step.hpp"
 #include "sim/simulation.hpp"
 
@@ -66,22 +67,17 @@ class EolSimulation final : public Simulation {
   }
 
   int dim() const override { return D; }
-  Precision precision() const override {
-    return sizeof(T) == 4 ? Precision::single : Precision::dbl;
-  }
+  Precision precision() const override { return precision_of<T>(); }
   const SceneDesc& scene() const override { return scene_; }
-  double time() const override { return time_; }
-  long steps() const override { return steps_; }
   std::string model_size() const override {
     std::size_t nodes = 0;
     for (const auto& o : objects_) nodes += o.grid.size();
     return std::to_string(nodes) + " grid nodes";
   }
-  std::optional<Failure> step(double t_limit, DiagnosticsRow* row) override;
+  // Forces (unless step() computed them ahead), then finish_step, then the next step's forces.
   void step_fixed(double dt) override;
   DiagnosticsRow measure() const override;
   double total_mass() const override;
-  const std::optional<Failure>& failure() const override { return failure_; }
   bool steps_in_parallel() const override { return parallel_; }
   std::shared_ptr<Snapshot> snapshot() const override;
 
@@ -89,11 +85,10 @@ class EolSimulation final : public Simulation {
   void update_mass(EolObject<T, D>& o);     // fill, owner, material, mass from X
   void spatial_state(EolObject<T, D>& o);   // r, x, u from the frame and v
   void compute_forces(EolObject<T, D>& o);  // f_e + f_b + f_qvv, world axes
-  double choose_dt(double t_limit, DtLimit* limit);
   void finish_step(double dt);  // impulse, planes, split, frame, advection, extrapolation
   void place_surface(EolObject<T, D>& o);  // Algorithm 2, now
   // Algorithm 2 for every object unless already placed since the last step. step() calls it
-  // when a step lands on its t_limit (a frame time); steps in between do not place the surface.
+  // when a step reaches its t_limit, a frame time (reached_frame_time); steps in between do not.
   void place_surfaces();
   bool surfaces_placed() const { return surfaces_placed_; }
 
@@ -133,21 +128,54 @@ class EolSimulation final : public Simulation {
   const EnergyLedger& last_step_ledger() const { return last_ledger_; }
 
  private:
+  // Setup (eol_setup.hpp).
+  void add_materials();
+  void add_object_grids();
   void add_object_grid(const std::vector<int>& shapes, const Vec3d& lo, const Vec3d& hi, double dx,
                        int padding);
+  void place_object_grid(EolObject<T, D>& o, const Vec3d& lo, const Vec3d& hi, double dx,
+                         int padding) const;
+  std::pair<Vec<T, D>, Spin<T, D>> initial_velocity(int shape, const Vec<T, D>& x) const;
+  void set_initial_velocity(EolObject<T, D>& o) const;
   double energy_reference() const;
+  // Mass and spatial state (eol_mass.hpp), forces (eol_forces.hpp).
   void update_mass(EolObject<T, D>& o, bool after_extrapolation);
   void update_spatial(EolObject<T, D>& o) const;
   void forces(EolObject<T, D>& o);
+  void forces_ahead();  // every object's, for the state now (forces_ready_)
+  // step()'s hooks (Simulation::step; eol_time_step.hpp, eol_step.hpp).
+  double choose_dt() override;
+  void dt_set_by_frame() override { last_limit_ = DtLimit::frame; }
+  void reached_frame_time() override { place_surfaces(); }
+  std::optional<Failure> check_step(const DiagnosticsRow& r) const override;
+  // finish_step's stages for one object (eol_step.hpp, eol_contact.hpp).
+  void finish_object(EolObject<T, D>& o, double dt, EnergyLedger& ledger);
+  SplitSums<D, 1> impulse(EolObject<T, D>& o, T dt);
+  void split(EolObject<T, D>& o, const SplitSums<D, 1>& sums, T dt);
+  void advect(EolObject<T, D>& o, T dt);
+  void impulse_surface_contact(EolObject<T, D>& o, T dt);
+  bool may_touch_planes(const EolObject<T, D>& o) const;
   std::vector<Vec<T, D>> placed_surface(const EolObject<T, D>& o) const;
   bool parallel() const { return parallel_; }
+  // The energy ledger's terms (eol_ledger.hpp).
   struct LedgerEnergies {
     double kinetic = 0, gravity = 0;
   };
   LedgerEnergies ledger_energies(const EolObject<T, D>& o) const;
   void ledger_work(const EolObject<T, D>& o, double dt, EnergyLedger& step) const;
-  void impulse_surface_contact(EolObject<T, D>& o, T dt);
-  bool may_touch_planes(const EolObject<T, D>& o) const;
+  LedgerEnergies ledger_before(const EolObject<T, D>& o, EnergyLedger& step) const;
+  LedgerEnergies ledger_impulse(const EolObject<T, D>& o, double dt, const LedgerEnergies& before,
+                                EnergyLedger& step) const;
+  void ledger_transport(const EolObject<T, D>& o, const LedgerEnergies& before,
+                        const LedgerEnergies& pushed, EnergyLedger& step) const;
+  // Adds the seconds of its scope to one of stages_.
+  struct StageTimer {
+    double& total;
+    std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
+    ~StageTimer() {
+      total += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    }
+  };
 
   SceneDesc scene_;
   bool lagrangian_ = true, parallel_ = false;
@@ -158,16 +186,14 @@ class EolSimulation final : public Simulation {
   // cleared by a step and by mutable access). snapshot() places a copy when it is not.
   bool surfaces_placed_ = true;
   std::vector<EolObject<T, D>> objects_;
-  std::vector<RestShape> rest_;  // per scene object: φ₀ (rest_shape.hpp)
+  std::vector<RestShape> rest_;  // per scene object: φ₀ (shape/rest_shape.hpp)
   std::vector<ElasticMaterial<T>> materials_;
   std::vector<T> density_;  // ρ₀ per material
   std::vector<PlaneConstraint<T, D>> planes_;
   ContactRows<T, D> contact_rows_;
   ContactSolver<T, D> contact_solver_;
   ContactSolveStats contact_stats_;
-  double time_ = 0, energy_ref_ = 0, max_wave_speed_ = 0;
-  long steps_ = 0;
-  std::optional<Failure> failure_;
+  double energy_ref_ = 0, max_wave_speed_ = 0;
   DtLimit last_limit_ = DtLimit::fixed;
   StageSeconds stages_;
   bool ledger_on_ = false;
@@ -184,7 +210,10 @@ class EolSimulation final : public Simulation {
       gamma1 = std::max(gamma1, o.gamma1);
     }
   };
-  std::vector<DtSums> dt_partial_;              // per node block, kept between steps
+  std::vector<DtSums> dt_partial_;  // per node block, kept between steps
+  DtSums dt_sums(const EolObject<T, D>& o);
+  std::array<double, 2> split_rates(const EolObject<T, D>& o, const DtSums& sums) const;
+  double object_dt(const EolObject<T, D>& o, double dt, DtLimit& limit);
   std::vector<SplitSums<D, 1>> split_partial_;  // the same for finish_step's split
 };
 

@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "sim/eol/frame.hpp"
-#include "sim/eol/node_blocks.hpp"
+#include "sim/eol/grid/node_blocks.hpp"
 #include "sim/math.hpp"
 
 namespace apiclab::eol {

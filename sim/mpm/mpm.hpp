@@ -40,13 +40,8 @@ class MpmSimulation final : public Simulation, public TransferControls {
 
   // Simulation.
   int dim() const override { return D; }
-  Precision precision() const override {
-    return sizeof(T) == 4 ? Precision::single : Precision::dbl;
-  }
+  Precision precision() const override { return precision_of<T>(); }
   const SceneDesc& scene() const override { return scene_; }
-  double time() const override { return time_; }
-  long steps() const override { return steps_; }
-  std::optional<Failure> step(double t_limit, DiagnosticsRow* row) override;
   void step_fixed(double dt) override;
   DiagnosticsRow step_fixed_measured(double dt) override;
   DiagnosticsRow measure() const override;
@@ -55,7 +50,6 @@ class MpmSimulation final : public Simulation, public TransferControls {
     for (T x : p_.mass) m += double(x);
     return m;
   }
-  const std::optional<Failure>& failure() const override { return failure_; }
   bool steps_in_parallel() const override { return parallel_worthwhile(); }
   std::shared_ptr<Snapshot> snapshot() const override;
   void on_solver_iteration(SolverIterationObserver observer) override {
@@ -171,7 +165,9 @@ class MpmSimulation final : public Simulation, public TransferControls {
     else
       return stencils_cubic_;
   }
-  double choose_dt(double t_limit) const;
+  // step()'s hooks (Simulation): the time-step rule (sim/time_step_rules.hpp) and the checks.
+  double choose_dt() override;
+  std::optional<Failure> check_step(const DiagnosticsRow& r) const override;
   // The grid update is the Newton solve of sim/mpm/implicit/implicit.hpp (backward Euler or λ > 0).
   bool uses_implicit_solve() const {
     return scene_.solver.integrator == Integrator::backward ||
@@ -195,12 +191,10 @@ class MpmSimulation final : public Simulation, public TransferControls {
   Grid<T, D> grid_;
   std::vector<MaterialParams<T>> materials_;
   BoundaryNodes<T, D> boundary_;  // walls and colliders, resolved on the stored box
-  double time_ = 0, kinetic_grid_ = 0, max_grid_speed_ = 0, energy_ref_ = 0, max_wave_speed_ = 0;
+  double kinetic_grid_ = 0, max_grid_speed_ = 0, energy_ref_ = 0, max_wave_speed_ = 0;
   // The scene's velocity scale, √(2 (K₀ + Ψ₀) / M): the implicit solve's tolerance is relative
   // to it however far the motion decays (sim/mpm/implicit/implicit.hpp).
   double velocity_scale_ = 0;
-  long steps_ = 0;
-  std::optional<Failure> failure_;
   bool non_finite_ = false;
   std::vector<float> radius_;  // per particle (by id), for drawing
   BlockPartition<T, D> blocks_;

@@ -86,11 +86,7 @@ void MpmSimulation<T, D>::velocity_noise(std::vector<float>& out) const {
 
 template <class T, int D>
 std::shared_ptr<Snapshot> MpmSimulation<T, D>::snapshot() const {
-  auto s = std::make_shared<Snapshot>();
-  s->dim = D;
-  s->step = steps_;
-  s->time = time_;
-  s->scene_name = scene_.name;
+  std::shared_ptr<Snapshot> s = scene_snapshot();
   s->scheme = key_of(scene_.solver.scheme);
   s->kernel = key_of(scene_.solver.kernel);
   s->integrator = integrator_label(scene_.solver);
@@ -111,13 +107,7 @@ std::shared_ptr<Snapshot> MpmSimulation<T, D>::snapshot() const {
     s->object[k] = p_.object[q];
   }
   s->radius = radius_;
-  s->domain_min = scene_.domain.min;
-  s->domain_max = scene_.domain.max;
-  s->dx = scene_.domain.dx;
-  s->colliders = scene_.colliders;
-  for (auto& m : scene_.materials) s->material_names.push_back(m.name);
   for (auto& o : scene_.objects) s->object_names.push_back(o.name);
-  s->failure = failure_;
   return s;
 }
 

@@ -1,6 +1,6 @@
-// One step: the phases in the paper's order, and step()'s failure checks.
+// One step: the phases in the paper's order, and step()'s failure checks (the skeleton is
+// Simulation::step).
 #pragma once
-#include <chrono>
 #include <cmath>
 #include <sstream>
 
@@ -62,36 +62,19 @@ bool MpmSimulation<T, D>::step_fixed_summing(double dt, ParticleSums* sums) {
   return true;
 }
 
+// step()'s checks (Simulation::step): the implicit solve's convergence, a frozen state, the energy.
 template <class T, int D>
-std::optional<Failure> MpmSimulation<T, D>::step(double t_limit, DiagnosticsRow* row) {
-  if (failure_) return failure_;
-  if (!(t_limit > time_)) return std::nullopt;
-  auto start = std::chrono::steady_clock::now();
-  double dt = choose_dt(t_limit);
-  ParticleSums sums;  // the row's particle sums, taken by G2P (sim/mpm/particle_sums.hpp)
-  const bool summed = step_fixed_summing(dt, &sums);
-  // Landing on t_limit (a sum of steps is off by round-off): within 1e-12 of the time scale for
-  // the landing rules; for an exact fixed step within 1e-6 of a step, which n·Δt accumulated in
-  // double misses only after ~1e9 steps, so a frame time that is a whole number of steps is met.
-  const double landing =
-      scene_.time.lands_on_frames() ? 1e-12 * std::max(1.0, std::abs(t_limit)) : 1e-6 * dt;
-  if (std::abs(t_limit - time_) < landing) time_ = t_limit;
-  DiagnosticsRow r = summed ? row_of(sums) : measure();
-  r.dt = dt;
-  r.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (row) *row = r;
+std::optional<Failure> MpmSimulation<T, D>::check_step(const DiagnosticsRow& r) const {
   if (!last_solve_.converged && scene_.solver.stop_on_nonconvergence) {
     std::ostringstream d;
     d << "did not converge in " << last_solve_.newton_iterations << " Newton iterations (residual "
       << last_solve_.residual << ", tolerance " << last_solve_.tolerance << ")";
-    failure_ = failure_at(steps_, time_, "implicit solve", d.str());
-  } else if (non_finite_) {  // a frozen state whose energies may still read finite
-    failure_ = failure_at(steps_, time_, "particle state", "became non-finite (NaN or Inf)");
-  } else {
-    failure_ = energy_failure(r, steps_, time_, "particle state",
-                              scene_.solver.blowup_energy_factor, energy_ref_);
+    return failure_at(steps_, time_, "implicit solve", d.str());
   }
-  return failure_;
+  if (non_finite_)  // a frozen state whose energies may still read finite
+    return failure_at(steps_, time_, "particle state", "became non-finite (NaN or Inf)");
+  return energy_failure(r, steps_, time_, "particle state", scene_.solver.blowup_energy_factor,
+                        energy_ref_);
 }
 
 }  // namespace apiclab

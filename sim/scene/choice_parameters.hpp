@@ -40,7 +40,8 @@ const std::vector<ChoiceParameter>& choice_parameters();
 // entry and the index its '*' stands for; null when the key is no word key.
 const ChoiceParameter* find_choice(std::string_view key, int* index = nullptr);
 
-// The Eulerian-on-Lagrangian contact kinds of `solver.contact` (sim/eol/surface_contact.hpp).
+// The Eulerian-on-Lagrangian contact kinds of `solver.contact`
+// (sim/eol/contact/surface_contact.hpp).
 const std::vector<Choice<EolSolverDesc::Contact>>& eol_contact_choices();
 
 }  // namespace apiclab

@@ -6,7 +6,7 @@
 #include <limits>
 #include <sstream>
 
-#include "sim/eol/rest_shape.hpp"
+#include "sim/eol/shape/rest_shape.hpp"
 #include "sim/geometry/sampling.hpp"
 #include "sim/mpm/block_partition.hpp"
 #include "sim/mpm/grid.hpp"

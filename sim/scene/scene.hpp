@@ -53,7 +53,7 @@ struct EolSolverDesc {
   int padding{};         // eol: empty cells around the rest shape in its grid
   double cell{};         // eol: the objects' cell size; 0 = domain.dx
   double grid_extent{};  // eol: side of each object's grid; 0 = rest shape + padding
-  // Contact with walls and colliders (sim/eol/surface_contact.hpp): the surface rows of eqs
+  // Contact with walls and colliders (sim/eol/contact/surface_contact.hpp): the surface rows of eqs
   // 27-28, one per collision cell of side contact_cell (0 = the grid cell), or one row per node
   // on or behind a plane.
   enum class Contact { surface, nodes };

@@ -166,7 +166,7 @@ expect_error "mesh face index past the vertex count" "badindex.obj" "face 4" "ve
 printf '%sf 1 3 2\nf 1 2 4\nf 1 4 3\n' "$tetra_vertices" >"$TMP/open.obj"
 mesh_scene "$TMP/open.obj"
 expect_error "open (non-manifold) mesh" "open.obj" "not a closed manifold" -- run "$f"
-# The EoL rest shape reads the same OBJ with the same checks (sim/eol/rest_shape.cpp).
+# The EoL rest shape reads the same OBJ with the same checks (sim/eol/shape/rest_shape.cpp).
 expect_error "open mesh as an EoL rest shape" "open.obj" "not a closed manifold" -- run "$f" --set solver.method=eol
 expect_error "open mesh as an Eulerian rest shape" "open.obj" "not a closed manifold" -- run "$f" --set solver.method=eulerian
 printf '%sv 0 0 -1\nv 0 -1 0\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\nf 1 2 5\nf 1 5 6\nf 1 6 2\nf 2 6 5\n' "$tetra_vertices" >"$TMP/bowtie.obj"  # two tetrahedra on one edge

@@ -11,7 +11,7 @@
 #include <random>
 #include <utility>
 
-#include "sim/eol/advection.hpp"
+#include "sim/eol/grid/advection.hpp"
 #include "sim/eol/least_squares_split.hpp"
 #include "sim/scene/parameters.hpp"
 #include "tests/eol/eol_test_scenes.hpp"

@@ -1,6 +1,6 @@
-// Mesh rest shapes for the EoL solver (sim/eol/mesh_distance.hpp): the sampled signed distance
-// of an icosphere against the ball's, of a placed box OBJ against the box shape's (transform and
-// sign), and the lumped mass of a mesh against ρ₀ × the OBJ's volume.
+// Mesh rest shapes for the EoL solver (sim/eol/shape/mesh_distance.hpp): the sampled signed
+// distance of an icosphere against the ball's, of a placed box OBJ against the box shape's
+// (transform and sign), and the lumped mass of a mesh against ρ₀ × the OBJ's volume.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "sim/eol/rest_shape.hpp"
+#include "sim/eol/shape/rest_shape.hpp"
 #include "sim/geometry/obj_mesh.hpp"
 #include "sim/geometry/sampling.hpp"
 #include "tests/eol/eol_test_scenes.hpp"

@@ -266,6 +266,47 @@ TEST(EolRuns, BodyAtRestIsNoBlowUpAndAnExplosionIsOne) {
   }
 }
 
+// The step's landing on frame times is the same rule for every family (Simulation::step): a
+// fixed step is taken exactly and the frame is the step at or just past its time, where the
+// surface is placed; with time.dt.land_on_frames the steps before a frame time shorten to meet
+// it (no sliver: 4 ms, then 3 ms and 3 ms to a 10 ms frame, named `frame` in dt_limit).
+TEST(EolRuns, FixedStepLandsOnFrameTimesOnlyWhenAsked) {
+  test::EolSceneSpec spec;
+  spec.fps = 100;
+  for (const bool land : {false, true}) {
+    const std::string dt =
+        std::string(R"(time.dt={"rule":"fixed","value":0.004,"land_on_frames":)") +
+        (land ? "true" : "false") + "}";
+    auto sim = make_simulation(parse_scene_text(test::eol_scene_json(spec), "eol-test.json", {dt}));
+    auto& eol = dynamic_cast<EolSimulation<double, 2>&>(*sim);
+    std::vector<double> dts;
+    DiagnosticsRow row;
+    while (sim->time() < 0.01) {
+      ASSERT_FALSE(sim->step(0.01, &row));
+      dts.push_back(row.dt);
+      EXPECT_EQ(row.dt_limit, land && dts.size() > 1 ? "frame" : "fixed") << "step " << dts.size();
+      EXPECT_EQ(eol.surfaces_placed(), sim->time() >= 0.01) << "step " << dts.size();
+    }
+    if (land) {
+      ASSERT_EQ(dts.size(), 3u);
+      EXPECT_DOUBLE_EQ(dts[0], 0.004);
+      EXPECT_NEAR(dts[1], 0.003, 1e-15);
+      EXPECT_NEAR(dts[2], 0.003, 1e-15);
+      EXPECT_EQ(sim->time(), 0.01);
+    } else {
+      EXPECT_EQ(dts, std::vector<double>(3, 0.004));
+      EXPECT_NEAR(sim->time(), 0.012, 1e-15);
+    }
+  }
+  // The rule itself: the adaptive rules are capped at the frame interval.
+  TimeDesc tm;
+  tm.fps = 100;
+  const FrameStep capped = land_on_frame(tm, 0.5, 1.0);
+  EXPECT_EQ(capped.dt, 0.01);
+  EXPECT_TRUE(capped.by_frame);
+  EXPECT_FALSE(land_on_frame(tm, 0.001, 1.0).by_frame);
+}
+
 TEST(EolSlow, SpinTenSecondsFig7) {
   const SpinResult eol = spin("eol", 10.0), eulerian = spin("eulerian", 10.0);
   EXPECT_LT(std::abs(eol.omega_drift), 0.01);

@@ -8,7 +8,7 @@
 #include <random>
 #include <utility>
 
-#include "sim/eol/surface_placement.hpp"
+#include "sim/eol/surface/surface_placement.hpp"
 #include "tests/eol/eol_test_scenes.hpp"
 
 namespace apiclab {

@@ -1,6 +1,6 @@
-// The surface contact rows of Fan et al. 2013, Sec 3.5 (sim/eol/surface_contact.hpp) and the
-// QP of eq 29 (sim/eol/contact_qp.hpp): each row is the rate of the clipped volume (eq 27 → 28),
-// the solve satisfies the KKT conditions, and an object resting on the floor stays there.
+// The surface contact rows of Fan et al. 2013, Sec 3.5 (sim/eol/contact/surface_contact.hpp) and
+// the QP of eq 29 (sim/eol/contact/contact_qp.hpp): each row is the rate of the clipped volume (eq
+// 27 → 28), the solve satisfies the KKT conditions, and an object resting on the floor stays there.
 #include <gtest/gtest.h>
 
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "sim/eol/rest_shape.hpp"
+#include "sim/eol/shape/rest_shape.hpp"
 
 #include "sim/geometry/obj_mesh.hpp"
 #include "sim/geometry/sampling.hpp"

@@ -32,9 +32,9 @@
 #include <cstdint>
 #include <vector>
 
-#include "sim/eol/eulerian_grid.hpp"
-#include "sim/eol/impulse_solve.hpp"
-#include "sim/eol/rest_surface.hpp"
+#include "sim/eol/contact/impulse_solve.hpp"
+#include "sim/eol/grid/eulerian_grid.hpp"
+#include "sim/eol/surface/rest_surface.hpp"
 
 namespace apiclab::eol {
 

@@ -16,7 +16,7 @@
 #include <cmath>
 #include <vector>
 
-#include "sim/eol/surface_contact.hpp"
+#include "sim/eol/contact/surface_contact.hpp"
 
 namespace apiclab::eol {
 

@@ -6,7 +6,7 @@
 #pragma once
 #include <vector>
 
-#include "sim/eol/eulerian_grid.hpp"
+#include "sim/eol/grid/eulerian_grid.hpp"
 
 namespace apiclab::eol {
 

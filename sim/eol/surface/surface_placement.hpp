@@ -12,7 +12,7 @@
 #include <limits>
 #include <vector>
 
-#include "sim/eol/eulerian_grid.hpp"
+#include "sim/eol/grid/eulerian_grid.hpp"
 
 namespace apiclab::eol {
 

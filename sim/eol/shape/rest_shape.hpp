@@ -8,7 +8,7 @@
 #include <cmath>
 #include <memory>
 
-#include "sim/eol/mesh_distance.hpp"
+#include "sim/eol/shape/mesh_distance.hpp"
 #include "sim/geometry/sampling.hpp"
 #include "sim/scene/scene.hpp"
 

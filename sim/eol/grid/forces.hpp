@@ -14,9 +14,9 @@
 #include <type_traits>
 #include <vector>
 
-#include "sim/eol/cell_points.hpp"
-#include "sim/eol/eulerian_grid.hpp"
 #include "sim/eol/frame.hpp"
+#include "sim/eol/grid/cell_points.hpp"
+#include "sim/eol/grid/eulerian_grid.hpp"
 #include "sim/materials.hpp"
 
 namespace apiclab::eol {

@@ -1,4 +1,4 @@
-#include "sim/eol/mesh_distance.hpp"
+#include "sim/eol/shape/mesh_distance.hpp"
 
 #include <Eigen/Geometry>
 #include <algorithm>

@@ -14,7 +14,7 @@
 #include <numeric>
 #include <vector>
 
-#include "sim/eol/rest_shape.hpp"
+#include "sim/eol/shape/rest_shape.hpp"
 #include "sim/math.hpp"
 
 namespace apiclab::eol {

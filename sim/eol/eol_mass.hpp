@@ -1,0 +1,63 @@
+// What a node carries from X and v: the fill, owner, material and lumped mass (eq 6), and the
+// spatial state r, x, u of eqs 1-4.
+#pragma once
+#include <cmath>
+
+#include "sim/eol/eol_simulation.hpp"
+#include "sim/eol/shape/rest_shape.hpp"
+
+namespace apiclab::eol {
+
+template <class T, int D>
+void EolSimulation<T, D>::update_mass(EolObject<T, D>& o) {
+  forces_ready_ = false;
+  update_mass(o, false);
+}
+
+// after_extrapolation: only the nodes without mass changed X since the last call (extrapolation
+// writes nothing else), so only they and the cells touching them are evaluated again.
+template <class T, int D>
+void EolSimulation<T, D>::update_mass(EolObject<T, D>& o, bool after_extrapolation) {
+  EulerianGrid<T, D>& g = o.grid;
+  const std::ptrdiff_t n = std::ptrdiff_t(g.size());
+#pragma omp parallel for if (parallel_)
+  for (std::ptrdiff_t ii = 0; ii < n; ++ii) {
+    const std::size_t i = std::size_t(ii);
+    if (after_extrapolation && g.mass[i] > T(0)) continue;
+    Vec3d X{0, 0, 0};
+    for (int a = 0; a < D; ++a) X[std::size_t(a)] = double(g.X[i][a]);
+    double best = 1e300;
+    int owner = -1;
+    for (int s : o.shapes) {
+      const double phi = rest_[std::size_t(s)].distance(X, D);
+      if (phi < best) {
+        best = phi;
+        owner = s;
+      }
+    }
+    const T fill = std::isfinite(best) ? smoothed_inside<T>(best, double(g.dx)) : T(0);
+    g.fill[i] = fill;
+    o.owner[i] = fill > T(0) ? owner : -1;
+    g.material[i] = fill > T(0) ? scene_.objects[std::size_t(owner)].material : -1;
+  }
+  o.elastic.lumped_mass(g, density_, g.mass, parallel_, after_extrapolation ? &g.mass : nullptr);
+}
+
+template <class T, int D>
+void EolSimulation<T, D>::spatial_state(EolObject<T, D>& o) {
+  forces_ready_ = false;
+  update_spatial(o);
+}
+
+// r = R y, x = r + p, u = ν + ω × r + R v (eqs 1-4).
+template <class T, int D>
+void EolSimulation<T, D>::update_spatial(EolObject<T, D>& o) const {
+  const Mat<T, D> R = o.frame.rotation();
+  for (std::size_t i = 0; i < o.grid.size(); ++i) {
+    o.r[i] = R * o.grid.y(i);
+    o.x[i] = o.r[i] + o.frame.p;
+    o.u[i] = o.frame.nu + spin_cross<T, D>(o.frame.omega, o.r[i]) + R * o.grid.v[i];
+  }
+}
+
+}  // namespace apiclab::eol

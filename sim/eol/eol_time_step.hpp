@@ -1,0 +1,87 @@
+// Δt by the scene's rule (Sec 3.6, sim/eol/time_step.hpp): fixed, or the advection limit of
+// eq 33 capped by the explicit elastic limit and time.dt.value, per object; the landing on the
+// frame time is Simulation::step's.
+#pragma once
+#include "sim/eol/eol_simulation.hpp"
+
+namespace apiclab::eol {
+
+template <class T, int D>
+double EolSimulation<T, D>::choose_dt() {
+  if (!forces_ready_) forces_ahead();  // eq 31's v₁ = M⁻¹ f reads this step's forces
+  const TimeDesc& tm = scene_.time;
+  if (tm.rule == DtRule::fixed) {
+    last_limit_ = DtLimit::fixed;
+    return tm.dt;
+  }
+  StageTimer timer{stages_.split};
+  double dt = tm.dt;
+  last_limit_ = DtLimit::max;
+  for (const auto& o : objects_) dt = object_dt(o, dt, last_limit_);
+  return dt;
+}
+
+// One pass for max|u|, and for eq 32's two fields u (v₀) and M⁻¹f (v₁) either their rates
+// (eulerian: v* is the field) or the sums of their splits (eq 23).
+template <class T, int D>
+typename EolSimulation<T, D>::DtSums EolSimulation<T, D>::dt_sums(const EolObject<T, D>& o) {
+  const auto& mass = o.grid.mass;
+  const double dx = double(o.grid.dx);
+  return sum_node_blocks(o.grid.size(), parallel_, dt_partial_, [&](DtSums& acc, std::size_t i) {
+    if (!(mass[i] > T(0))) return;
+    const Vec<T, D> a = o.force[i] / mass[i];
+    acc.umax = std::max(acc.umax, double(o.u[i].norm()));
+    if (lagrangian_) {
+      acc.split.template add<T>(o.r[i], {o.u[i], a});
+    } else {
+      acc.gamma0 = std::max(acc.gamma0, double(o.u[i].template lpNorm<1>()) / dx);
+      acc.gamma1 = std::max(acc.gamma1, double(a.template lpNorm<1>()) / dx);
+    }
+  });
+}
+
+// Eq 32: v* = v₀* + Δt v₁*, each the split (eq 24) of its own field; eq 33's γ are maxima (the
+// same in any order), so a plain parallel max.
+template <class T, int D>
+std::array<double, 2> EolSimulation<T, D>::split_rates(const EolObject<T, D>& o,
+                                                       const DtSums& sums) const {
+  const auto& mass = o.grid.mass;
+  const double dx = double(o.grid.dx);
+  const std::array<FrameVec<T, D>, 2> q = sums.split.template solve<T>();
+  const Mat<T, D> Rt = o.frame.rotation().transpose();
+  const std::ptrdiff_t n = std::ptrdiff_t(o.grid.size());
+  double g0 = 0, g1 = 0;
+#pragma omp parallel for reduction(max : g0, g1) if (parallel_)
+  for (std::ptrdiff_t ii = 0; ii < n; ++ii) {
+    const std::size_t i = std::size_t(ii);
+    if (!(mass[i] > T(0))) continue;
+    const Vec<T, D> a = o.force[i] / mass[i];
+    const Vec<T, D> v0 = eulerian_velocity<T, D>(o.u[i], o.r[i], q[0], Rt);
+    const Vec<T, D> v1 = eulerian_velocity<T, D>(a, o.r[i], q[1], Rt);
+    g0 = std::max(g0, double(v0.template lpNorm<1>()) / dx);
+    g1 = std::max(g1, double(v1.template lpNorm<1>()) / dx);
+  }
+  return {g0, g1};
+}
+
+// dt lowered to this object's advection limit (eq 33) and explicit elastic limit
+// ν Δx / (c + max|u|), with the bound that set it.
+template <class T, int D>
+double EolSimulation<T, D>::object_dt(const EolObject<T, D>& o, double dt, DtLimit& limit) {
+  const DtSums sums = dt_sums(o);
+  const std::array<double, 2> gamma =
+      lagrangian_ ? split_rates(o, sums) : std::array<double, 2>{sums.gamma0, sums.gamma1};
+  const double advection = advection_limit(gamma[0], gamma[1], scene_.solver.eol.alpha);
+  const double elastic = scene_.time.nu * double(o.grid.dx) / (max_wave_speed_ + sums.umax);
+  if (advection < dt) {
+    dt = advection;
+    limit = DtLimit::advection;
+  }
+  if (elastic < dt) {
+    dt = elastic;
+    limit = DtLimit::elastic;
+  }
+  return dt;
+}
+
+}  // namespace apiclab::eol
