@@ -497,8 +497,33 @@ TEST(EolObjectContact, RowsAreTheRateOfTheDiscreteOverlap2D) {
     EXPECT_NEAR(rate, exact, 1e-8 * std::abs(exact)) << "trial " << trial;
     worst = std::max(worst, std::abs(rate - exact) / std::abs(exact));
   }
+  // A node field that is not affine: the rows give the rate of the surfaces moving with Φ's
+  // interpolant (curved between vertices), the polygon's edges stay straight; measured only.
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::vector<std::vector<V2>> field(2);
+  for (int k = 0; k < 2; ++k)
+    for (std::size_t i = 0; i < (k ? B : A)->grid.size(); ++i)
+      field[std::size_t(k)].push_back(V2(unit(rng), unit(rng)));
+  auto moving = [&](const Disk& d, int k) {
+    return [&d, &field, k](const V2& x) {
+      return d.grid.interpolate(field[std::size_t(k)], V2(d.R.transpose() * (x - d.p)));
+    };
+  };
+  auto overlap = [&](double s) {
+    return polygon_area(clip_convex(polygon(*A, moving(*A, 0), s), polygon(*B, moving(*B, 1), s)));
+  };
+  const double h = 1e-5;
+  const double polygon_rate =
+      (8 * (overlap(h) - overlap(-h)) - (overlap(2 * h) - overlap(-2 * h))) / (12 * h);
+  double rate = 0;
+  for (std::size_t e = 0; e < rows.row.size(); ++e) {
+    const std::uint32_t g = rows.node[e];
+    rate += rows.coeff[e].dot(g < A->grid.size() ? field[0][g] : field[1][g - A->grid.size()]);
+  }
   std::printf("[eol object contact] %u rows, |Ω| %.6e (clipped %.6e), worst rate error %.1e\n",
               pairs[0].rows, pairs[0].volume, area, worst);
+  std::printf("[eol object contact] random node field: rows %.6e, straight-edged polygon %.6e\n",
+              rate, polygon_rate);
 }
 
 // The overlap of two placed circles against the exact lens as the grid (and the surface
