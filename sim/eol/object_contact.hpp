@@ -7,7 +7,8 @@
 // and jᵀu is the rate of the overlap it covers. The rows are split by a collision grid on the
 // spatial domain (Sec 3.5): a quadrature point's row is the world cell it lies in, one row per
 // (pair, cell), so a turning body cannot trade penetration on one side for separation on the
-// other.
+// other. An overlap deeper than about a collision cell puts the lens's two arcs in different
+// cells, and those rows hold one object's nodes only (still feasible: u = 0 meets every row).
 //
 // Γ_A ∩ B: each segment of A is cut at its crossings with B's segments, and each part is kept
 // when its midpoint is inside B (a crossing count). Degenerate pairs: parts of no length (a
