@@ -81,7 +81,8 @@ class ContactSolver {
       double change = 0;
       for (int k = 0; k < m; ++k) {
         if (!usable_[std::size_t(k)]) continue;
-        const double w = b_[std::size_t(k)] - A_.row(k).dot(lambda_);
+        // A is symmetric: its column k is row k, and contiguous.
+        const double w = b_[std::size_t(k)] - A_.col(k).dot(lambda_);
         double l = lambda_[k] + w / A_(k, k);
         if (!J.bilateral[std::size_t(k)]) l = std::max(l, 0.0);
         change = std::max(change, std::abs(l - lambda_[k]) * A_(k, k));
