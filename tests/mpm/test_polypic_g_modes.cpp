@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "sim/mpm/schemes/polypic.hpp"
+#include "sim/mpm/schemes/polypic_modes.hpp"
 #include "tests/mpm/test_helpers.hpp"
 
 namespace apiclab {

@@ -9,7 +9,7 @@
 #include <cstdio>
 #include <random>
 
-#include "sim/mpm/schemes/polypic.hpp"
+#include "sim/mpm/schemes/polypic_modes.hpp"
 #include "tests/mpm/test_helpers.hpp"
 
 namespace apiclab {
