@@ -1,8 +1,9 @@
 // The one categorical palette: materials, objects, GUI panes, plot series and the schemes'
 // colours in figures all index it, so index k is the same colour everywhere. Okabe & Ito's
 // colour-blind-safe colours, ordered so that the four schemes (pic, flip, apic, rpic) take
-// the first four; each scheme names its slot in its own file (sim/mpm/schemes/). tests/render/figures_tests.sh repeats the schemes' hex values (a shell script
-// cannot include this); test_render's Palette test pins them to the same strings.
+// the first four; each scheme names its slot in its own file (sim/mpm/schemes/).
+// tests/render/figures_tests.sh repeats the schemes' hex values (a shell script cannot include
+// this); test_render's Palette test pins them to the same strings.
 #pragma once
 #include <cctype>
 #include <cstdint>

@@ -355,8 +355,8 @@ struct G2pPass {
 
   // The diagnostics terms that ChunkTerms::sum cannot form from x, v and C
   // (sim/mpm/particle_sums.hpp): with the multilinear kernel ½ m tr(C D_p Cᵀ) and m (Bᵀ : ε) at
-  // x^{n+1}, and PolyPIC's higher modes' kinetic energy (sim/mpm/schemes/polypic_modes.hpp); particle q
-  // is the chunk's j-th.
+  // x^{n+1}, and PolyPIC's higher modes' kinetic energy (sim/mpm/schemes/polypic_modes.hpp);
+  // particle q is the chunk's j-th.
   __attribute__((always_inline)) void diagnostics_terms(ChunkTerms<T, D, chunk>& terms, int j,
                                                         std::ptrdiff_t q) const {
     const T m = p.mass[q];

@@ -180,7 +180,7 @@ T polypic_mode(const Setup<T, D>& s, int mode, const Vec<T, D>& xp, const Vec<T,
 // One step of size dt; the particles are updated in place.
 template <class T, int D>
 void step(const Setup<T, D>& s, ParticleState<T, D>& ps, T dt) {
-  Nodes<T, D> g(s);  // clear grid
+  Nodes<T, D> g(s);                         // clear grid
   const bool affine = is_affine(s.scheme);  // P2G's v_p + C_p (x_i − x_p) (eq 24)
   const bool mls = s.scheme == Scheme::mls;
   const bool polypic = s.scheme == Scheme::polypic;

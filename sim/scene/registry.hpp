@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "sim/mpm/kernels.hpp"
-#include "sim/scene/scheme_registry.hpp"
 #include "sim/scene/message_text.hpp"
+#include "sim/scene/scheme_registry.hpp"
 
 namespace apiclab {
 

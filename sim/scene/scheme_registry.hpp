@@ -29,15 +29,12 @@ struct SchemeRow {
 };
 
 // One line per scheme, in the enum's order (the order of help texts, GUI lists and colours).
-using SchemeRows = std::tuple<SchemeRow<Scheme::pic, schemes::Pic>,
-                              SchemeRow<Scheme::flip, schemes::Flip>,
-                              SchemeRow<Scheme::apic, schemes::Apic>,
-                              SchemeRow<Scheme::rpic, schemes::Rpic>,
-                              SchemeRow<Scheme::mls, schemes::Mls>,
-                              SchemeRow<Scheme::asflip, schemes::Asflip>,
-                              SchemeRow<Scheme::xpic, schemes::Xpic>,
-                              SchemeRow<Scheme::tpic, schemes::Tpic>,
-                              SchemeRow<Scheme::polypic, schemes::PolyPic>>;
+using SchemeRows =
+    std::tuple<SchemeRow<Scheme::pic, schemes::Pic>, SchemeRow<Scheme::flip, schemes::Flip>,
+               SchemeRow<Scheme::apic, schemes::Apic>, SchemeRow<Scheme::rpic, schemes::Rpic>,
+               SchemeRow<Scheme::mls, schemes::Mls>, SchemeRow<Scheme::asflip, schemes::Asflip>,
+               SchemeRow<Scheme::xpic, schemes::Xpic>, SchemeRow<Scheme::tpic, schemes::Tpic>,
+               SchemeRow<Scheme::polypic, schemes::PolyPic>>;
 
 inline constexpr int kSchemeCount = int(std::tuple_size_v<SchemeRows>);
 
@@ -59,7 +56,7 @@ constexpr SchemeInfo scheme_info_at() {
   using Row = std::tuple_element_t<I, SchemeRows>;
   using F = typename Row::type;
   static_assert(std::size_t(Row::id) == I, "SchemeRows lists the schemes in the enum's order");
-  return {Row::id,  F::key,    F::name,      F::help,          F::source,
+  return {Row::id,      F::key,    F::name,   F::help,      F::source,
           F::conserves, F::colour, F::affine, F::reads_old, F::force_in_affine};
 }
 template <std::size_t... I>
