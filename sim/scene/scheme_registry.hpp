@@ -29,12 +29,18 @@ struct SchemeRow {
 };
 
 // One line per scheme, in the enum's order (the order of help texts, GUI lists and colours).
-using SchemeRows =
-    std::tuple<SchemeRow<Scheme::pic, schemes::Pic>, SchemeRow<Scheme::flip, schemes::Flip>,
-               SchemeRow<Scheme::apic, schemes::Apic>, SchemeRow<Scheme::rpic, schemes::Rpic>,
-               SchemeRow<Scheme::mls, schemes::Mls>, SchemeRow<Scheme::asflip, schemes::Asflip>,
-               SchemeRow<Scheme::xpic, schemes::Xpic>, SchemeRow<Scheme::tpic, schemes::Tpic>,
-               SchemeRow<Scheme::polypic, schemes::PolyPic>>;
+// clang-format off
+using SchemeRows = std::tuple<
+    SchemeRow<Scheme::pic, schemes::Pic>,
+    SchemeRow<Scheme::flip, schemes::Flip>,
+    SchemeRow<Scheme::apic, schemes::Apic>,
+    SchemeRow<Scheme::rpic, schemes::Rpic>,
+    SchemeRow<Scheme::mls, schemes::Mls>,
+    SchemeRow<Scheme::asflip, schemes::Asflip>,
+    SchemeRow<Scheme::xpic, schemes::Xpic>,
+    SchemeRow<Scheme::tpic, schemes::Tpic>,
+    SchemeRow<Scheme::polypic, schemes::PolyPic>>;
+// clang-format on
 
 inline constexpr int kSchemeCount = int(std::tuple_size_v<SchemeRows>);
 

@@ -65,7 +65,9 @@ void g2p_conserves(const std::string& scheme, const std::string& kernel, double 
   const Change c = test::g2p_change<D>(scheme_scene(D, scheme, kernel, modes), 7 + D, dt);
   worst.add({c.p, scheme == "pic" ? 0.0 : c.L});
   EXPECT_LE(c.p, kRoundOff) << "particles p";
-  if (scheme != "pic") EXPECT_LE(c.L, kRoundOff) << "particles L";
+  if (scheme != "pic") {
+    EXPECT_LE(c.L, kRoundOff) << "particles L";
+  }
 }
 
 template <int D>
