@@ -9,7 +9,7 @@
 #include <regex>
 
 #include "sim/geometry/object_overlap.hpp"
-#include "sim/mpm/schemes/polypic.hpp"
+#include "sim/mpm/schemes/polypic_modes.hpp"
 #include "sim/scene/memory_estimate.hpp"
 #include "sim/scene/message_text.hpp"
 #include "sim/scene/parameters.hpp"

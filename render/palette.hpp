@@ -1,8 +1,9 @@
 // The one categorical palette: materials, objects, GUI panes, plot series and the schemes'
 // colours in figures all index it, so index k is the same colour everywhere. Okabe & Ito's
 // colour-blind-safe colours, ordered so that the four schemes (pic, flip, apic, rpic) take
-// the first four. tests/render/figures_tests.sh repeats the schemes' hex values (a shell script
-// cannot include this); test_render's Palette test pins them to the same strings.
+// the first four; each scheme names its slot in its own file (sim/mpm/schemes/).
+// tests/render/figures_tests.sh repeats the schemes' hex values (a shell script cannot include
+// this); test_render's Palette test pins them to the same strings.
 #pragma once
 #include <cctype>
 #include <cstdint>
@@ -10,6 +11,7 @@
 #include <string_view>
 
 #include "render/color.hpp"
+#include "sim/scene/scheme_registry.hpp"
 
 namespace apiclab::render {
 
@@ -26,27 +28,23 @@ constexpr Rgba8 palette_color(int index) {
   return kPalette[((index % kPaletteSize) + kPaletteSize) % kPaletteSize];
 }
 
-// Schemes by their registry key (sim/scene/registry.hpp): the palette slot each one owns.
-struct SchemeLook {
-  std::string_view key, label;
-  int color;
-};
-inline constexpr SchemeLook kSchemeLooks[] = {
-    {"pic", "PIC", 0},   {"flip", "FLIP", 1}, {"apic", "APIC", 2},
-    {"rpic", "RPIC", 3}, {"mls", "MLS", 4},   {"asflip", "ASFLIP", 5},
-    {"xpic", "XPIC", 6}, {"tpic", "TPIC", 7}, {"polypic", "PolyPIC", 8}};
-
-// The scheme's colour; a key outside the table gets the palette's grey.
-constexpr Rgba8 scheme_color(std::string_view key) {
-  for (const SchemeLook& s : kSchemeLooks)
-    if (s.key == key) return palette_color(s.color);
-  return palette_color(kPaletteSize - 1);
+// A scheme by its registry key; nullptr for a key that names none.
+constexpr const SchemeInfo* scheme_of_key(std::string_view key) {
+  for (const SchemeInfo& s : kSchemes)
+    if (s.key == key) return &s;
+  return nullptr;
 }
 
-// "PIC", "FLIP", ...; the methods "EoL" and "Eulerian"; a key outside these in upper case.
+// The scheme's colour, the palette slot its file names; a key outside the registry gets grey.
+constexpr Rgba8 scheme_color(std::string_view key) {
+  const SchemeInfo* s = scheme_of_key(key);
+  return palette_color(s ? s->colour : kPaletteSize - 1);
+}
+
+// "PIC", "FLIP", ... (the scheme's name); the methods "EoL" and "Eulerian"; a key outside these
+// in upper case.
 inline std::string scheme_label(std::string_view key) {
-  for (const SchemeLook& s : kSchemeLooks)
-    if (s.key == key) return std::string(s.label);
+  if (const SchemeInfo* s = scheme_of_key(key)) return std::string(s->name);
   // The solver methods without schemes, as the manual writes them.
   if (key == "eol") return "EoL";
   if (key == "eulerian") return "Eulerian";

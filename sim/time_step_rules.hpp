@@ -11,7 +11,7 @@
 #include <cmath>
 
 #include "sim/mpm/mpm.hpp"
-#include "sim/mpm/schemes/polypic.hpp"
+#include "sim/mpm/schemes/polypic_modes.hpp"
 
 namespace apiclab {
 

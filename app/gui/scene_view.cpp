@@ -8,7 +8,7 @@
 #include "render/figure.hpp"
 #include "render/legend.hpp"
 #include "render/snapshot_stats.hpp"
-#include "sim/mpm/schemes/polypic.hpp"
+#include "sim/mpm/schemes/polypic_modes.hpp"
 
 namespace apiclab::gui {
 namespace {

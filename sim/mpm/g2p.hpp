@@ -16,7 +16,7 @@
 #include "sim/mpm/kernel_dispatch.hpp"
 #include "sim/mpm/mpm.hpp"
 #include "sim/mpm/schemes/particle_update.hpp"
-#include "sim/mpm/schemes/polypic.hpp"
+#include "sim/mpm/schemes/polypic_modes.hpp"
 #include "sim/mpm/simd/deformation_update.hpp"
 #include "sim/mpm/simd/particle_move_2d.hpp"
 #include "sim/mpm/simd/stencil_batch.hpp"
@@ -40,6 +40,7 @@ struct GatheredSums {
 // One G2P pass of scheme S with kernel K: what it reads of the scene, fixed for the step.
 template <class T, int D, class K, Scheme S>
 struct G2pPass {
+  using Sch = scheme_t<S>;  // the scheme's file (sim/mpm/schemes/)
   static constexpr int W = K::width;
   static constexpr std::ptrdiff_t chunk = 1024;  // particles a row sum (g2p_impl)
   using Batch = StencilBatch<T, D, K>;
@@ -47,7 +48,7 @@ struct G2pPass {
   // The gather reads the first 2D lanes of each node, [ṽ (D), vⁿ (D)]: one register per node in
   // 2D double (256-bit lanes, sim/mpm/simd/lanes.hpp) instead of two.
   using GatherLanes = typename Grid<T, D>::GatherLanes;
-  // At λ = 0 a scheme that does not read Σ w vⁿ (all but FLIP and ASFLIP) gathers ṽ alone, in
+  // At λ = 0 a scheme that does not read Σ w vⁿ (Sch::reads_old) gathers ṽ alone, in
   // fewer registers where D lanes take fewer than 2D (3D double: one instead of two).
   // Only there: elsewhere the generic gather is the faster (docs/performance.md).
   static constexpr bool narrow_exists = lane_parts<T>(D) < GatherLanes::parts;
@@ -57,7 +58,7 @@ struct G2pPass {
   Particles<T, D>& p;
   const Grid<T, D>& grid;
   const Node* packed;           // [ṽ (D), vⁿ (D), pad] per node (pack_velocities)
-  const Vec<T, D>* xpic_shift;  // XPIC(m > 1)'s grid field e (sim/mpm/schemes/xpic.hpp)
+  const Vec<T, D>* xpic_shift;  // XPIC(m > 1)'s grid field e (sim/mpm/schemes/xpic_passes.hpp)
   T dt, lambda, alpha, beta;
   T inv_k;           // 1 / (k Δx²), D_p = k Δx² I (quadratic, cubic)
   Vec<T, D> lo, hi;  // the domain
@@ -88,18 +89,18 @@ struct G2pPass {
       hi[a] = T(scene.domain.max[a]);
     }
     lagged = multilinear && s.apic_linear_form == ApicLinearForm::lagged;
-    narrow = narrow_exists && S != Scheme::flip && S != Scheme::asflip && lambda == T(0);
-    eq38 = is_affine(S) && !lagged && S != Scheme::tpic;
-    xpic_gather = S == Scheme::xpic && s.xpic_order > 1;
+    narrow = narrow_exists && !Sch::reads_old && lambda == T(0);
+    eq38 = Sch::affine && !lagged && !Sch::c_from_gradient;
+    xpic_gather = Sch::grid_field && s.xpic_order > 1;
     polypic_kept = polypic::kept_modes(s.polypic_modes, D);
     polypic_extra = int(p.modes.size());
     polypic_g = polypic::keeps_g_modes(1 + D + polypic_extra, D);
-    extras = (is_affine(S) && multilinear) || (S == Scheme::polypic && polypic_extra > 0);
+    extras = (Sch::affine && multilinear) || (Sch::higher_modes && polypic_extra > 0);
     const bool any_periodic =
         std::find(g.periodic.begin(), g.periodic.end(), true) != g.periodic.end();
-    // Unless a particle's own later work reads its F^{n+1} (ASFLIP's move) or x^{n+1} (the row's
-    // extra terms), or an axis wraps.
-    tail_batched = D == 2 && S != Scheme::asflip && !extras && !any_periodic;
+    // Unless a particle's own later work reads its F^{n+1} (a corrected move) or x^{n+1} (the
+    // row's extra terms), or an axis wraps.
+    tail_batched = D == 2 && !Sch::corrects_move && !extras && !any_periodic;
   }
 
   // Particle `lane`'s stencil as Stencil::compute makes it, for the rare readers of the whole
@@ -255,7 +256,7 @@ struct G2pPass {
     return B;
   }
 
-  // XPIC(m > 1): Σ w e_i of its grid field (sim/mpm/schemes/xpic.hpp).
+  // XPIC(m > 1): Σ w e_i of its grid field (sim/mpm/schemes/xpic_passes.hpp).
   __attribute__((always_inline)) Vec<T, D> xpic_sum(const Batch& batch, int lane) const {
     Vec<T, D> shift = Vec<T, D>::Zero();
     const Stencil<T, D, K> st = stencil(batch, lane);
@@ -285,19 +286,19 @@ struct G2pPass {
     }
   }
 
-  // The particle update: v_p and C_p of scheme S (sim/mpm/schemes/particle_update.hpp). MLS-MPM (Hu
-  // et al. 2018) moves F by its new C: ∇u is replaced.
+  // The particle update: v_p and C_p by the scheme's own file (Sch::update). MLS-MPM (Hu et al.
+  // 2018) moves F by its new C: ∇u is replaced.
   __attribute__((always_inline)) void update_particle(std::ptrdiff_t q, const Batch& batch,
                                                       int lane, GatheredSums<T, D>& g) const {
     GatheredVelocity<T, D> gathered{g.pic, g.old, Mat<T, D>::Zero()};
-    if constexpr (is_affine(S)) gathered.apic_C = apic_C(q, g);
-    if constexpr (S == Scheme::xpic)
+    if constexpr (Sch::affine) gathered.apic_C = apic_C(q, g);
+    if constexpr (Sch::grid_field)
       if (xpic_gather) gathered.xpic_shift = xpic_sum(batch, lane);
-    update_particle_velocity<S>(
+    Sch::update(
         gathered, alpha, multilinear, [&] { return Mat<T, D>(stencil(batch, lane).inertia()); },
         p.v[q], p.C[q]);
-    if constexpr (S == Scheme::polypic) polypic_modes(q, batch, lane);
-    if constexpr (S == Scheme::mls) {
+    if constexpr (Sch::higher_modes) polypic_modes(q, batch, lane);
+    if constexpr (Sch::moves_f_by_c) {
       const Mat<T, D>& C = p.C[q];
       if constexpr (D == 3)
         for (int c = 0; c < D; ++c) g.grad_u[c] = Lanes<T, 3>::of(C(0, c), C(1, c), C(2, c));
@@ -335,12 +336,8 @@ struct G2pPass {
                                                     const Vec<T, D>& v_n, T& largest) const {
     update_deformation(p.F[q], g.grad_u);
     Vec<T, D> move = dt * g.ubar;
-    // ASFLIP (Fei et al. 2021): separating particles also move by β α (v_p^n − v_old); a particle
-    // whose volume shrinks this step (ln J^{n+1} < −10⁻³, the threshold of the authors' pyasflip
-    // demo) keeps the grid's motion (β_min = 0).
-    if constexpr (S == Scheme::asflip)
-      if (beta != T(0) && std::log(std::max(p.F[q].determinant(), T(1e-15))) >= T(-1e-3))
-        move += (dt * beta * alpha) * (v_n - g.old);
+    // ASFLIP (Fei et al. 2021): separating particles also move by β α (v_p^n − v_old).
+    if constexpr (Sch::corrects_move) Sch::correct_move(move, p.F[q], v_n, g.old, dt, alpha, beta);
     Vec<T, D> x = p.x[q] + move;
     largest = std::max(largest, move.cwiseAbs().maxCoeff());
     for (int a = 0; a < D; ++a) {
@@ -358,13 +355,13 @@ struct G2pPass {
 
   // The diagnostics terms that ChunkTerms::sum cannot form from x, v and C
   // (sim/mpm/particle_sums.hpp): with the multilinear kernel ½ m tr(C D_p Cᵀ) and m (Bᵀ : ε) at
-  // x^{n+1}, and PolyPIC's higher modes' kinetic energy (sim/mpm/schemes/polypic.hpp); particle q
-  // is the chunk's j-th.
+  // x^{n+1}, and PolyPIC's higher modes' kinetic energy (sim/mpm/schemes/polypic_modes.hpp);
+  // particle q is the chunk's j-th.
   __attribute__((always_inline)) void diagnostics_terms(ChunkTerms<T, D, chunk>& terms, int j,
                                                         std::ptrdiff_t q) const {
     const T m = p.mass[q];
     T modes_kinetic = 0;
-    if constexpr (S == Scheme::polypic) {
+    if constexpr (Sch::higher_modes) {
       if (polypic_extra > 0) {
         Stencil<T, D, QuadraticKernel> at_x;
         at_x.compute(p.x[q], grid);
@@ -395,7 +392,7 @@ struct G2pPass {
                                                       ParticleSums* sums) const {
     ChunkTerms<T, D, chunk> terms;
     // APIC-like schemes with an isotropic D_p: C, read with x and v.
-    if constexpr (is_affine(S) && !multilinear) terms.isotropic_k = k_inertia;
+    if constexpr (Sch::affine && !multilinear) terms.isotropic_k = k_inertia;
     terms.extras = extras;
     // The chunk's own largest move and finiteness, in registers: the reduction's variables live
     // on the stack, and max_move updated per particle was a chain through memory (perf annotate).
@@ -467,37 +464,12 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
 template <class T, int D>
 void MpmSimulation<T, D>::grid_to_particles(T dt, ParticleSums* sums) {
   with_kernel(scene_.solver.kernel, [&](auto kernel) {
-    using K = decltype(kernel);
-    switch (scene_.solver.scheme) {
-      case Scheme::pic:
-        g2p_impl<K, Scheme::pic>(dt, sums);
-        break;
-      case Scheme::flip:
-        g2p_impl<K, Scheme::flip>(dt, sums);
-        break;
-      case Scheme::apic:
-        g2p_impl<K, Scheme::apic>(dt, sums);
-        break;
-      case Scheme::rpic:
-        g2p_impl<K, Scheme::rpic>(dt, sums);
-        break;
-      case Scheme::mls:
-        g2p_impl<K, Scheme::mls>(dt, sums);
-        break;
-      case Scheme::asflip:
-        g2p_impl<K, Scheme::asflip>(dt, sums);
-        break;
-      case Scheme::xpic:
-        xpic_grid_passes<K>();
-        g2p_impl<K, Scheme::xpic>(dt, sums);
-        break;
-      case Scheme::tpic:
-        g2p_impl<K, Scheme::tpic>(dt, sums);
-        break;
-      case Scheme::polypic:
-        g2p_impl<K, Scheme::polypic>(dt, sums);
-        break;
-    }
+    with_scheme(scene_.solver.scheme, [&](auto scheme) {
+      using K = decltype(kernel);
+      constexpr Scheme S = decltype(scheme)::value;
+      if constexpr (scheme_t<S>::grid_field) xpic_grid_passes<K>();
+      g2p_impl<K, S>(dt, sums);
+    });
   });
 }
 

@@ -1,6 +1,7 @@
-// Run-time scene choices to compile-time types: one switch on the kernel for every phase, and
-// the one test of whether a scheme carries the affine matrix C_p.
+// Run-time scene choices to compile-time types: one switch on the kernel and one on the transfer
+// scheme for every phase.
 #pragma once
+#include <type_traits>
 #include <utility>
 
 #include "sim/mpm/kernels.hpp"
@@ -22,12 +23,13 @@ decltype(auto) with_kernel(KernelType type, Fn&& f) {
   return std::forward<Fn>(f)(CubicKernel{});
 }
 
-// APIC, RPIC, MLS, TPIC and PolyPIC transfer v_p + C_p (x_i − x_p) (eq 24; PolyPIC adds its
-// higher modes, sim/mpm/schemes/polypic.hpp); PIC and FLIP transfer v_p alone. ASFLIP (Fei et al.
-// 2021) transfers as APIC; XPIC (Hammerquist and Nairn 2017) as PIC.
-constexpr bool is_affine(Scheme s) {
-  return s == Scheme::apic || s == Scheme::rpic || s == Scheme::mls || s == Scheme::asflip ||
-         s == Scheme::tpic || s == Scheme::polypic;
+// f(std::integral_constant<Scheme, S>{}) for the scheme `s`: the one scheme switch, over every
+// line of sim/scene/scheme_registry.hpp; scheme_t<S> is the scheme's file.
+template <int I = 0, class Fn>
+decltype(auto) with_scheme(Scheme s, Fn&& f) {
+  if constexpr (I + 1 < kSchemeCount)
+    if (s != Scheme(I)) return with_scheme<I + 1>(s, std::forward<Fn>(f));
+  return std::forward<Fn>(f)(std::integral_constant<Scheme, Scheme(I)>{});
 }
 
 }  // namespace apiclab

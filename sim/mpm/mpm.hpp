@@ -145,7 +145,7 @@ class MpmSimulation final : public Simulation, public TransferControls {
   // no step was taken, so the sums were not taken.
   bool step_fixed_summing(double dt, ParticleSums* sums);
   template <class K>
-  void xpic_grid_passes();  // sim/mpm/schemes/xpic.hpp
+  void xpic_grid_passes();  // sim/mpm/schemes/xpic_passes.hpp
   template <class K>
   void velocity_noise(std::vector<float>& out) const;
   template <class Fn>
@@ -176,7 +176,8 @@ class MpmSimulation final : public Simulation, public TransferControls {
   // P2G keeps every particle's stencil for the steps that read it again.
   bool keeps_stencils() const { return uses_implicit_solve() || !mesh_.empty(); }
   void add_triangulated_object(int object_index);
-  void allocate_polypic_modes();  // Particles::modes for PolyPIC only (sim/mpm/schemes/polypic.hpp)
+  void allocate_polypic_modes();  // Particles::modes for PolyPIC only
+                                  // (sim/mpm/schemes/polypic_modes.hpp)
   template <class K>
   void p2g_polypic_modes();  // PolyPIC's higher modes into the P2G momentum
   void rebuild_index_of_id();
@@ -212,8 +213,8 @@ class MpmSimulation final : public Simulation, public TransferControls {
   std::vector<Stencil<T, D, LinearKernel>> stencils_linear_;
   std::vector<Stencil<T, D, QuadraticKernel>> stencils_quadratic_;
   std::vector<Stencil<T, D, CubicKernel>> stencils_cubic_;
-  // XPIC(m) only, sized on its first step (sim/mpm/schemes/xpic.hpp): the series term (I − S S⁺)^k
-  // vⁿ and the sum e = Σ_{k=1}^{m−1} of those terms, per grid node; freed by set_scheme.
+  // XPIC(m) only, sized on its first step (sim/mpm/schemes/xpic_passes.hpp): the series term (I − S
+  // S⁺)^k vⁿ and the sum e = Σ_{k=1}^{m−1} of those terms, per grid node; freed by set_scheme.
   std::vector<Vec<T, D>> xpic_term_, xpic_shift_;
   ImplicitSolveState<T, D> imp_;
   NewtonCgReport last_solve_;             // the last grid update's (zero iterations when explicit)

@@ -2,7 +2,7 @@
 #pragma once
 #include "sim/mpm/kernel_dispatch.hpp"
 #include "sim/mpm/mpm.hpp"
-#include "sim/mpm/schemes/polypic.hpp"
+#include "sim/mpm/schemes/polypic_modes.hpp"
 
 namespace apiclab {
 
@@ -62,7 +62,7 @@ ParticleSums MpmSimulation<T, D>::particle_sums() const {
     }
     if (!p_.modes.empty()) {
       // PolyPIC's higher modes: ½ m Σ_j |c_j|² Σ_i w s_j² (orthogonal modes); they add no
-      // angular momentum, being orthogonal to the linear modes (sim/mpm/schemes/polypic.hpp).
+      // angular momentum, being orthogonal to the linear modes (sim/mpm/schemes/polypic_modes.hpp).
       Stencil<T, D, QuadraticKernel> st;
       st.compute(p_.x[q], grid_);
       kin +=

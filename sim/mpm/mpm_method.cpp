@@ -2,7 +2,7 @@
 // the validation of its keys in the scene's `solver` section.
 #include "sim/method_registry.hpp"
 #include "sim/mpm/mpm.hpp"
-#include "sim/mpm/schemes/polypic.hpp"
+#include "sim/mpm/schemes/polypic_modes.hpp"
 #include "sim/scene/memory_estimate.hpp"
 
 namespace apiclab {

@@ -6,8 +6,7 @@
 
 #include "sim/mpm/kernel_dispatch.hpp"
 #include "sim/mpm/mpm.hpp"
-#include "sim/mpm/schemes/particle_update.hpp"
-#include "sim/mpm/schemes/polypic.hpp"
+#include "sim/mpm/schemes/polypic_modes.hpp"
 #include "sim/mpm/schemes/scheme_label.hpp"
 
 namespace apiclab {
@@ -20,7 +19,7 @@ void MpmSimulation<T, D>::set_scheme(Scheme scheme, double flip_alpha) {
   if (!is_affine(scheme)) {  // PIC, FLIP, XPIC: no C_p
     for (auto& C : p_.C) C.setZero();
   } else if (scheme == Scheme::rpic && was_affine) {
-    for (auto& C : p_.C) C = rpic_skew_part<T, D>(C);  // returns a new matrix: C is not aliased
+    for (auto& C : p_.C) C = schemes::Rpic::skew_part(C);  // returns a new matrix: C is not aliased
   }
   allocate_polypic_modes();  // zero higher modes when switching to polypic, none otherwise
   // XPIC's node arrays exist only while it runs with m > 1 ("model no more than a scene needs");

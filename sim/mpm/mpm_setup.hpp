@@ -7,7 +7,7 @@
 #include "sim/mpm/implicit/round_off_floor.hpp"
 #include "sim/mpm/kernel_dispatch.hpp"
 #include "sim/mpm/mpm.hpp"
-#include "sim/mpm/schemes/polypic.hpp"
+#include "sim/mpm/schemes/polypic_modes.hpp"
 
 namespace apiclab {
 

@@ -4,7 +4,7 @@
 
 #include "sim/mpm/kernel_dispatch.hpp"
 #include "sim/mpm/mpm.hpp"
-#include "sim/mpm/schemes/polypic.hpp"
+#include "sim/mpm/schemes/polypic_modes.hpp"
 #include "sim/mpm/simd/stencil_batch.hpp"
 #include "sim/mpm/simd/stress_lanes.hpp"
 
@@ -194,7 +194,7 @@ void MpmSimulation<T, D>::unpack_accumulator() {
 template <class T, int D>
 void MpmSimulation<T, D>::particles_to_grid(bool with_forces) {
   const bool affine = is_affine(scene_.solver.scheme);
-  const bool mls = scene_.solver.scheme == Scheme::mls;
+  const bool mls = scheme_info(scene_.solver.scheme).force_in_affine;
   if (with_forces && !stress_of_current_F_) compute_stress();
   with_kernel(scene_.solver.kernel, [&](auto kernel) {
     using K = decltype(kernel);

@@ -15,7 +15,7 @@ struct Particles {
   std::vector<T> mass, volume0;
   std::vector<std::int32_t> material, object, id;  // id: stable order for dumps and snapshots
   // PolyPIC's mode coefficients beyond the affine ones, one array per mode
-  // (sim/mpm/schemes/polypic.hpp); empty for every other scheme.
+  // (sim/mpm/schemes/polypic_modes.hpp); empty for every other scheme.
   std::vector<std::vector<Vec<T, D>>> modes;
 
   // Allocates `count` zeroed mode arrays (0 frees them).

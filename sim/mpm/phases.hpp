@@ -10,5 +10,5 @@
 #include "sim/mpm/mpm_step.hpp"
 #include "sim/mpm/p2g.hpp"
 #include "sim/mpm/schemes/particle_update.hpp"
-#include "sim/mpm/schemes/xpic.hpp"
+#include "sim/mpm/schemes/xpic_passes.hpp"
 #include "sim/time_step_rules.hpp"

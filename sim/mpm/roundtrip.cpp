@@ -57,8 +57,8 @@ RoundTripResult roundtrip_error(KernelType kernel, Scheme scheme, int resolution
   }
   sim.sort_particles();  // the phases run over the nodes the sorted particles reach
   // The node masses m_i = Σ w m_p (eq 24) of these particles before G2P, as a step has them:
-  // XPIC's grid passes (A = S⁺S, sim/mpm/schemes/xpic.hpp) read them; the other schemes' G2P does
-  // not. The P2G momentum is zero (v_p = 0) and is overwritten below.
+  // XPIC's grid passes (A = S⁺S, sim/mpm/schemes/xpic_passes.hpp) read them; the other schemes' G2P
+  // does not. The P2G momentum is zero (v_p = 0) and is overwritten below.
   sim.clear_grid();
   sim.particles_to_grid(false);
 

@@ -19,7 +19,7 @@
 
 #include "sim/materials.hpp"
 #include "sim/math.hpp"
-#include "sim/mpm/schemes/polypic.hpp"  // the order of PolyPIC's modes only
+#include "sim/mpm/schemes/polypic_modes.hpp"  // the order of PolyPIC's modes only
 #include "sim/scene/registry.hpp"
 
 namespace apiclab::reference {
@@ -180,10 +180,8 @@ T polypic_mode(const Setup<T, D>& s, int mode, const Vec<T, D>& xp, const Vec<T,
 // One step of size dt; the particles are updated in place.
 template <class T, int D>
 void step(const Setup<T, D>& s, ParticleState<T, D>& ps, T dt) {
-  Nodes<T, D> g(s);  // clear grid
-  const bool affine = s.scheme == Scheme::apic || s.scheme == Scheme::rpic ||
-                      s.scheme == Scheme::mls || s.scheme == Scheme::asflip ||
-                      s.scheme == Scheme::tpic || s.scheme == Scheme::polypic;
+  Nodes<T, D> g(s);                         // clear grid
+  const bool affine = is_affine(s.scheme);  // P2G's v_p + C_p (x_i − x_p) (eq 24)
   const bool mls = s.scheme == Scheme::mls;
   const bool polypic = s.scheme == Scheme::polypic;
   const int kept = polypic::kept_modes(s.polypic_modes, D);
@@ -324,7 +322,7 @@ void step(const Setup<T, D>& s, ParticleState<T, D>& ps, T dt) {
             num += w * mode * g.v_new[i];
             den += w * mode * mode;
           });
-          // a mode the grid cannot see (a weight exactly 0) gets 0 (schemes/polypic.hpp)
+          // a mode the grid cannot see (a weight exactly 0) gets 0 (schemes/polypic_modes.hpp)
           ps.modes[std::size_t(j)][p] = den > T(0) ? Vec<T, D>(num / den) : Vec<T, D>::Zero();
         }
       }

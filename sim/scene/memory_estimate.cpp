@@ -12,7 +12,7 @@
 #include "sim/mpm/grid.hpp"
 #include "sim/mpm/kernels.hpp"
 #include "sim/mpm/particles.hpp"
-#include "sim/mpm/schemes/polypic.hpp"
+#include "sim/mpm/schemes/polypic_modes.hpp"
 #include "sim/mpm/stencil.hpp"
 
 namespace apiclab {
@@ -157,7 +157,7 @@ void bytes_per_item(const SceneDesc& scene, MemoryEstimate& e) {
       break;
   }
   e.bytes_per_particle = particles + sizeof(M) + stencil + 4 + 4 + 8;
-  // XPIC(m > 1): the series term and its sum per node (sim/mpm/schemes/xpic.hpp).
+  // XPIC(m > 1): the series term and its sum per node (sim/mpm/schemes/xpic_passes.hpp).
   if (scene.solver.scheme == Scheme::xpic && scene.solver.xpic_order > 1)
     e.bytes_per_node += 2 * sizeof(V);
   if (scene.solver.scheme == Scheme::polypic)  // its higher modes, and their sort copy

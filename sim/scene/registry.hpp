@@ -9,10 +9,10 @@
 
 #include "sim/mpm/kernels.hpp"
 #include "sim/scene/message_text.hpp"
+#include "sim/scene/scheme_registry.hpp"
 
 namespace apiclab {
 
-enum class Scheme { pic, flip, apic, rpic, mls, asflip, xpic, tpic, polypic };
 enum class Integrator { symplectic, midpoint, backward, lambda_family };
 enum class MaterialModel { neo_hookean, fixed_corotated };
 enum class ShapeType { box, ball, annulus, torus, mesh };
@@ -34,41 +34,15 @@ struct Choice {
   std::string_view help;
 };
 
+// Built from sim/scene/scheme_registry.hpp: a scheme's key and help are in its own file.
 inline const std::vector<Choice<Scheme>>& scheme_choices() {
-  static const std::vector<Choice<Scheme>> c = {
-      {"pic", Scheme::pic, "PIC, eqs 1-2: grid velocity interpolated back; dissipative"},
-      {"flip", Scheme::flip, "FLIP/PIC blend, eq 3: particles keep grid velocity increments"},
-      {"apic", Scheme::apic, "APIC, eqs 24-26 and 37-40: affine velocity per particle"},
-      {"rpic", Scheme::rpic, "RPIC, Secs 2.1 and 5.1: rigid (skew) velocity per particle"},
-      {"mls", Scheme::mls,
-       "MLS-MPM (Hu et al. 2018, Sec 4): APIC's transfers, C as the velocity gradient, F <- (I + "
-       "dt C) F (eq 17); the force of eq 18, -V0 dPsi/dF F^T M_p^-1 w (x_i - x_p), fused into "
-       "P2G's affine term (Q_p, Sec 6); quadratic or cubic, symplectic Euler"},
-      {"asflip", Scheme::asflip,
-       "ASFLIP (Fei et al. 2021; the update of the authors' demo pyasflip, G2P of Substep): "
-       "APIC's affine transfers, v <- v^PIC + alpha (v_p - "
-       "v_old^PIC) with alpha = solver.flip_alpha, x <- x + dt (v^PIC + beta alpha (v_p - "
-       "v_old^PIC)) for separating particles, beta = solver.asflip_beta (beta = 0: the plain "
-       "APIC/FLIP blend)"},
-      {"xpic", Scheme::xpic,
-       "XPIC(m) (Hammerquist and Nairn 2017; their v* = sum_r (-1)^r v*_r, v*_r = (m-r+1)/r "
-       "S+S v*_{r-1}, as Tesserae.jl documents it): PIC plus the m-term series of the "
-       "particle-grid-particle operator, v <- (I - (I - S S+)^m) v_p + S a dt; m = "
-       "solver.xpic_order, XPIC(1) = PIC"},
-      {"tpic", Scheme::tpic,
-       "TPIC (Nakamura et al. 2023, as the first author's Tesserae.jl documents it; no equation "
-       "numbers reachable): P2G m v_i = sum w m (v_p + grad v_p (x_i - x_p)), G2P grad v_p = "
-       "sum v_i grad w_ip^T (a first-order Taylor expansion); every kernel"},
-      {"polypic", Scheme::polypic,
-       "PolyPIC (Fu, Guo, Gast, Jiang and Teran 2017; MLS on velocities with B-spline weights, "
-       "Hu et al. 2018 Sec 3.2; no equation numbers reachable): per-particle polynomial velocity "
-       "modes orthogonal under the "
-       "weights, solver.polypic_modes of them (1 = PIC, 3 in 2D / 4 in 3D = APIC's affine, 9 / 27 "
-       "= all); quadratic kernel"}};
+  static const std::vector<Choice<Scheme>> c = [] {
+    std::vector<Choice<Scheme>> v;
+    for (const SchemeInfo& s : kSchemes) v.push_back({s.key, s.value, s.help});
+    return v;
+  }();
   return c;
 }
-// The schemes that read solver.flip_alpha: FLIP (eq 3) and ASFLIP (Fei et al. 2021).
-constexpr bool blends_flip(Scheme s) { return s == Scheme::flip || s == Scheme::asflip; }
 inline const std::vector<Choice<KernelType>>& kernel_choices() {
   static const std::vector<Choice<KernelType>> c = {
       {"linear", KernelType::linear, "multilinear hat; APIC uses the lagged-C form (Sec 5.9)"},

@@ -1,6 +1,6 @@
 // PolyPIC's G modes (Fu et al. 2017) on impacts: why polypic_modes >= 5 (2D) blows up where
 // stressed material meets nearly empty grid nodes, measured against closed forms
-// (README, Further transfer schemes). The rest of PolyPIC's tests: tests/mpm/test_tpic_polypic.cpp.
+// (README, Further transfer schemes). The rest of PolyPIC's tests: tests/mpm/schemes/.
 #include <gtest/gtest.h>
 
 #include <array>
@@ -8,7 +8,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "sim/mpm/schemes/polypic.hpp"
+#include "sim/mpm/schemes/polypic_modes.hpp"
 #include "tests/mpm/test_helpers.hpp"
 
 namespace apiclab {

@@ -1,4 +1,4 @@
-// PolyPIC's transfers in row form (sim/mpm/schemes/polypic.hpp: gather_modes_rows,
+// PolyPIC's transfers in row form (sim/mpm/schemes/polypic_modes.hpp: gather_modes_rows,
 // scatter_modes_rows, what the step runs) against the plain per-mode sums (gather_modes,
 // scatter_modes: one product per mode per node, the readable definition), for every number of
 // kept modes in 2D and 3D, on random particles and a random grid velocity field.
@@ -10,7 +10,7 @@
 #include <random>
 #include <vector>
 
-#include "sim/mpm/schemes/polypic.hpp"
+#include "sim/mpm/schemes/polypic_modes.hpp"
 #include "sim/mpm/simd/lanes.hpp"
 #include "sim/mpm/stencil.hpp"
 #include "tests/mpm/test_helpers.hpp"

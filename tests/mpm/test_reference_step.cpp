@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "sim/mpm/mpm.hpp"
 #include "sim/reference/reference_setup.hpp"
@@ -119,9 +120,7 @@ void place_block(MpmSimulation<double, D>& sim, const Case& c) {
     for (int i = 0; i < D; ++i)
       for (int j = 0; j < D; ++j) A(i, j) = small(rng);
     p.C[q].setZero();
-    if (c.scheme == Scheme::apic || c.scheme == Scheme::mls || c.scheme == Scheme::asflip ||
-        c.scheme == Scheme::tpic || c.scheme == Scheme::polypic)
-      p.C[q] = W + 10 * A;
+    if (is_affine(c.scheme)) p.C[q] = W + 10 * A;
     for (auto& mode : p.modes)  // PolyPIC's higher modes: velocities of the size of v
       for (int a = 0; a < D; ++a) mode[q][a] = 10 * small(rng);
     if (c.scheme == Scheme::rpic) p.C[q] = W;
@@ -208,18 +207,23 @@ double round_off_bound(KernelType kernel) { return kernel == KernelType::linear 
 template <int D>
 void compare_all() {
   // PolyPIC with every mode, and with 6 (2D: 1, x, y, xy, Gx, Gy; 3D: up to xz).
-  const Case cases[] = {{Scheme::pic, 1.0},
-                        {Scheme::flip, 1.0},
-                        {Scheme::flip, 0.95},
-                        {Scheme::apic, 1.0},
-                        {Scheme::rpic, 1.0},
-                        {Scheme::mls, 1.0},
-                        {Scheme::asflip, 0.95, KernelType::quadratic, false, 1.0},
-                        {Scheme::asflip, 1.0, KernelType::quadratic, false, 0.0},
-                        {Scheme::xpic, 1.0, KernelType::quadratic, false, 0.0, 3},
-                        {Scheme::tpic, 1.0},
-                        {Scheme::polypic, 1.0},
-                        {Scheme::polypic, 1.0, KernelType::quadratic, false, 0.0, 1, 6}};
+  // And every registered scheme not listed here, with its defaults.
+  std::vector<Case> cases = {{Scheme::pic, 1.0},
+                             {Scheme::flip, 1.0},
+                             {Scheme::flip, 0.95},
+                             {Scheme::apic, 1.0},
+                             {Scheme::rpic, 1.0},
+                             {Scheme::mls, 1.0},
+                             {Scheme::asflip, 0.95, KernelType::quadratic, false, 1.0},
+                             {Scheme::asflip, 1.0, KernelType::quadratic, false, 0.0},
+                             {Scheme::xpic, 1.0, KernelType::quadratic, false, 0.0, 3},
+                             {Scheme::tpic, 1.0},
+                             {Scheme::polypic, 1.0},
+                             {Scheme::polypic, 1.0, KernelType::quadratic, false, 0.0, 1, 6}};
+  for (const auto& registered : scheme_choices())
+    if (std::none_of(cases.begin(), cases.end(),
+                     [&](const Case& c) { return c.scheme == registered.value; }))
+      cases.push_back({registered.value, 1.0});
   for (KernelType kernel : {KernelType::linear, KernelType::quadratic, KernelType::cubic}) {
     Differences worst;
     for (bool periodic : {false, true})

@@ -43,7 +43,7 @@ cat "$out.log"
 check "figures --quick exits 0" "[ $status = 0 ]"
 echo "figures --quick took $((SECONDS - start)) s"
 
-# Colors of the schemes' lines: render/palette.hpp (kSchemeLooks, kPalette), hex.
+# Colors of the schemes' lines: render/palette.hpp (kPalette, the slot each sim/mpm/schemes/ file names), hex.
 declare -A color=([pic]=0072b2 [flip]=d55e00 [apic]=009e73 [rpic]=cc79a7)
 time_header='scheme,step,t,dt,kinetic,kinetic_grid,potential,total_energy,angular_momentum'
 csv_schemes() { tail -n +2 "$1" | cut -d, -f1 | sort -u | tr '\n' ' '; }

@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <string>
 
-#include "sim/mpm/schemes/polypic.hpp"
+#include "sim/mpm/schemes/polypic_modes.hpp"
 #include "sim/scene/registry.hpp"
 #include "sim/scene/scene.hpp"
 

@@ -1,24 +1,19 @@
-// ASFLIP (Fei et al. 2021) and XPIC(m) (Hammerquist and Nairn 2017) against what their papers
-// state: ASFLIP at α = 0 is APIC, XPIC(1) is PIC (both to the bit, whole runs); XPIC(m) is the
-// operator series (I − (I − P)^m) on the particle velocities, P the PIC round trip, and never
-// carries P's null modes; what each conserves over one G2P (linear momentum exactly, angular
-// momentum not: the loss is measured); one force-free particle stays put (Sec 5.4 of Jiang et
-// al. 2017); the diagnostics count ASFLIP's affine term as APIC's.
-#include <gtest/gtest.h>
-
+// A scheme against what its paper says it reduces to or is: ASFLIP at α = 0 is APIC, XPIC(1) is
+// PIC (both to the bit, whole runs); XPIC(m) is the operator series (I − (I − P)^m) on the particle
+// velocities, P the PIC round trip, and never carries P's null modes; PolyPIC with the affine
+// modes is APIC, with the constant mode PIC; PolyPIC's modes are orthogonal under the weights, and
+// it refuses what it cannot run.
 #include <Eigen/Dense>
-#include <cmath>
-#include <cstdio>
-#include <random>
 
-#include "sim/scene/parameters.hpp"
-#include "tests/mpm/test_helpers.hpp"
+#include "tests/mpm/schemes/scheme_fixture.hpp"
 
 namespace apiclab {
 namespace {
 
 using test::make_scene;
+using test::randomize_modes;
 using test::randomize_particles;
+using test::scheme_scene;
 
 // The disk with symplectic Euler at the explicit elastic limit (tests/mpm/test_implicit.cpp covers
 // the scene's own midpoint rule).
@@ -47,7 +42,7 @@ double run_difference(const SceneDesc& a, const SceneDesc& b, int steps) {
 
 // Fei et al. 2021: v ← v^PIC + α (v_p − v_old), x ← x + Δt (v^PIC + β α (v_p − v_old)); with α = 0
 // both terms vanish and the step is APIC's, operation for operation.
-TEST(AsflipXpic, AsflipWithoutBlendIsApic) {
+TEST(SchemeReductions, AsflipWithoutBlendIsApic) {
   const double d = run_difference(
       disk("apic"), disk("asflip", {"solver.flip_alpha=0", "solver.asflip_beta=0"}), 300);
   EXPECT_EQ(d, 0.0) << "ASFLIP(α = 0, β = 0) left APIC by " << d;
@@ -60,7 +55,7 @@ TEST(AsflipXpic, AsflipWithoutBlendIsApic) {
 }
 
 // Hammerquist and Nairn 2017: XPIC(1) is PIC. m = 1 runs no grid pass and adds no term.
-TEST(AsflipXpic, XpicOrderOneIsPic) {
+TEST(SchemeReductions, XpicOrderOneIsPic) {
   const double d = run_difference(disk("pic"), disk("xpic", {"solver.xpic_order=1"}), 300);
   EXPECT_EQ(d, 0.0) << "XPIC(1) left PIC by " << d;
   const double m2 = run_difference(disk("pic"), disk("xpic", {"solver.xpic_order=2"}), 300);
@@ -73,7 +68,7 @@ TEST(AsflipXpic, XpicOrderOneIsPic) {
 // and spectrum by Eigen; the solver's m − 1 grid passes must give the same velocities. As m → ∞
 // the update tends to Vⁿ − Π Vⁿ, Π the projection on ker P (the velocity modes the grid cannot
 // see): FLIP without its null-space noise, the limit the paper states.
-TEST(AsflipXpic, XpicIsTheOperatorSeriesAndDropsTheNullSpace) {
+TEST(SchemeReductions, XpicIsTheOperatorSeriesAndDropsTheNullSpace) {
   constexpr std::size_t n = 400;  // more particles than the ~100 nodes they touch: ker P ≠ {0}
   SceneDesc scene = make_scene(2, "xpic", "quadratic");
   MpmSimulation<double, 2> base(scene);
@@ -150,110 +145,94 @@ TEST(AsflipXpic, XpicIsTheOperatorSeriesAndDropsTheNullSpace) {
               last_distance);
 }
 
-// One G2P after a random grid update (ṽ ≠ vⁿ, as a force gives): the particles' p and L against
-// the grid's Σ m ṽ and Σ x̃ × m ṽ. APIC is exact in both (Jiang et al. 2017, Sec 5.3). ASFLIP keeps
-// p exactly (Σ m (v_p − Σ w vⁿ) = 0 after APIC's P2G) but not L; XPIC keeps p (S⁺S keeps the
-// mass-weighted sum, so Σ m_i e_i = 0) but not L, like PIC.
-struct Moments {
-  double dp, dL;
-};
-template <int D>
-Moments g2p_moments(const std::string& scheme, const std::vector<std::string>& sets) {
-  SceneDesc scene = make_scene(D, scheme, "quadratic");
-  for (const auto& s : sets)
-    apply_parameter(scene, s.substr(0, s.find('=')), std::stod(s.substr(s.find('=') + 1)));
-  MpmSimulation<double, D> sim(scene);
-  randomize_particles<D>(sim, D == 2 ? 600 : 300, 31 + D, 0.3, 0.7, false,
-                         !is_affine(scene.solver.scheme));
-  sim.sort_particles();
-  sim.clear_grid();
-  sim.particles_to_grid(false);
-  sim.grid_velocity_update(0.0);
-  auto& g = sim.grid();
+// The modes are orthogonal under the weights at any particle position (the premise of the
+// projection): Σ_i w s_r s_t = 0 for r ≠ t, for all 27 modes in 3D.
+TEST(SchemeReductions, PolypicModesAreOrthogonal) {
+  SceneDesc s = scheme_scene(3, "polypic", "quadratic");
+  MpmSimulation<double, 3> sim(s);
   std::mt19937_64 rng(5);
-  const double dt = 0.01;
-  for (std::size_t i = 0; i < g.size(); ++i)
-    if (g.mass[i] > 0)
-      g.velocity_new[i] = g.velocity[i] + test::random_vector<double, D>(rng, -0.5, 0.5);
-  const test::GridMoments m = test::grid_moments<D>(g, dt);
-  sim.grid_to_particles(dt);
-  const DiagnosticsRow after = sim.measure();
-  return {(test::to3(after.p) - m.p).norm() / m.p_scale,
-          (test::to3(after.L) - m.L).norm() / m.L_scale};
-}
-
-template <int D>
-void g2p_moments_all() {
-  const Moments apic = g2p_moments<D>("apic", {});
-  const Moments asflip = g2p_moments<D>("asflip", {"solver.flip_alpha=1", "solver.asflip_beta=0"});
-  const Moments asflip_beta =
-      g2p_moments<D>("asflip", {"solver.flip_alpha=1", "solver.asflip_beta=1"});
-  const Moments pic = g2p_moments<D>("pic", {});
-  const Moments xpic = g2p_moments<D>("xpic", {"solver.xpic_order=4"});
-  std::printf(
-      "[ G2P %dD ] relative |dp|, |dL|: APIC %.2g %.2g; ASFLIP(1,0) %.2g %.2g; ASFLIP(1,1) "
-      "%.2g %.2g; PIC %.2g %.2g; XPIC(4) %.2g %.2g\n",
-      D, apic.dp, apic.dL, asflip.dp, asflip.dL, asflip_beta.dp, asflip_beta.dL, pic.dp, pic.dL,
-      xpic.dp, xpic.dL);
-  // Round-off of sums of ~10⁴ O(1) products: 1e-12 relative, as tests/mpm/test_transfers.cpp.
-  for (const Moments& m : {apic, asflip, asflip_beta, pic, xpic}) EXPECT_LE(m.dp, 1e-12);
-  EXPECT_LE(apic.dL, 1e-12);
-  // The measured losses (random particles, |ṽ − vⁿ| ≤ 0.5): ASFLIP's FLIP term and XPIC's
-  // smoothed field both move L by ~1e-3..1e-2 of its scale, ten orders above round-off.
-  EXPECT_GT(asflip.dL, 1e-5);
-  EXPECT_GT(asflip_beta.dL, 1e-5);
-  EXPECT_GT(xpic.dL, 1e-5);
-}
-
-TEST(AsflipXpic, G2PConservesLinearMomentumNotAngular2D) { g2p_moments_all<2>(); }
-TEST(AsflipXpic, G2PConservesLinearMomentumNotAngular3D) { g2p_moments_all<3>(); }
-
-// Sec 5.4 of Jiang et al. 2017, as tests/mpm/test_transfers.cpp's OneParticleStable: one force-free
-// particle keeps v_p and C_p for 1000 steps. ASFLIP: vⁿ_i = v + C r_i, so Σ w vⁿ = v_p and the FLIP
-// term is zero. XPIC: S⁺S vⁿ = vⁿ on its nodes, so every term of the series past the first is zero.
-template <int D>
-void one_particle(const std::string& scheme, const std::string& kernel) {
-  SCOPED_TRACE(::testing::Message() << scheme << " " << kernel << " " << D << "D");
-  SceneDesc scene = make_scene(D, scheme, kernel);
-  scene.solver.xpic_order = 5;
-  MpmSimulation<double, D> sim(scene);
-  randomize_particles<D>(sim, 1, 77 + D, 0.4, 0.45, false, scheme == "xpic");
-  auto& p = sim.particles();
-  p.v[0] *= 0.1;
-  p.volume0[0] = 0;
-  const Vec<double, D> v0 = p.v[0], x0 = p.x[0];
-  const Mat<double, D> C0 = p.C[0];
-  const double dt = 1e-3;
-  double verr = 0, cerr = 0;
-  for (int s = 0; s < 1000; ++s) {
-    sim.step_fixed(dt);
-    verr = std::max(verr, (p.v[0] - v0).norm());
-    cerr = std::max(cerr, (p.C[0] - C0).norm());
+  double worst = 0;
+  for (int trial = 0; trial < 20; ++trial) {
+    Stencil<double, 3, QuadraticKernel> st;
+    st.compute(test::random_vector<double, 3>(rng, 0.3, 0.7), sim.grid());
+    const auto b = polypic::axis_bases<double, 3>(st, sim.grid().inv_dx);
+    for (int r = 0; r < 27; ++r)
+      for (int t = 0; t < 27; ++t) {
+        double dot = 0;
+        polypic::for_each_indexed_node<double, 3>(
+            st, [&](std::size_t, double w, const std::array<int, 3>& k) {
+              dot += w * polypic::mode_value<double, 3>(b, r, k) *
+                     polypic::mode_value<double, 3>(b, t, k);
+            });
+        const double expected = r == t ? polypic::mode_norm<double, 3>(b, r) : 0.0;
+        worst = std::max(worst, std::abs(dot - expected));
+      }
   }
-  const double scale = v0.norm() / sim.grid().dx + C0.norm();
-  EXPECT_LE(verr, 1e-10 * scale);
-  EXPECT_LE(cerr, 1e-10 * scale);
-  EXPECT_LE((p.x[0] - (x0 + 1000 * dt * v0)).norm(), 1e-12);
-  std::printf("[ one-particle %s %dD %-9s ] max |dv| = %.3g, max |dC| = %.3g over 1000 steps\n",
-              scheme.c_str(), D, kernel.c_str(), verr, cerr);
+  EXPECT_LE(worst, 1e-15);
 }
 
-TEST(AsflipXpic, OneParticleStable) {
-  for (const char* s : {"asflip", "xpic"})
-    for (const char* k : {"quadratic", "cubic"}) {
-      one_particle<2>(s, k);
-      one_particle<3>(s, k);
-    }
+// PolyPIC with the affine modes only is APIC, with the constant mode only PIC: the same run to
+// round-off (rotating disk, symplectic Euler, 40 steps; and a 3D block).
+template <int D>
+double max_difference(const SceneDesc& a, const SceneDesc& b, bool random_state) {
+  MpmSimulation<double, D> sa(a), sb(b);
+  if (random_state) {
+    randomize_particles<D>(sa, 200, 9, 0.35, 0.65, false, a.solver.scheme == Scheme::pic);
+    randomize_particles<D>(sb, 200, 9, 0.35, 0.65, false, b.solver.scheme == Scheme::pic);
+    if (a.solver.scheme == Scheme::polypic) randomize_modes<D>(sa, 1);
+    if (b.solver.scheme == Scheme::polypic) randomize_modes<D>(sb, 1);
+  }
+  for (int s = 0; s < 40; ++s) {
+    sa.step_fixed(1e-4);
+    sb.step_fixed(1e-4);
+  }
+  const auto &pa = sa.particles(), &pb = sb.particles();
+  double d = 0;
+  for (std::size_t q = 0; q < pa.size(); ++q) {
+    EXPECT_EQ(pa.id[q], pb.id[q]);
+    d = std::max({d, (pa.x[q] - pb.x[q]).norm(), (pa.v[q] - pb.v[q]).norm(),
+                  (pa.C[q] - pb.C[q]).norm() * a.domain.dx});
+  }
+  return d;
 }
 
-// ASFLIP carries APIC's C: the diagnostics count its affine kinetic energy and angular momentum
-// (½ m tr(C D Cᵀ), m (C D)ᵀ's skew part) exactly as APIC's.
-TEST(AsflipXpic, DiagnosticsCountAsflipsAffineTerm) {
-  MpmSimulation<double, 2> apic(disk("apic")), asflip(disk("asflip")), pic(disk("pic"));
-  const DiagnosticsRow a = apic.measure(), s = asflip.measure(), p = pic.measure();
-  EXPECT_EQ(a.kinetic, s.kinetic);
-  EXPECT_EQ(a.L[2], s.L[2]);
-  EXPECT_GT(a.L[2] - p.L[2], 1e-3 * a.L[2]);  // the affine term is there to count
+TEST(SchemeReductions, PolypicReducesToApicAndPic) {
+  const std::string disk = std::string(APICLAB_SOURCE_DIR) + "/assets/scenes/rotating-disk.json";
+  auto disk_scene = [&](const std::string& scheme, int modes) {
+    return load_scene(disk, {"solver.integrator=symplectic", "solver.scheme=" + scheme,
+                             "solver.polypic_modes=" + std::to_string(modes)});
+  };
+  const double apic2 = max_difference<2>(disk_scene("polypic", 3), disk_scene("apic", 0), false);
+  const double pic2 = max_difference<2>(disk_scene("polypic", 1), disk_scene("pic", 0), false);
+  const double apic3 = max_difference<3>(scheme_scene(3, "polypic", "quadratic", 4),
+                                         scheme_scene(3, "apic", "quadratic"), true);
+  const double pic3 = max_difference<3>(scheme_scene(3, "polypic", "quadratic", 1),
+                                        scheme_scene(3, "pic", "quadratic"), true);
+  std::printf(
+      "[ polypic reductions ] 3 modes vs apic %.3g, 1 vs pic %.3g (2D); 4 vs apic %.3g, "
+      "1 vs pic %.3g (3D)\n",
+      apic2, pic2, apic3, pic3);
+  EXPECT_LE(apic2, 1e-12);
+  EXPECT_LE(pic2, 1e-12);
+  EXPECT_LE(apic3, 1e-12);
+  EXPECT_LE(pic3, 1e-12);
+  // Not vacuous: the full basis differs from APIC on the same disk.
+  EXPECT_GT(max_difference<2>(disk_scene("polypic", 9), disk_scene("apic", 0), false), 1e-9);
+}
+
+// PolyPIC needs the quadratic kernel and at most 3^dim modes; one clear line each.
+TEST(SchemeReductions, PolypicRefusesOtherKernelsAndTooManyModes) {
+  EXPECT_THROW(parse_scene_text(test::scene_json(2, "polypic", "cubic"), "t"), SceneError);
+  EXPECT_THROW(parse_scene_text(test::scene_json(2, "polypic", "linear"), "t"), SceneError);
+  auto with_modes = [](int dim, int m) {
+    nlohmann::json j = nlohmann::json::parse(test::scene_json(dim, "polypic", "quadratic"));
+    j["solver"]["polypic_modes"] = m;
+    return parse_scene_text(j.dump(), "t");
+  };
+  EXPECT_THROW(with_modes(2, 10), SceneError);
+  EXPECT_NO_THROW(with_modes(2, 9));
+  EXPECT_NO_THROW(with_modes(3, 27));
+  EXPECT_THROW(with_modes(3, 28), SceneError);
 }
 
 }  // namespace
