@@ -33,7 +33,7 @@ double run_difference(const SceneDesc& a, const SceneDesc& b, int steps) {
     EXPECT_FALSE(sa.step(100.0, nullptr));
     EXPECT_FALSE(sb.step(100.0, nullptr));
   }
-  const auto &pa = sa.particles(), &pb = sb.particles();
+  const auto &pa = MpmProbe(sa).particles(), &pb = MpmProbe(sb).particles();
   std::vector<std::size_t> at(pb.size());
   for (std::size_t q = 0; q < pb.size(); ++q) at[std::size_t(pb.id[q])] = q;
   double d = 0;
@@ -78,12 +78,12 @@ TEST(AsflipXpic, XpicIsTheOperatorSeriesAndDropsTheNullSpace) {
   SceneDesc scene = make_scene(2, "xpic", "quadratic");
   MpmSimulation<double, 2> base(scene);
   randomize_particles<2>(base, n, 2024, 0.35, 0.65, false, true);
-  auto& bp = base.particles();
+  auto& bp = MpmProbe(base).particles();
   for (std::size_t q = 0; q < n; ++q)
     bp.mass[q] = 1, bp.volume0[q] = 1;  // P symmetric; F = I: no stress
   // P from the weights at xⁿ (the state's own order: the solver sorts a copy).
   // The whole domain's nodes (the solver's own grid stores only the box it needs, from a sort).
-  Grid<double, 2> whole = base.grid();
+  Grid<double, 2> whole = MpmProbe(base).grid();
   whole.store_whole_domain();
   Eigen::MatrixXd W = Eigen::MatrixXd::Zero(Eigen::Index(whole.size()), Eigen::Index(n));
   for (std::size_t q = 0; q < n; ++q) {
@@ -116,11 +116,12 @@ TEST(AsflipXpic, XpicIsTheOperatorSeriesAndDropsTheNullSpace) {
   double last_distance = 1e300, worst_series = 0, worst_null = 0;
   for (int m : {1, 2, 3, 5, 10, 40, 200, 1000}) {
     MpmSimulation<double, 2> sim = base;
-    sim.solver().xpic_order = m;
+    MpmProbe(sim).solver().xpic_order = m;
     sim.step_fixed(1e-4);
     Eigen::MatrixXd V(Eigen::Index(n), 2);
     for (std::size_t q = 0; q < n; ++q)
-      V.row(Eigen::Index(sim.particles().id[q])) = sim.particles().v[q].transpose();
+      V.row(Eigen::Index(MpmProbe(sim).particles().id[q])) =
+          MpmProbe(sim).particles().v[q].transpose();
     Eigen::MatrixXd expected = V0;
     if (m <= 40) {  // dense powers: (I − P)^m by repeated products
       Eigen::MatrixXd Q = I;
@@ -165,18 +166,18 @@ Moments g2p_moments(const std::string& scheme, const std::vector<std::string>& s
   MpmSimulation<double, D> sim(scene);
   randomize_particles<D>(sim, D == 2 ? 600 : 300, 31 + D, 0.3, 0.7, false,
                          !is_affine(scene.solver.scheme));
-  sim.sort_particles();
-  sim.clear_grid();
-  sim.particles_to_grid(false);
-  sim.grid_velocity_update(0.0);
-  auto& g = sim.grid();
+  MpmProbe(sim).sort_particles();
+  MpmProbe(sim).clear_grid();
+  MpmProbe(sim).particles_to_grid(false);
+  MpmProbe(sim).grid_velocity_update(0.0);
+  auto& g = MpmProbe(sim).grid();
   std::mt19937_64 rng(5);
   const double dt = 0.01;
   for (std::size_t i = 0; i < g.size(); ++i)
     if (g.mass[i] > 0)
       g.velocity_new[i] = g.velocity[i] + test::random_vector<double, D>(rng, -0.5, 0.5);
   const test::GridMoments m = test::grid_moments<D>(g, dt);
-  sim.grid_to_particles(dt);
+  MpmProbe(sim).grid_to_particles(dt);
   const DiagnosticsRow after = sim.measure();
   return {(test::to3(after.p) - m.p).norm() / m.p_scale,
           (test::to3(after.L) - m.L).norm() / m.L_scale};
@@ -218,7 +219,7 @@ void one_particle(const std::string& scheme, const std::string& kernel) {
   scene.solver.xpic_order = 5;
   MpmSimulation<double, D> sim(scene);
   randomize_particles<D>(sim, 1, 77 + D, 0.4, 0.45, false, scheme == "xpic");
-  auto& p = sim.particles();
+  auto& p = MpmProbe(sim).particles();
   p.v[0] *= 0.1;
   p.volume0[0] = 0;
   const Vec<double, D> v0 = p.v[0], x0 = p.x[0];
@@ -230,7 +231,7 @@ void one_particle(const std::string& scheme, const std::string& kernel) {
     verr = std::max(verr, (p.v[0] - v0).norm());
     cerr = std::max(cerr, (p.C[0] - C0).norm());
   }
-  const double scale = v0.norm() / sim.grid().dx + C0.norm();
+  const double scale = v0.norm() / MpmProbe(sim).grid().dx + C0.norm();
   EXPECT_LE(verr, 1e-10 * scale);
   EXPECT_LE(cerr, 1e-10 * scale);
   EXPECT_LE((p.x[0] - (x0 + 1000 * dt * v0)).norm(), 1e-12);

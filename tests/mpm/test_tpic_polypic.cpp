@@ -28,7 +28,7 @@ SceneDesc scene(int dim, const std::string& scheme, const std::string& kernel, i
 template <int D>
 void randomize_modes(MpmSimulation<double, D>& sim, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
-  auto& p = sim.particles();
+  auto& p = MpmProbe(sim).particles();
   for (auto& mode : p.modes)
     for (auto& c : mode) c = test::random_vector<double, D>(rng, -1.0, 1.0);
   const int kept = polypic::kept_modes(sim.scene().solver.polypic_modes, D);
@@ -42,8 +42,8 @@ struct Change {
 
 template <int D>
 double angular_scale(const MpmSimulation<double, D>& sim) {
-  const auto& p = sim.particles();
-  const double dx = sim.grid().dx;
+  const auto& p = MpmProbe(sim).particles();
+  const double dx = MpmProbe(sim).grid().dx;
   double s = 0;
   for (std::size_t q = 0; q < p.size(); ++q) {
     double modes = 0;
@@ -62,14 +62,14 @@ Change p2g_change(const std::string& scheme, const std::string& kernel, int mode
   const DiagnosticsRow before = sim.measure();
   double sp = 0;
   for (std::size_t q = 0; q < sim.particle_count(); ++q)
-    sp += sim.particles().mass[q] * sim.particles().v[q].norm();
+    sp += MpmProbe(sim).particles().mass[q] * MpmProbe(sim).particles().v[q].norm();
   const double sL = angular_scale<D>(sim);
-  sim.sort_particles();
-  sim.clear_grid();
-  sim.particles_to_grid(false);
-  sim.grid_velocity_update(0.0);
-  Eigen::Vector3d p, L;
-  sim.grid_momentum(false, p, L);
+  MpmProbe(sim).sort_particles();
+  MpmProbe(sim).clear_grid();
+  MpmProbe(sim).particles_to_grid(false);
+  MpmProbe(sim).grid_velocity_update(0.0);
+  const GridMoments moments = MpmProbe(sim).grid_moments(false);
+  const Eigen::Vector3d p = moments.momentum, L = moments.angular_momentum;
   return {(p - test::to3(before.p)).norm() / sp, (L - test::to3(before.L)).norm() / sL};
 }
 
@@ -78,18 +78,18 @@ template <int D>
 Change g2p_change(const std::string& scheme, const std::string& kernel, int modes) {
   MpmSimulation<double, D> sim(scene(D, scheme, kernel, modes));
   randomize_particles<D>(sim, D == 2 ? 600 : 300, 7 + D);
-  sim.sort_particles();
-  sim.clear_grid();
-  sim.particles_to_grid(false);
-  sim.grid_velocity_update(0.0);
-  auto& g = sim.grid();
+  MpmProbe(sim).sort_particles();
+  MpmProbe(sim).clear_grid();
+  MpmProbe(sim).particles_to_grid(false);
+  MpmProbe(sim).grid_velocity_update(0.0);
+  auto& g = MpmProbe(sim).grid();
   std::mt19937_64 rng(99);
   for (std::size_t i = 0; i < g.size(); ++i) {
     if (g.mass[i] <= 0) continue;
     g.velocity[i] = g.velocity_new[i] = test::random_vector<double, D>(rng, -1.0, 1.0);
   }
   const test::GridMoments m = test::grid_moments<D>(g, 0.0);
-  sim.grid_to_particles(0.0);
+  MpmProbe(sim).grid_to_particles(0.0);
   const DiagnosticsRow after = sim.measure();
   return {(test::to3(after.p) - m.p).norm() / m.p_scale,
           (test::to3(after.L) - m.L).norm() / m.L_scale};
@@ -168,14 +168,14 @@ void affine_round_trip(const std::string& scheme, const std::string& kernel) {
   std::mt19937_64 rng(123);
   const Vec<double, D> v = test::random_vector<double, D>(rng, -1.0, 1.0);
   const Mat<double, D> A = test::random_matrix<double, D>(rng, 2.0);
-  sim.sort_particles();
-  sim.clear_grid();
-  sim.particles_to_grid(false);  // only to mark the nodes the particles reach
-  auto& g = sim.grid();
+  MpmProbe(sim).sort_particles();
+  MpmProbe(sim).clear_grid();
+  MpmProbe(sim).particles_to_grid(false);  // only to mark the nodes the particles reach
+  auto& g = MpmProbe(sim).grid();
   for (std::size_t i = 0; i < g.size(); ++i)
     g.velocity[i] = g.velocity_new[i] = v + A * g.node_position(i);
-  sim.grid_to_particles(0.0);
-  const auto& p = sim.particles();
+  MpmProbe(sim).grid_to_particles(0.0);
+  const auto& p = MpmProbe(sim).particles();
   const double scale = v.norm() + A.norm();
   double verr = 0, cerr = 0, merr = 0;
   for (std::size_t q = 0; q < p.size(); ++q) {
@@ -183,9 +183,9 @@ void affine_round_trip(const std::string& scheme, const std::string& kernel) {
     cerr = std::max(cerr, (p.C[q] - A).norm());
     for (const auto& m : p.modes) merr = std::max(merr, m[q].norm());
   }
-  sim.clear_grid();
-  sim.particles_to_grid(false);
-  sim.grid_velocity_update(0.0);
+  MpmProbe(sim).clear_grid();
+  MpmProbe(sim).particles_to_grid(false);
+  MpmProbe(sim).grid_velocity_update(0.0);
   double grid_err = 0;
   for (std::size_t i = 0; i < g.size(); ++i)
     if (g.mass[i] > 0)
@@ -217,16 +217,16 @@ double kept_modes_round_trip(int modes) {
   MpmSimulation<double, D> sim(scene(D, "polypic", "quadratic", modes));
   randomize_particles<D>(sim, 1, 31 + std::uint64_t(modes), 0.4, 0.6);
   randomize_modes<D>(sim, 17);
-  auto& p = sim.particles();
+  auto& p = MpmProbe(sim).particles();
   const Vec<double, D> v0 = p.v[0];
   const Mat<double, D> C0 = p.C[0];
   const std::vector<std::vector<Vec<double, D>>> modes0 = p.modes;
-  sim.sort_particles();
-  sim.clear_grid();
-  sim.particles_to_grid(false);
-  sim.grid_velocity_update(0.0);
-  sim.grid_to_particles(0.0);
-  double err = (p.v[0] - v0).norm() + (p.C[0] - C0).norm() * sim.grid().dx;
+  MpmProbe(sim).sort_particles();
+  MpmProbe(sim).clear_grid();
+  MpmProbe(sim).particles_to_grid(false);
+  MpmProbe(sim).grid_velocity_update(0.0);
+  MpmProbe(sim).grid_to_particles(0.0);
+  double err = (p.v[0] - v0).norm() + (p.C[0] - C0).norm() * MpmProbe(sim).grid().dx;
   for (std::size_t j = 0; j < modes0.size(); ++j) err += (p.modes[j][0] - modes0[j][0]).norm();
   EXPECT_EQ(p.modes.size(), std::size_t(polypic::extra_modes(modes, D)));
   return err;
@@ -256,8 +256,8 @@ TEST(TpicPolypic, PolypicModesAreOrthogonal) {
   double worst = 0;
   for (int trial = 0; trial < 20; ++trial) {
     Stencil<double, 3, QuadraticKernel> st;
-    st.compute(test::random_vector<double, 3>(rng, 0.3, 0.7), sim.grid());
-    const auto b = polypic::axis_bases<double, 3>(st, sim.grid().inv_dx);
+    st.compute(test::random_vector<double, 3>(rng, 0.3, 0.7), MpmProbe(sim).grid());
+    const auto b = polypic::axis_bases<double, 3>(st, MpmProbe(sim).grid().inv_dx);
     for (int r = 0; r < 27; ++r)
       for (int t = 0; t < 27; ++t) {
         double dot = 0;
@@ -288,7 +288,7 @@ double max_difference(const SceneDesc& a, const SceneDesc& b, bool random_state)
     sa.step_fixed(1e-4);
     sb.step_fixed(1e-4);
   }
-  const auto &pa = sa.particles(), &pb = sb.particles();
+  const auto &pa = MpmProbe(sa).particles(), &pb = MpmProbe(sb).particles();
   double d = 0;
   for (std::size_t q = 0; q < pa.size(); ++q) {
     EXPECT_EQ(pa.id[q], pb.id[q]);
@@ -329,7 +329,7 @@ void one_particle(const std::string& scheme, const std::string& kernel) {
   MpmSimulation<double, D> sim(scene(D, scheme, kernel));
   randomize_particles<D>(sim, 1, 77 + D, 0.4, 0.45);
   randomize_modes<D>(sim, 4);
-  auto& p = sim.particles();
+  auto& p = MpmProbe(sim).particles();
   p.v[0] *= 0.1;  // moves ≤ 0.17 in 1000 steps of 1e-3: stays clear of the walls
   for (auto& m : p.modes) m[0] *= 0.1;
   p.volume0[0] = 0;  // no elastic force
@@ -340,7 +340,7 @@ void one_particle(const std::string& scheme, const std::string& kernel) {
   double err = 0;
   for (int s = 0; s < 1000; ++s) {
     sim.step_fixed(dt);
-    err = std::max(err, (p.v[0] - v0).norm() + (p.C[0] - C0).norm() * sim.grid().dx);
+    err = std::max(err, (p.v[0] - v0).norm() + (p.C[0] - C0).norm() * MpmProbe(sim).grid().dx);
     for (std::size_t j = 0; j < modes0.size(); ++j)
       err = std::max(err, (p.modes[j][0] - modes0[j][0]).norm());
   }
@@ -372,7 +372,7 @@ TEST(TpicPolypic, RotatingDiskConservation) {
     const DiagnosticsRow r0 = sim.measure();
     double sp = 0;
     for (std::size_t q = 0; q < sim.particle_count(); ++q)
-      sp += sim.particles().mass[q] * sim.particles().v[q].norm();
+      sp += MpmProbe(sim).particles().mass[q] * MpmProbe(sim).particles().v[q].norm();
     double dp = 0, dL = 0;
     for (int s = 0; s < 500; ++s) {
       DiagnosticsRow r;

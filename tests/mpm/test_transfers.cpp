@@ -23,9 +23,9 @@ const char* kKernels[] = {"linear", "quadratic", "cubic"};
 // momentum, so that a cancelling total (random velocities sum to ~0) is still judged fairly.
 template <int D>
 void scales(const MpmSimulation<double, D>& sim, double& sp, double& sL) {
-  const auto& p = sim.particles();
+  const auto& p = MpmProbe(sim).particles();
   sp = sL = 0;
-  const double dx = sim.grid().dx;
+  const double dx = MpmProbe(sim).grid().dx;
   for (std::size_t q = 0; q < p.size(); ++q) {
     sp += p.mass[q] * p.v[q].norm();
     sL += p.mass[q] * (p.x[q].norm() * p.v[q].norm() + p.C[q].norm() * dx * dx);
@@ -51,18 +51,18 @@ void p2g_conserves(const std::string& scheme, const std::string& kernel, Worst& 
   randomize_particles<D>(sim, D == 2 ? 600 : 300, 42 + D, 0.3, 0.7, scheme == "rpic");
   const DiagnosticsRow before = sim.measure();
   double msum = 0;
-  for (double m : sim.particles().mass) msum += m;
+  for (double m : MpmProbe(sim).particles().mass) msum += m;
   double sp, sL;
   scales<D>(sim, sp, sL);
 
-  sim.sort_particles();
-  sim.clear_grid();
-  sim.particles_to_grid(false);
+  MpmProbe(sim).sort_particles();
+  MpmProbe(sim).clear_grid();
+  MpmProbe(sim).particles_to_grid(false);
   double mgrid = 0;
-  for (double m : sim.grid().mass) mgrid += m;
-  sim.grid_velocity_update(0.0);  // v_i = (mv)_i / m_i (eq 26); Δt = 0 leaves ṽ = v
-  Eigen::Vector3d p, L;
-  sim.grid_momentum(false, p, L);
+  for (double m : MpmProbe(sim).grid().mass) mgrid += m;
+  MpmProbe(sim).grid_velocity_update(0.0);  // v_i = (mv)_i / m_i (eq 26); Δt = 0 leaves ṽ = v
+  const GridMoments moments = MpmProbe(sim).grid_moments(false);
+  const Eigen::Vector3d p = moments.momentum, L = moments.angular_momentum;
 
   // ≤ 600 particles × 64 nodes of O(1) terms in double: accumulated round-off ~1e-14
   // relative; 1e-12 leaves room and is still ~10 orders below any transfer error.
@@ -93,11 +93,11 @@ void g2p_conserves(const std::string& scheme, const std::string& kernel, double 
   SCOPED_TRACE(::testing::Message() << scheme << " " << kernel << " " << D << "D dt " << dt);
   MpmSimulation<double, D> sim(make_scene(D, scheme, kernel));
   randomize_particles<D>(sim, D == 2 ? 600 : 300, 7 + D, 0.3, 0.7, scheme == "rpic");
-  sim.sort_particles();
-  sim.clear_grid();
-  sim.particles_to_grid(false);
-  sim.grid_velocity_update(0.0);
-  auto& g = sim.grid();
+  MpmProbe(sim).sort_particles();
+  MpmProbe(sim).clear_grid();
+  MpmProbe(sim).particles_to_grid(false);
+  MpmProbe(sim).grid_velocity_update(0.0);
+  auto& g = MpmProbe(sim).grid();
   std::mt19937_64 rng(99);
   for (std::size_t i = 0; i < g.size(); ++i) {
     if (g.mass[i] <= 0) continue;
@@ -106,7 +106,7 @@ void g2p_conserves(const std::string& scheme, const std::string& kernel, double 
     g.velocity_new[i] = v;
   }
   const test::GridMoments m = test::grid_moments<D>(g, dt);
-  sim.grid_to_particles(dt);
+  MpmProbe(sim).grid_to_particles(dt);
   const DiagnosticsRow after = sim.measure();
   worst.add((test::to3(after.p) - m.p).norm() / m.p_scale,
             scheme == "pic" ? 0.0 : (test::to3(after.L) - m.L).norm() / m.L_scale);
@@ -154,22 +154,22 @@ void affine_round_trip(const std::string& scheme, const std::string& kernel) {
   const Vec<double, D> v = test::random_vector<double, D>(rng, -1.0, 1.0);
   Mat<double, D> C = test::random_matrix<double, D>(rng, 2.0);
   if (scheme == "rpic") C = (0.5 * (C - C.transpose())).eval();  // RPIC reproduces rigid fields
-  auto& p = sim.particles();
+  auto& p = MpmProbe(sim).particles();
   for (std::size_t q = 0; q < n; ++q) {
     p.v[q] = v + C * p.x[q];
     p.C[q] = C;
   }
   const double scale = v.norm() + C.norm() * 1.0;  // |x| ≤ √D, the field is O(|v| + |C|)
-  sim.sort_particles();
-  sim.clear_grid();
-  sim.particles_to_grid(false);
-  sim.grid_velocity_update(0.0);
-  const auto& g = sim.grid();
+  MpmProbe(sim).sort_particles();
+  MpmProbe(sim).clear_grid();
+  MpmProbe(sim).particles_to_grid(false);
+  MpmProbe(sim).grid_velocity_update(0.0);
+  const auto& g = MpmProbe(sim).grid();
   double grid_err = 0;
   for (std::size_t i = 0; i < g.size(); ++i)
     if (g.mass[i] > 0)
       grid_err = std::max(grid_err, (g.velocity[i] - (v + C * g.node_position(i))).norm());
-  sim.grid_to_particles(0.0);
+  MpmProbe(sim).grid_to_particles(0.0);
   double verr = 0, cerr = 0;
   for (std::size_t q = 0; q < n; ++q) {
     verr = std::max(verr, (p.v[q] - (v + C * p.x[q])).norm());
@@ -201,13 +201,13 @@ TEST(Transfers, PicLosesAffineField) {
   randomize_particles<2>(sim, 300, 11, 0.3, 0.7, false, true);
   Mat<double, 2> C;
   C << 0.0, -1.0, 1.0, 0.0;  // rigid rotation
-  auto& p = sim.particles();
+  auto& p = MpmProbe(sim).particles();
   for (std::size_t q = 0; q < p.size(); ++q) p.v[q] = C * p.x[q];
-  sim.sort_particles();
-  sim.clear_grid();
-  sim.particles_to_grid(false);
-  sim.grid_velocity_update(0.0);
-  sim.grid_to_particles(0.0);
+  MpmProbe(sim).sort_particles();
+  MpmProbe(sim).clear_grid();
+  MpmProbe(sim).particles_to_grid(false);
+  MpmProbe(sim).grid_velocity_update(0.0);
+  MpmProbe(sim).grid_to_particles(0.0);
   double err = 0;
   for (std::size_t q = 0; q < p.size(); ++q) err = std::max(err, (p.v[q] - C * p.x[q]).norm());
   EXPECT_GT(err, 1e-3);  // random particles: the smoothing error is a sizeable fraction of Δx|C|
@@ -220,7 +220,7 @@ void one_particle(const std::string& kernel) {
   SCOPED_TRACE(::testing::Message() << kernel << " " << D << "D");
   MpmSimulation<double, D> sim(make_scene(D, "apic", kernel));
   randomize_particles<D>(sim, 1, 77 + D, 0.4, 0.45);
-  auto& p = sim.particles();
+  auto& p = MpmProbe(sim).particles();
   p.v[0] *= 0.1;     // moves ≤ 0.17 in 1000 steps of 1e-3: stays clear of the walls
   p.volume0[0] = 0;  // no elastic energy, so no force as F follows C (eq 34 scales by V_p)
   const Vec<double, D> v0 = p.v[0], x0 = p.x[0];
@@ -234,7 +234,7 @@ void one_particle(const std::string& kernel) {
   }
   // Each step rounds B = Σ w ṽ rᵀ (|ṽ| ≤ |v| + |C|·2Δx) and divides by k Δx²: ~1e-14 of
   // |v|/Δx + |C| per step; 1000 steps of drift stay below 1e-10 of that scale.
-  const double scale = v0.norm() / sim.grid().dx + C0.norm();
+  const double scale = v0.norm() / MpmProbe(sim).grid().dx + C0.norm();
   EXPECT_LE(verr, 1e-10 * scale);
   EXPECT_LE(cerr, 1e-10 * scale);
   EXPECT_LE((p.x[0] - (x0 + 1000 * dt * v0)).norm(), 1e-12) << "x_p^{n+1} = x_p^n + Δt v_p (eq 80)";
