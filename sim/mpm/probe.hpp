@@ -63,13 +63,10 @@ class MpmProbe {
     return m;
   }
   Eigen::Vector3d total_force() const { return sim_.total_force(); }  // Σ_i f_i (Sec 5.2)
-  double elastic_energy() const { return sim_.elastic_energy(); }
   // The parallel P2G's invariant (BlockPartition::conflict): "" or what breaks it.
   std::string partition_conflict() const { return sim_.partition_conflict(); }
-  // The row's particle sums by measure()'s own pass, and the row of given sums.
+  // The row's particle sums by measure()'s own pass.
   ParticleSums particle_sums() const { return sim_.particle_sums(); }
-  DiagnosticsRow row_of(const ParticleSums& sums) const { return sim_.row_of(sums); }
-  T inertia_scale() const { return sim_.inertia_scale(); }  // k Δx² with D_p = k Δx² I
   // Bytes held by the particles, the grid and the per-scheme arrays; XPIC(m)'s node arrays.
   std::size_t state_bytes() const { return sim_.state_bytes(); }
   std::size_t xpic_capacity() const { return sim_.xpic_capacity(); }

@@ -53,13 +53,13 @@ void check_blocks(unsigned seed) {
   MpmProbe(sim).particles_to_grid(false);
   const double dt = 0.02;
   ImplicitProbe(sim).template implicit_begin<QuadraticKernel>(dt);
-  std::vector<Vec<double, D>> dv(MpmProbe(sim).grid().size(), Vec<double, D>::Zero());
+  std::vector<Vec<double, D>> dv((MpmProbe(sim).grid().size()), Vec<double, D>::Zero());
   ImplicitProbe(sim).template implicit_energy<QuadraticKernel>(dv,
                                                                true);  // F at the force position
   ImplicitProbe(sim).implicit_update_hessian(true);
   ImplicitProbe(sim).template implicit_block_jacobi<QuadraticKernel>();
   // H e_(i,a), column by column, through the operator CG uses; its node-i part is H_ii e_a.
-  std::vector<Vec<double, D>> e(MpmProbe(sim).grid().size(), Vec<double, D>::Zero()), He = e;
+  std::vector<Vec<double, D>> e((MpmProbe(sim).grid().size()), Vec<double, D>::Zero()), He = e;
   const auto& active = ImplicitProbe(sim).active_nodes();
   double worst = 0, stiffness = 0;
   for (std::size_t n = 0; n < active.size(); n += 7) {

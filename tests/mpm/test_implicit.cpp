@@ -257,7 +257,7 @@ TEST(Implicit, TriangleMeshGradientAndHessianMatchFiniteDifferences) {
     MpmProbe(sim).clear_grid();
     MpmProbe(sim).particles_to_grid(false);
     ImplicitProbe(sim).implicit_begin<CubicKernel>(0.02);
-    std::vector<Vec<double, 2>> dv(MpmProbe(sim).grid().size(), Vec<double, 2>::Zero()), dir = dv;
+    std::vector<Vec<double, 2>> dv((MpmProbe(sim).grid().size()), Vec<double, 2>::Zero()), dir = dv;
     for (auto i : ImplicitProbe(sim).active_nodes())
       for (int a = 0; a < 2; ++a) {
         dv[i][a] = 0.5 * u(rng);
@@ -279,7 +279,7 @@ TEST(Implicit, TriangleMeshGradientAndHessianMatchFiniteDifferences) {
     EXPECT_NEAR(numeric, analytic, 1e-6 * std::abs(analytic)) << model;
     ImplicitProbe(sim).implicit_energy<CubicKernel>(dv, true);
     ImplicitProbe(sim).implicit_update_hessian(false);
-    std::vector<Vec<double, 2>> Hd(MpmProbe(sim).grid().size(), Vec<double, 2>::Zero());
+    std::vector<Vec<double, 2>> Hd((MpmProbe(sim).grid().size()), Vec<double, 2>::Zero());
     ImplicitProbe(sim).implicit_hessian_apply<CubicKernel>(dir, Hd);
     ImplicitProbe(sim).implicit_energy<CubicKernel>(shifted(h), true);
     auto gp = ImplicitProbe(sim).implicit_gradient();
