@@ -17,9 +17,7 @@
 #include "app/perf_ledger.hpp"
 #include "cli.hpp"
 #include "commands.hpp"
-#include "sim/mpm/mpm.hpp"
 #include "sim/mpm/schemes/scheme_label.hpp"
-#include "sim/reference/reference_setup.hpp"
 #include "sim/scene/memory_estimate.hpp"
 
 namespace apiclab::cli {
@@ -88,25 +86,13 @@ bool finite_state(const Simulation& sim) {
 
 // The readable reference step (sim/reference/reference_step.hpp) from sim's current particles,
 // `steps` fixed steps of dt in the same precision; particle-steps/s, or nullopt if it blew up.
-template <class T, int D>
 std::optional<double> reference_rate(const Simulation& sim, double dt, int steps) {
-  const auto& mpm = dynamic_cast<const MpmSimulation<T, D>&>(sim);
-  const reference::Setup<T, D> setup = reference::setup_of<T, D>(sim.scene());
-  reference::ParticleState<T, D> state = reference::state_of(mpm.particles());
+  const std::unique_ptr<ReferenceRun> run = sim.transfers()->reference_run();
   const double start = now_seconds();
-  for (int s = 0; s < steps; ++s) reference::step<T, D>(setup, state, T(dt));
+  for (int s = 0; s < steps; ++s) run->step(dt);
   const double wall = now_seconds() - start;
-  for (const auto& x : state.x)
-    if (!x.allFinite()) return std::nullopt;
-  return double(state.x.size()) * steps / wall;
-}
-std::optional<double> reference_rate(const Simulation& sim, double dt, int steps) {
-  const bool single = sim.precision() == Precision::single;
-  if (sim.dim() == 2)
-    return single ? reference_rate<float, 2>(sim, dt, steps)
-                  : reference_rate<double, 2>(sim, dt, steps);
-  return single ? reference_rate<float, 3>(sim, dt, steps)
-                : reference_rate<double, 3>(sim, dt, steps);
+  if (!run->finite()) return std::nullopt;
+  return double(run->particle_count()) * steps / wall;
 }
 
 struct BlockResult {
@@ -284,15 +270,8 @@ int bench_sizes(const BenchOptions& o, Precision precision) {
 
 // Bytes the MPM grid's node arrays hold (0 for a family without one).
 std::size_t grid_bytes(const Simulation& sim) {
-  if (auto* m = dynamic_cast<const MpmSimulation<double, 2>*>(&sim))
-    return m->grid().allocated_bytes();
-  if (auto* m = dynamic_cast<const MpmSimulation<double, 3>*>(&sim))
-    return m->grid().allocated_bytes();
-  if (auto* m = dynamic_cast<const MpmSimulation<float, 2>*>(&sim))
-    return m->grid().allocated_bytes();
-  if (auto* m = dynamic_cast<const MpmSimulation<float, 3>*>(&sim))
-    return m->grid().allocated_bytes();
-  return 0;
+  const TransferControls* t = sim.transfers();
+  return t ? t->grid_bytes() : 0;
 }
 
 // --domain-times N: the domain grown away from its minimum corner (walls there stay put) to N ×

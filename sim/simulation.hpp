@@ -92,6 +92,15 @@ class Simulation {
   std::optional<Failure> failure_;
 };
 
+// Fixed steps of the reference step on its own particle state.
+class ReferenceRun {
+ public:
+  virtual ~ReferenceRun() = default;
+  virtual void step(double dt) = 0;
+  virtual bool finite() const = 0;  // every position finite
+  virtual std::size_t particle_count() const = 0;
+};
+
 // What a solver with particle-grid transfers (PIC/FLIP/APIC/RPIC) offers beyond the core.
 class TransferControls {
  public:
@@ -106,6 +115,11 @@ class TransferControls {
   virtual void write_particles_csv(std::ostream& out) const = 0;
   // The same state as named columns, for the other --dump formats (sim/measure/particle_table.hpp).
   virtual ParticleTable particle_table() const = 0;
+  // Bytes the grid's node arrays hold (`bench`).
+  virtual std::size_t grid_bytes() const = 0;
+  // The readable reference step (sim/reference/reference_step.hpp) from a copy of the current
+  // particles, in the solver's precision (`bench --reference`).
+  virtual std::unique_ptr<ReferenceRun> reference_run() const = 0;
 };
 
 // Particles of a solver with particle transfers, 0 for one without (for reports and titles).

@@ -30,6 +30,8 @@ struct MaterialParams {
 template <class T, int D>
 class MpmSimulation final : public Simulation, public TransferControls {
  public:
+  using Scalar = T;
+  static constexpr int Dim = D;
   explicit MpmSimulation(const SceneDesc& scene);
   MpmSimulation(const MpmSimulation&) = default;
   std::unique_ptr<Simulation> clone() const override {
@@ -65,8 +67,17 @@ class MpmSimulation final : public Simulation, public TransferControls {
   void fill_velocity_noise(Snapshot& s) const override;
   void write_particles_csv(std::ostream& out) const override;
   ParticleTable particle_table() const override;
+  std::size_t grid_bytes() const override { return grid_.allocated_bytes(); }
+  std::unique_ptr<ReferenceRun> reference_run() const override;
 
-  // Direct access for tests, the reference step and the round-trip probe.
+ private:
+  // Tests, the round-trip probe and the implicit tests drive the phases through these
+  // (sim/mpm/probe.hpp, sim/mpm/implicit/implicit_probe.hpp).
+  template <class Sim>
+  friend class MpmProbe;
+  template <class Sim>
+  friend class ImplicitProbe;
+
   // Writable access (tests, setup) may change F: the cached stress and energy are dropped.
   Particles<T, D>& particles() {
     stress_of_current_F_ = false;
@@ -87,7 +98,7 @@ class MpmSimulation final : public Simulation, public TransferControls {
   ParticleSums particle_sums() const;
   DiagnosticsRow row_of(const ParticleSums& sums) const;
 
-  // The phases, in step_fixed's order, public so tests can check each one's conservation.
+  // The phases, in step_fixed's order.
   void sort_particles();
   void clear_grid();  // zeroes the P2G accumulator
   void particles_to_grid(
@@ -108,8 +119,7 @@ class MpmSimulation final : public Simulation, public TransferControls {
   Eigen::Vector3d total_force() const;
   double elastic_energy() const;
 
-  // Implicit solve (sim/mpm/implicit/implicit.hpp), public so tests can check E, ∇E and H against
-  // finite differences: implicit_begin after particles_to_grid(false), then energy/Hessian at Δv.
+  // Implicit solve (sim/mpm/implicit/implicit.hpp); the tests drive it through ImplicitProbe.
   template <class K>
   void implicit_velocity_update(T dt);
   template <class K>
@@ -125,14 +135,7 @@ class MpmSimulation final : public Simulation, public TransferControls {
   template <class K>
   void implicit_block_jacobi();  // after implicit_update_hessian
   void implicit_precondition(const std::vector<Vec<T, D>>& r, std::vector<Vec<T, D>>& z) const;
-  const std::vector<Mat<T, D>>& block_jacobi_inverse() const { return imp_.block_inverse; }
-  const std::vector<std::uint32_t>& active_nodes() const { return imp_.active; }
-  const std::vector<Vec<T, D>>& implicit_gradient() const { return imp_.grad; }
-  const std::vector<Vec<T, D>>& implicit_dv() const { return imp_.dv; }
-  // Newton residuals (mass-weighted RMS of M⁻¹g) of the last implicit step, in order.
-  const std::vector<double>& newton_residuals() const { return imp_.residuals; }
 
- private:
   template <class K, bool affine, bool with_forces, bool mls_forces = false>
   void p2g_impl();
   void unpack_accumulator();

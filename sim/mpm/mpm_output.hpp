@@ -1,4 +1,5 @@
-// What leaves the solver: scheme switching, drawing snapshots, velocity noise, particle CSV.
+// What leaves the solver: scheme switching, drawing snapshots, velocity noise, particle CSV, the
+// reference step on the same particles.
 #pragma once
 #include <iomanip>
 #include <limits>
@@ -8,6 +9,7 @@
 #include "sim/mpm/mpm.hpp"
 #include "sim/mpm/schemes/polypic_modes.hpp"
 #include "sim/mpm/schemes/scheme_label.hpp"
+#include "sim/reference/reference_run.hpp"
 
 namespace apiclab {
 
@@ -34,6 +36,11 @@ template <class T, int D>
 std::size_t MpmSimulation<T, D>::state_bytes() const {
   return p_.allocated_bytes() + scratch_.allocated_bytes() + grid_.allocated_bytes() +
          xpic_capacity() * sizeof(Vec<T, D>);
+}
+
+template <class T, int D>
+std::unique_ptr<ReferenceRun> MpmSimulation<T, D>::reference_run() const {
+  return reference::run_of<T, D>(scene_, p_);
 }
 
 // |v_p − Σ w_ip v_i| with v_i from a fresh P2G of the current particles (this scheme's own

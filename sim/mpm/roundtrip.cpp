@@ -1,5 +1,5 @@
 // The Sec 6.8 round trip through the solver's own transfers: an MpmSimulation on the periodic
-// [0, 2π]² grid runs its public G2P and P2G phases at Δt = 0.
+// [0, 2π]² grid runs its G2P and P2G phases at Δt = 0 through MpmProbe.
 #include "sim/mpm/roundtrip.hpp"
 
 #include <cmath>
@@ -7,7 +7,7 @@
 #include <string>
 
 #include "sim/geometry/sampling.hpp"
-#include "sim/mpm/mpm.hpp"
+#include "sim/mpm/probe.hpp"
 
 namespace apiclab {
 
@@ -39,11 +39,12 @@ RoundTripResult roundtrip_error(KernelType kernel, Scheme scheme, int resolution
   s.solver.xpic_order = xpic_order;
   s.materials.emplace_back();  // particles name material 0; the probe never computes stress
   MpmSimulation<double, 2> sim(s);
+  MpmProbe probe(sim);
 
   // Poisson disk particles (separation Δx/3), unit mass; G2P writes their v_p and C_p.
   const std::vector<Vec3d> points =
       poisson_disk(s.domain.min, s.domain.max, s.domain.dx / 3, 2, seed, true);
-  Particles<double, 2>& p = sim.particles();
+  Particles<double, 2>& p = probe.particles();
   p.resize(points.size());
   for (std::size_t q = 0; q < points.size(); ++q) {
     p.x[q] = Vec<double, 2>(points[q][0], points[q][1]);
@@ -55,27 +56,23 @@ RoundTripResult roundtrip_error(KernelType kernel, Scheme scheme, int resolution
     p.material[q] = p.object[q] = 0;
     p.id[q] = std::int32_t(q);
   }
-  sim.sort_particles();  // the phases run over the nodes the sorted particles reach
+  probe.sort_particles();  // the phases run over the nodes the sorted particles reach
   // The node masses m_i = Σ w m_p (eq 24) of these particles before G2P, as a step has them:
   // XPIC's grid passes (A = S⁺S, sim/mpm/schemes/xpic_passes.hpp) read them; the other schemes' G2P
   // does not. The P2G momentum is zero (v_p = 0) and is overwritten below.
-  sim.clear_grid();
-  sim.particles_to_grid(false);
+  probe.clear_grid();
+  probe.particles_to_grid(false);
 
-  // Grid velocity (1.1 sin x, 0.9 cos y) as both v_i^n and ṽ_i, then G2P with Δt = 0 (x_p and
-  // F_p stay), then P2G (eqs 24, 26) and v_i = (mv)_i / m_i. XPIC(m) then returns
-  // (I − (I − A)^m) v: its series needs only vⁿ and the masses, not prior particle velocities.
-  Grid<double, 2>& g = sim.grid();
+  // Grid velocity (1.1 sin x, 0.9 cos y) as both v_i^n and ṽ_i, then G2P with Δt = 0 and P2G
+  // (MpmProbe::transfer_once). XPIC(m) then returns (I − (I − A)^m) v: its series needs only vⁿ
+  // and the masses, not prior particle velocities.
+  const Grid<double, 2>& g = probe.grid();
   std::vector<Vec<double, 2>> before(g.size());
   for (std::size_t i = 0; i < g.size(); ++i) {
     const Vec<double, 2> x = g.node_position(i);
     before[i] = Vec<double, 2>(1.1 * std::sin(x[0]), 0.9 * std::cos(x[1]));
-    g.velocity[i] = g.velocity_new[i] = before[i];
   }
-  sim.grid_to_particles(0.0);
-  sim.clear_grid();
-  sim.particles_to_grid(false);
-  sim.grid_velocity_update(0.0);  // massless nodes get v_i = 0
+  probe.transfer_once(before);
 
   double err2 = 0;
   for (std::size_t i = 0; i < g.size(); ++i)

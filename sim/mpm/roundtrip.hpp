@@ -1,5 +1,5 @@
 // The round-trip transfer error probe of Jiang et al. 2017, Sec 6.8 (Fig 11), measured on the
-// solver's own G2P and P2G (MpmSimulation's public phases), not on a copy of them.
+// solver's own G2P and P2G (through MpmProbe, sim/mpm/probe.hpp), not on a copy of them.
 #pragma once
 #include <cstdint>
 #include <string>

@@ -7,7 +7,8 @@
 #include <cmath>
 #include <random>
 
-#include "sim/mpm/mpm.hpp"
+#include "sim/mpm/implicit/implicit_probe.hpp"
+#include "sim/mpm/probe.hpp"
 #include "sim/scene/scene.hpp"
 
 using namespace apiclab;
@@ -44,31 +45,32 @@ void check_blocks(unsigned seed) {
   MpmSimulation<double, D> sim(s);
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> u(-1, 1);
-  for (auto& F : sim.particles().F)  // a deformed state, so ∂P/∂F is far from isotropic
+  for (auto& F : MpmProbe(sim).particles().F)  // a deformed state, so ∂P/∂F is far from isotropic
     for (int i = 0; i < D; ++i)
       for (int j = 0; j < D; ++j) F(i, j) += 0.2 * u(rng);
-  sim.sort_particles();
-  sim.clear_grid();
-  sim.particles_to_grid(false);
+  MpmProbe(sim).sort_particles();
+  MpmProbe(sim).clear_grid();
+  MpmProbe(sim).particles_to_grid(false);
   const double dt = 0.02;
-  sim.template implicit_begin<QuadraticKernel>(dt);
-  std::vector<Vec<double, D>> dv(sim.grid().size(), Vec<double, D>::Zero());
-  sim.template implicit_energy<QuadraticKernel>(dv, true);  // F at the force position
-  sim.implicit_update_hessian(true);
-  sim.template implicit_block_jacobi<QuadraticKernel>();
+  ImplicitProbe(sim).template implicit_begin<QuadraticKernel>(dt);
+  std::vector<Vec<double, D>> dv((MpmProbe(sim).grid().size()), Vec<double, D>::Zero());
+  ImplicitProbe(sim).template implicit_energy<QuadraticKernel>(dv,
+                                                               true);  // F at the force position
+  ImplicitProbe(sim).implicit_update_hessian(true);
+  ImplicitProbe(sim).template implicit_block_jacobi<QuadraticKernel>();
   // H e_(i,a), column by column, through the operator CG uses; its node-i part is H_ii e_a.
-  std::vector<Vec<double, D>> e(sim.grid().size(), Vec<double, D>::Zero()), He = e;
-  const auto& active = sim.active_nodes();
+  std::vector<Vec<double, D>> e((MpmProbe(sim).grid().size()), Vec<double, D>::Zero()), He = e;
+  const auto& active = ImplicitProbe(sim).active_nodes();
   double worst = 0, stiffness = 0;
   for (std::size_t n = 0; n < active.size(); n += 7) {
     const std::uint32_t i = active[n];
-    const Mat<double, D> block = sim.block_jacobi_inverse()[i].inverse();
+    const Mat<double, D> block = ImplicitProbe(sim).block_jacobi_inverse()[i].inverse();
     for (int a = 0; a < D; ++a) {
       e[i][a] = 1;
-      sim.template implicit_hessian_apply<QuadraticKernel>(e, He);
+      ImplicitProbe(sim).template implicit_hessian_apply<QuadraticKernel>(e, He);
       e[i][a] = 0;
       worst = std::max(worst, (He[i] - block.col(a)).norm() / He[i].norm());
-      stiffness = std::max(stiffness, He[i].norm() / sim.grid().mass[i]);
+      stiffness = std::max(stiffness, He[i].norm() / MpmProbe(sim).grid().mass[i]);
     }
   }
   std::printf(
@@ -132,7 +134,7 @@ TEST(CgPreconditioner, BothPreconditionersTakeTheSameStepsToTheNewtonTolerance) 
         sims.back()->advance_to(1.0, [&](const DiagnosticsRow& r) { cg[k] += r.cg_iters; }));
     ++k;
   }
-  const auto &a = sims[0]->particles(), &b = sims[1]->particles();
+  const auto &a = MpmProbe(*sims[0]).particles(), &b = MpmProbe(*sims[1]).particles();
   ASSERT_EQ(a.size(), b.size());
   double dx = 0, dv = 0, vmax = 0;
   for (std::size_t q = 0; q < a.size(); ++q) {

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "sim/mpm/mpm.hpp"
+#include "sim/mpm/probe.hpp"
 #include "sim/scene/scene.hpp"
 
 namespace apiclab::test {
@@ -62,7 +62,7 @@ void randomize_particles(MpmSimulation<double, D>& sim, std::size_t n, std::uint
                          bool zero_C = false) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> um(0.5, 2.0);
-  auto& p = sim.particles();
+  auto& p = MpmProbe(sim).particles();
   p.resize(n);
   for (std::size_t q = 0; q < n; ++q) {
     p.x[q] = random_vector<double, D>(rng, lo, hi);

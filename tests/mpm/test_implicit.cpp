@@ -9,8 +9,9 @@
 #include <string>
 #include <vector>
 
+#include "sim/mpm/implicit/implicit_probe.hpp"
 #include "sim/mpm/implicit/round_off_floor.hpp"
-#include "sim/mpm/mpm.hpp"
+#include "sim/mpm/probe.hpp"
 #include "sim/scene/scene.hpp"
 
 using namespace apiclab;
@@ -47,17 +48,17 @@ struct Fixture {
   explicit Fixture(const SceneDesc& s, double dt, unsigned seed) : sim(s) {
     std::mt19937 rng(seed);
     std::uniform_real_distribution<double> u(-1, 1);
-    for (auto& F : sim.particles().F) {  // a deformed state, away from the rest shape
+    for (auto& F : MpmProbe(sim).particles().F) {  // a deformed state, away from the rest shape
       for (int i = 0; i < D; ++i)
         for (int j = 0; j < D; ++j) F(i, j) += 0.15 * u(rng);
     }
-    sim.sort_particles();
-    sim.clear_grid();
-    sim.particles_to_grid(false);
-    sim.template implicit_begin<QuadraticKernel>(dt);
-    dv.assign(sim.grid().size(), Vec<double, D>::Zero());
+    MpmProbe(sim).sort_particles();
+    MpmProbe(sim).clear_grid();
+    MpmProbe(sim).particles_to_grid(false);
+    ImplicitProbe(sim).template implicit_begin<QuadraticKernel>(dt);
+    dv.assign(MpmProbe(sim).grid().size(), Vec<double, D>::Zero());
     dir = dv;
-    for (auto i : sim.active_nodes()) {
+    for (auto i : ImplicitProbe(sim).active_nodes()) {
       for (int a = 0; a < D; ++a) {
         dv[i][a] = 0.3 * u(rng);
         dir[i][a] = u(rng);
@@ -66,14 +67,14 @@ struct Fixture {
   }
   double energy(double h) {
     auto x = dv;
-    for (auto i : sim.active_nodes()) x[i] += h * dir[i];
-    return sim.template implicit_energy<QuadraticKernel>(x, false);
+    for (auto i : ImplicitProbe(sim).active_nodes()) x[i] += h * dir[i];
+    return ImplicitProbe(sim).template implicit_energy<QuadraticKernel>(x, false);
   }
   std::vector<Vec<double, D>> gradient(double h) {
     auto x = dv;
-    for (auto i : sim.active_nodes()) x[i] += h * dir[i];
-    sim.template implicit_energy<QuadraticKernel>(x, true);
-    return sim.implicit_gradient();
+    for (auto i : ImplicitProbe(sim).active_nodes()) x[i] += h * dir[i];
+    ImplicitProbe(sim).template implicit_energy<QuadraticKernel>(x, true);
+    return ImplicitProbe(sim).implicit_gradient();
   }
 };
 
@@ -84,17 +85,17 @@ void check_derivatives(const std::string& model, double dt) {
   // Gradient: central difference of E along dir, O(h²) accurate.
   auto g = f.gradient(0);
   double analytic = 0;
-  for (auto i : f.sim.active_nodes()) analytic += g[i].dot(f.dir[i]);
+  for (auto i : ImplicitProbe(f.sim).active_nodes()) analytic += g[i].dot(f.dir[i]);
   double numeric = (f.energy(h) - f.energy(-h)) / (2 * h);
   EXPECT_NEAR(numeric, analytic, 1e-6 * std::abs(analytic)) << model << " " << D << "D";
   // Hessian-vector product (unprojected ∂P/∂F) against the difference of gradients.
   f.gradient(0);  // Fy at Δv
-  f.sim.implicit_update_hessian(false);
-  std::vector<Vec<double, D>> Hd(f.sim.grid().size(), Vec<double, D>::Zero());
-  f.sim.template implicit_hessian_apply<QuadraticKernel>(f.dir, Hd);
+  ImplicitProbe(f.sim).implicit_update_hessian(false);
+  std::vector<Vec<double, D>> Hd(MpmProbe(f.sim).grid().size(), Vec<double, D>::Zero());
+  ImplicitProbe(f.sim).template implicit_hessian_apply<QuadraticKernel>(f.dir, Hd);
   auto gp = f.gradient(h), gm = f.gradient(-h);
   double err = 0, norm = 0;
-  for (auto i : f.sim.active_nodes()) {
+  for (auto i : ImplicitProbe(f.sim).active_nodes()) {
     Vec<double, D> fd = (gp[i] - gm[i]) / (2 * h);
     err += (fd - Hd[i]).squaredNorm();
     norm += Hd[i].squaredNorm();
@@ -220,9 +221,9 @@ TEST(Implicit, NewtonConvergesQuadratically) {
   s.solver.cg_tolerance = 1e-12;
   s.solver.cg_max_iterations = 1000;
   MpmSimulation<double, 2> sim(s);
-  for (auto& F : sim.particles().F) F << 1.2, 0.1, -0.05, 0.85;
+  for (auto& F : MpmProbe(sim).particles().F) F << 1.2, 0.1, -0.05, 0.85;
   sim.step_fixed(0.02);
-  const auto& r = sim.newton_residuals();
+  const auto& r = ImplicitProbe(sim).newton_residuals();
   ASSERT_GE(r.size(), 3u);
   bool saw_quadratic = false;
   for (std::size_t k = 1; k + 1 < r.size(); ++k) {
@@ -252,40 +253,40 @@ TEST(Implicit, TriangleMeshGradientAndHessianMatchFiniteDifferences) {
     MpmSimulation<double, 2> sim(s);
     std::mt19937 rng(3);
     std::uniform_real_distribution<double> u(-1, 1);
-    sim.sort_particles();
-    sim.clear_grid();
-    sim.particles_to_grid(false);
-    sim.implicit_begin<CubicKernel>(0.02);
-    std::vector<Vec<double, 2>> dv(sim.grid().size(), Vec<double, 2>::Zero()), dir = dv;
-    for (auto i : sim.active_nodes())
+    MpmProbe(sim).sort_particles();
+    MpmProbe(sim).clear_grid();
+    MpmProbe(sim).particles_to_grid(false);
+    ImplicitProbe(sim).implicit_begin<CubicKernel>(0.02);
+    std::vector<Vec<double, 2>> dv((MpmProbe(sim).grid().size()), Vec<double, 2>::Zero()), dir = dv;
+    for (auto i : ImplicitProbe(sim).active_nodes())
       for (int a = 0; a < 2; ++a) {
         dv[i][a] = 0.5 * u(rng);
         dir[i][a] = u(rng);
       }
     auto shifted = [&](double h) {
       auto x = dv;
-      for (auto i : sim.active_nodes()) x[i] += h * dir[i];
+      for (auto i : ImplicitProbe(sim).active_nodes()) x[i] += h * dir[i];
       return x;
     };
     const double h = 1e-5;
-    sim.implicit_energy<CubicKernel>(dv, true);
-    auto g = sim.implicit_gradient();
+    ImplicitProbe(sim).implicit_energy<CubicKernel>(dv, true);
+    auto g = ImplicitProbe(sim).implicit_gradient();
     double analytic = 0;
-    for (auto i : sim.active_nodes()) analytic += g[i].dot(dir[i]);
-    double numeric = (sim.implicit_energy<CubicKernel>(shifted(h), false) -
-                      sim.implicit_energy<CubicKernel>(shifted(-h), false)) /
+    for (auto i : ImplicitProbe(sim).active_nodes()) analytic += g[i].dot(dir[i]);
+    double numeric = (ImplicitProbe(sim).implicit_energy<CubicKernel>(shifted(h), false) -
+                      ImplicitProbe(sim).implicit_energy<CubicKernel>(shifted(-h), false)) /
                      (2 * h);
     EXPECT_NEAR(numeric, analytic, 1e-6 * std::abs(analytic)) << model;
-    sim.implicit_energy<CubicKernel>(dv, true);
-    sim.implicit_update_hessian(false);
-    std::vector<Vec<double, 2>> Hd(sim.grid().size(), Vec<double, 2>::Zero());
-    sim.implicit_hessian_apply<CubicKernel>(dir, Hd);
-    sim.implicit_energy<CubicKernel>(shifted(h), true);
-    auto gp = sim.implicit_gradient();
-    sim.implicit_energy<CubicKernel>(shifted(-h), true);
-    auto gm = sim.implicit_gradient();
+    ImplicitProbe(sim).implicit_energy<CubicKernel>(dv, true);
+    ImplicitProbe(sim).implicit_update_hessian(false);
+    std::vector<Vec<double, 2>> Hd((MpmProbe(sim).grid().size()), Vec<double, 2>::Zero());
+    ImplicitProbe(sim).implicit_hessian_apply<CubicKernel>(dir, Hd);
+    ImplicitProbe(sim).implicit_energy<CubicKernel>(shifted(h), true);
+    auto gp = ImplicitProbe(sim).implicit_gradient();
+    ImplicitProbe(sim).implicit_energy<CubicKernel>(shifted(-h), true);
+    auto gm = ImplicitProbe(sim).implicit_gradient();
     double err = 0, norm = 0;
-    for (auto i : sim.active_nodes()) {
+    for (auto i : ImplicitProbe(sim).active_nodes()) {
       err += ((gp[i] - gm[i]) / (2 * h) - Hd[i]).squaredNorm();
       norm += Hd[i].squaredNorm();
     }
@@ -371,14 +372,14 @@ TEST(Implicit, FloatFreeFallStepConvergesInAFewIterations) {
   ASSERT_GT(c * dt / s.domain.dx, 5) << "the step must be far past the explicit limit";
   sim.step_fixed(dt);
   const DiagnosticsRow row = sim.measure();
-  const auto& r = sim.newton_residuals();
+  const auto& r = ImplicitProbe(sim).newton_residuals();
   std::string seq;
   for (double x : r) seq += std::to_string(x) + " ";
   EXPECT_TRUE(row.converged) << "residuals: " << seq;
   EXPECT_LE(r.size(), 4u) << "more than 3 Newton iterations: " << seq;
   EXPECT_LT(row.cg_iters, 200) << "CG iterations";
   const double v = 9.8 * dt;  // free fall: v_y = -g dt for every particle
-  for (const auto& vp : sim.particles().v) ASSERT_NEAR(vp[1], -v, 1e-4 * v);
+  for (const auto& vp : MpmProbe(sim).particles().v) ASSERT_NEAR(vp[1], -v, 1e-4 * v);
 }
 
 // The floors: negligible in double (no tolerance in use is raised), decisive in float, and
@@ -468,7 +469,8 @@ TEST(Implicit, BodyAtRestIsNeitherUnconvergedNorBlownUp) {
     SceneDesc s = load_scene(scene_path("rotating-disk"), sets);
     MpmSimulation<double, 2> sim(s);
     const double a = 0.3;
-    for (auto& F : sim.particles().F) F << std::cos(a), -std::sin(a), std::sin(a), std::cos(a);
+    for (auto& F : MpmProbe(sim).particles().F)
+      F << std::cos(a), -std::sin(a), std::sin(a), std::cos(a);
     long unconverged = 0;
     double worst = 0;
     const auto failure = sim.advance_to(s.time.end, [&](const DiagnosticsRow& r) {
@@ -489,7 +491,7 @@ TEST(Implicit, BlowUpFromRestIsStillCaught) {
                  {"objects.0.angular_velocity=0", "time.end=1", "solver.integrator=symplectic",
                   R"(time.dt={"rule":"fixed","value":0.025})"});
   MpmSimulation<double, 2> sim(s);
-  for (auto& F : sim.particles().F)
+  for (auto& F : MpmProbe(sim).particles().F)
     F << std::cos(0.3), -std::sin(0.3), std::sin(0.3), std::cos(0.3);
   const auto failure = sim.advance_to(s.time.end);
   ASSERT_TRUE(failure) << "no blow-up at 20x the explicit limit";

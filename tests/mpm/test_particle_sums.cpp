@@ -15,8 +15,8 @@
 #include <string>
 #include <vector>
 
-#include "sim/mpm/mpm.hpp"
 #include "sim/mpm/particle_sums.hpp"
+#include "sim/mpm/probe.hpp"
 #include "sim/scene/scene.hpp"
 
 namespace apiclab {
@@ -63,7 +63,7 @@ SceneDesc spinning_block(int dim, const std::string& scheme, const std::string& 
 // Σ m (|x| |v| + 2Δx² ‖C‖) (D_p ≤ Δx²/3 I for every kernel), gravity Σ m |g| |x|.
 template <class T, int D>
 ParticleSums term_scales(const MpmSimulation<T, D>& sim, const ParticleSums& oracle) {
-  const auto& p = sim.particles();
+  const auto& p = MpmProbe(sim).particles();
   const double dx = sim.scene().domain.dx, g = 9.8;
   ParticleSums s;
   s.kinetic = oracle.kinetic;
@@ -107,12 +107,12 @@ void expect_fused_equals_oracle(const std::string& scheme, const std::string& ke
   const double dt = 2e-4;
   const double bound =
       (D * D + 3 * D + 5 + float_pair_add<T>)*double(std::numeric_limits<T>::epsilon()) +
-      2 * double(fused.particles().size()) * std::numeric_limits<double>::epsilon();
+      2 * double(MpmProbe(fused).particles().size()) * std::numeric_limits<double>::epsilon();
   const int steps = threads == 1 ? 4 : 2;  // two threads: see all_schemes
   for (int step = 1; step <= steps; ++step) {
     const DiagnosticsRow row = fused.step_fixed_measured(dt);
     plain.step_fixed(dt);
-    const ParticleSums oracle = fused.particle_sums();
+    const ParticleSums oracle = MpmProbe(fused).particle_sums();
     const ParticleSums scale = term_scales(fused, oracle);
     ASSERT_GT(oracle.kinetic, 0);
     const double eps = double(std::numeric_limits<T>::epsilon());
@@ -138,7 +138,7 @@ void expect_fused_equals_oracle(const std::string& scheme, const std::string& ke
     EXPECT_EQ(row.elastic, measured.elastic);
     EXPECT_EQ(row.kinetic_grid, measured.kinetic_grid);
     // Taking the sums does not change the step: the same particles, bit for bit.
-    const auto &a = fused.particles(), &b = plain.particles();
+    const auto &a = MpmProbe(fused).particles(), &b = MpmProbe(plain).particles();
     ASSERT_EQ(a.size(), b.size());
     for (std::size_t q = 0; q < a.size(); ++q) {
       ASSERT_EQ(a.x[q], b.x[q]) << "particle " << q << " step " << step;
@@ -276,7 +276,7 @@ void same_on_one_and_two_threads(const std::string& scheme) {
   // Finer than the other tests' block: three chunks of 1024 particles or more (sim/mpm/g2p.hpp).
   MpmSimulation<T, D> one(spinning_block(D, scheme, "quadratic", D == 2 ? 80 : 32));
   MpmSimulation<T, D> two = one;
-  ASSERT_GT(one.particles().size(), 2048u);
+  ASSERT_GT(MpmProbe(one).particles().size(), 2048u);
   for (int step = 1; step <= 2; ++step) {
     omp_set_num_threads(1);
     const DiagnosticsRow a = one.step_fixed_measured(2e-4);

@@ -71,12 +71,12 @@ struct Axis {
 TEST(PolypicGModes, GIsThePapersPolynomialAndReadsEveryNodeAtHalfWeight) {
   SceneDesc s = scene(2, "polypic", "quadratic");
   MpmSimulation<double, 2> sim(s);
-  const double dx = sim.grid().dx;
+  const double dx = MpmProbe(sim).grid().dx;
   double worst_basis = 0, worst_weight = 0;
   for (double f = 0.505; f < 1.5; f += 0.01) {
     Stencil<double, 2, QuadraticKernel> st;
-    st.compute(Vec<double, 2>((8 - 1 + f) * dx, 8 * dx), sim.grid());
-    const auto b = polypic::axis_bases<double, 2>(st, sim.grid().inv_dx);
+    st.compute(Vec<double, 2>((8 - 1 + f) * dx, 8 * dx), MpmProbe(sim).grid());
+    const auto b = polypic::axis_bases<double, 2>(st, MpmProbe(sim).grid().inv_dx);
     const gmode::Axis ax(f);
     for (int k = 0; k < 3; ++k) {
       worst_basis = std::max(worst_basis, std::abs(b[0].value[2][k] - ax.G[k]));
@@ -101,8 +101,8 @@ EdgeKick edge_kick(const std::string& scheme, double delta) {
   s.gravity = {0, 0, 0};
   MpmSimulation<double, 2> sim(s);
   randomize_particles<2>(sim, 1, 3);
-  auto& p = sim.particles();
-  const double dx = sim.grid().dx;
+  auto& p = MpmProbe(sim).particles();
+  const double dx = MpmProbe(sim).grid().dx;
   p.x[0] = Vec<double, 2>((8 + 0.5 - delta) * dx, 8 * dx);
   p.v[0].setZero();
   p.C[0].setZero();

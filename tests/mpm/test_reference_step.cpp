@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "sim/mpm/mpm.hpp"
+#include "sim/mpm/probe.hpp"
 #include "sim/reference/reference_setup.hpp"
 
 namespace apiclab {
@@ -98,7 +98,7 @@ void place_block(MpmSimulation<double, D>& sim, const Case& c) {
   std::array<int, D> count;
   std::size_t n = 1;
   for (int a = 0; a < D; ++a) n *= std::size_t(count[a] = int((hi[a] - lo[a]) / h));
-  auto& p = sim.particles();
+  auto& p = MpmProbe(sim).particles();
   p.resize(n);
   for (std::size_t q = 0; q < n; ++q) {
     Vec<double, D> x;
@@ -150,7 +150,7 @@ Differences run_both(const Case& c) {
   const SceneDesc scene = scene_for(D, c);
   MpmSimulation<double, D> sim(scene);
   place_block<D>(sim, c);
-  const auto& p = sim.particles();
+  const auto& p = MpmProbe(sim).particles();
   reference::ParticleState<double, D> ref = reference::state_of(p);
   const reference::Setup<double, D> setup = reference::setup_of<double, D>(scene);
   for (int k = 0; k < kSteps; ++k) {
@@ -264,7 +264,7 @@ TEST(ReferenceStep, WallsColliderAndStressChangeTheMotion) {
   const Case c{Scheme::apic, 1.0, KernelType::quadratic, false};
   MpmSimulation<double, 2> sim(scene_for(2, c));
   place_block<2>(sim, c);
-  const auto& p = sim.particles();
+  const auto& p = MpmProbe(sim).particles();
   auto final_velocities = [&](const reference::Setup<double, 2>& setup) {
     reference::ParticleState<double, 2> s = reference::state_of(p);
     for (int k = 0; k < kSteps; ++k) reference::step<double, 2>(setup, s, kDt);

@@ -46,7 +46,7 @@ std::vector<Sample> run(const SceneDesc& scene, const std::vector<double>& times
       EXPECT_FALSE(failure) << "failed at t = " << sim.time();
       if (failure) return out;
     }
-    const auto& p = sim.particles();
+    const auto& p = MpmProbe(sim).particles();
     std::map<int, std::pair<double, Vec<double, 2>>> rings;  // object → (mass, momentum)
     for (std::size_t q = 0; q < p.size(); ++q) {
       auto& r = rings.try_emplace(p.object[q], 0.0, Vec<double, 2>::Zero()).first->second;

@@ -39,7 +39,7 @@ void conserves(const std::string& scheme) {
   const DiagnosticsRow r0 = sim.measure();
   double sp = 0;  // Σ m|v|: the scale of the (cancelling) linear momentum
   for (std::size_t q = 0; q < sim.particle_count(); ++q)
-    sp += sim.particles().mass[q] * sim.particles().v[q].norm();
+    sp += MpmProbe(sim).particles().mass[q] * MpmProbe(sim).particles().v[q].norm();
   const double L0 = r0.L[2];
   ASSERT_GT(L0, 0.0);
   double dp = 0, dL = 0;
@@ -115,15 +115,16 @@ TEST(Simulation, InternalForcesSumToZero) {
       MpmSimulation<double, 2> sim(disk("apic", {std::string("solver.kernel=") + kernel,
                                                  std::string("materials.0.model=") + model}));
       std::mt19937_64 rng(5);
-      for (auto& F : sim.particles().F) F += test::random_matrix<double, 2>(rng, 0.2);  // deform
-      sim.sort_particles();
-      sim.clear_grid();
-      sim.particles_to_grid(true);
-      const Eigen::Vector3d f = sim.total_force();
+      for (auto& F : MpmProbe(sim).particles().F)
+        F += test::random_matrix<double, 2>(rng, 0.2);  // deform
+      MpmProbe(sim).sort_particles();
+      MpmProbe(sim).clear_grid();
+      MpmProbe(sim).particles_to_grid(true);
+      const Eigen::Vector3d f = MpmProbe(sim).total_force();
       double scale = 0;
       Eigen::Vector3d torque = Eigen::Vector3d::Zero();
       double tscale = 0;
-      const auto& g = sim.grid();
+      const auto& g = MpmProbe(sim).grid();
       for (std::size_t i = 0; i < g.size(); ++i) {
         scale += g.force[i].norm();
         torque += cross_moment<double, 2>(g.node_position(i), g.force[i]);
@@ -139,19 +140,20 @@ TEST(Simulation, InternalForcesSumToZero) {
   MpmSimulation<double, 3> sim3(test::make_scene(3, "apic", "quadratic"));
   test::randomize_particles<3>(sim3, 400, 3);
   std::mt19937_64 rng(9);
-  for (auto& F : sim3.particles().F) F += test::random_matrix<double, 3>(rng, 0.2);
-  sim3.sort_particles();
-  sim3.clear_grid();
-  sim3.particles_to_grid(true);
+  for (auto& F : MpmProbe(sim3).particles().F) F += test::random_matrix<double, 3>(rng, 0.2);
+  MpmProbe(sim3).sort_particles();
+  MpmProbe(sim3).clear_grid();
+  MpmProbe(sim3).particles_to_grid(true);
   double scale = 0;
   Eigen::Vector3d torque = Eigen::Vector3d::Zero();
   double tscale = 0;
-  for (std::size_t i = 0; i < sim3.grid().size(); ++i) {
-    scale += sim3.grid().force[i].norm();
-    torque += cross_moment<double, 3>(sim3.grid().node_position(i), sim3.grid().force[i]);
-    tscale += sim3.grid().node_position(i).norm() * sim3.grid().force[i].norm();
+  for (std::size_t i = 0; i < MpmProbe(sim3).grid().size(); ++i) {
+    scale += MpmProbe(sim3).grid().force[i].norm();
+    torque += cross_moment<double, 3>(MpmProbe(sim3).grid().node_position(i),
+                                      MpmProbe(sim3).grid().force[i]);
+    tscale += MpmProbe(sim3).grid().node_position(i).norm() * MpmProbe(sim3).grid().force[i].norm();
   }
-  EXPECT_LE(sim3.total_force().norm(), 1e-12 * scale);
+  EXPECT_LE(MpmProbe(sim3).total_force().norm(), 1e-12 * scale);
   EXPECT_LE(torque.norm(), 1e-12 * tscale);
 }
 
@@ -173,22 +175,23 @@ void energy_from_the_stress_pass(const std::string& model) {
   MpmSimulation<double, D> cached(scene);
   test::randomize_particles<D>(cached, 300, 11);
   std::mt19937_64 rng(4);
-  for (auto& F : cached.particles().F) F += test::random_matrix<double, D>(rng, 0.15);
+  for (auto& F : MpmProbe(cached).particles().F) F += test::random_matrix<double, D>(rng, 0.15);
   MpmSimulation<double, D> fresh = cached;
   const double dt = 1e-3;  // particles move up to 0.64 cells in 40 steps: the sort runs
   for (int k = 0; k < 40; ++k) {
     cached.step_fixed(dt);
-    (void)fresh.particles();  // drops the cache: this one recomputes its stress every step
+    // Writable access drops the cache: this one recomputes its stress every step.
+    (void)MpmProbe(fresh).particles();
     fresh.step_fixed(dt);
-    const auto& p = std::as_const(cached).particles();
+    const auto& p = MpmProbe(std::as_const(cached)).particles();
     double direct = 0;
     for (std::size_t q = 0; q < p.size(); ++q)
       direct += p.volume0[q] * energy_density<double, D>(m, p.F[q], lame);
     ASSERT_GT(direct, 0.0);
     EXPECT_NEAR(cached.measure().elastic, direct, 1e-12 * direct) << "step " << k;
   }
-  const auto& a = std::as_const(cached).particles();
-  const auto& b = std::as_const(fresh).particles();
+  const auto& a = MpmProbe(std::as_const(cached)).particles();
+  const auto& b = MpmProbe(std::as_const(fresh)).particles();
   for (std::size_t q = 0; q < a.size(); ++q) ASSERT_EQ((a.x[q] - b.x[q]).norm(), 0.0) << q;
 }
 
@@ -216,7 +219,8 @@ TEST(Simulation, ThreadCountDeterminism) {
   auto a = run(1), b = run(2);
   auto by_id = [](const MpmSimulation<double, 2>& s) {
     std::vector<std::size_t> idx(s.particle_count());
-    for (std::size_t q = 0; q < idx.size(); ++q) idx[std::size_t(s.particles().id[q])] = q;
+    for (std::size_t q = 0; q < idx.size(); ++q)
+      idx[std::size_t(MpmProbe(s).particles().id[q])] = q;
     return idx;
   };
   for (const auto* other : {b.get()}) {
@@ -225,7 +229,7 @@ TEST(Simulation, ThreadCountDeterminism) {
     auto ia = by_id(*a), io = by_id(*other);
     std::size_t differ_x = 0, differ_v = 0, differ_C = 0, differ_F = 0;
     for (std::size_t k = 0; k < ia.size(); ++k) {
-      const auto &pa = a->particles(), &po = other->particles();
+      const auto &pa = MpmProbe(*a).particles(), &po = MpmProbe(*other).particles();
       differ_x += std::memcmp(pa.x[ia[k]].data(), po.x[io[k]].data(), sizeof(double) * 2) != 0;
       differ_v += std::memcmp(pa.v[ia[k]].data(), po.v[io[k]].data(), sizeof(double) * 2) != 0;
       differ_C += std::memcmp(pa.C[ia[k]].data(), po.C[io[k]].data(), sizeof(double) * 4) != 0;
@@ -252,15 +256,15 @@ void partition_holds(const std::string& kernel, const std::string& boundary, int
   const bool periodic = boundary == "periodic";
   test::randomize_particles<D>(sim, D == 2 ? 3000 : 4000, seed, periodic ? 0.0 : 0.05,
                                periodic ? 0.999 : 0.95);
-  sim.sort_particles();
+  MpmProbe(sim).sort_particles();
   std::mt19937_64 rng(seed + 1);
   std::uniform_real_distribution<double> drift(-0.49 * dx, 0.49 * dx);
-  for (auto& x : sim.particles().x)
+  for (auto& x : MpmProbe(sim).particles().x)
     for (int a = 0; a < D; ++a) {
       x[a] += drift(rng);
       if (periodic) x[a] -= std::floor(x[a]);  // the domain is [0, 1]
     }
-  EXPECT_EQ(sim.partition_conflict(), "");
+  EXPECT_EQ(MpmProbe(sim).partition_conflict(), "");
 }
 
 TEST(Simulation, ColouredBlocksNeverShareANode) {
@@ -292,7 +296,7 @@ TEST(Simulation, BlowUpIsReported) {
 // (benchmarks) leaves the state frozen, measure() shows it, and step() reports it.
 TEST(Simulation, NonFiniteStateFreezesInsteadOfCrashing) {
   MpmSimulation<double, 2> sim(disk("apic"));
-  sim.particles().v[3][0] = std::numeric_limits<double>::quiet_NaN();
+  MpmProbe(sim).particles().v[3][0] = std::numeric_limits<double>::quiet_NaN();
   sim.step_fixed(1e-4);  // G2P spreads the NaN through the grid to x
   const long steps = sim.steps();
   for (int s = 0; s < 3; ++s) sim.step_fixed(1e-4);
@@ -313,7 +317,7 @@ TEST(Simulation, PeriodicWrapHandlesSeveralPeriods) {
   const double L = scene.domain.max[0] - scene.domain.min[0];
   ASSERT_EQ(L, scene.domain.max[1] - scene.domain.min[1]);
   const Vec<double, 2> v(3.5 * L, -2.25 * L);  // 3.5 and 2.25 periods in 1 s
-  auto& p = sim.particles();
+  auto& p = MpmProbe(sim).particles();
   std::vector<Vec<double, 2>> x0(p.size());
   for (std::size_t q = 0; q < p.size(); ++q) {
     p.v[q] = v;

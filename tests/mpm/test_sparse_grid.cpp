@@ -53,11 +53,11 @@ void same_in_a_larger_domain(const std::string& file, std::vector<std::string> s
   for (int s = 0; s < steps; ++s) {
     ASSERT_FALSE(tight.step(1e30, nullptr).has_value()) << "step " << s;
     ASSERT_FALSE(large.step(1e30, nullptr).has_value()) << "step " << s;
-    tight_bytes = std::max(tight_bytes, tight.grid().allocated_bytes());
-    large_bytes = std::max(large_bytes, large.grid().allocated_bytes());
+    tight_bytes = std::max(tight_bytes, MpmProbe(tight).grid().allocated_bytes());
+    large_bytes = std::max(large_bytes, MpmProbe(large).grid().allocated_bytes());
   }
   EXPECT_EQ(tight.time(), large.time());
-  const auto &p = tight.particles(), &q = large.particles();
+  const auto &p = MpmProbe(tight).particles(), &q = MpmProbe(large).particles();
   ASSERT_EQ(p.size(), q.size());
   std::size_t differing = 0;
   for (std::size_t k = 0; k < p.size(); ++k)
@@ -67,8 +67,8 @@ void same_in_a_larger_domain(const std::string& file, std::vector<std::string> s
   EXPECT_EQ(differing, 0u) << "particles whose state differs after " << steps << " steps";
   // What the whole larger domain would take: every node of its lattice.
   double domain_nodes = 1;
-  for (int a = 0; a < D; ++a) domain_nodes *= large.grid().n[a];
-  const double bytes_per_node = double(tight_bytes) / double(tight.grid().size());
+  for (int a = 0; a < D; ++a) domain_nodes *= MpmProbe(large).grid().n[a];
+  const double bytes_per_node = double(tight_bytes) / double(MpmProbe(tight).grid().size());
   std::printf("%s: grid %.0f kB tight, %.0f kB in %g x the domain (whole domain: %.0f kB)\n",
               file.c_str(), tight_bytes / 1e3, large_bytes / 1e3, factor,
               domain_nodes * bytes_per_node / 1e3);
@@ -105,18 +105,20 @@ TEST(SparseGrid, ProjectileKeepsTheGridTheSizeOfItsBox) {
                  "material": 0, "sampling": {"type": "ppc", "ppc": 4}, "velocity": [12, 0]}]})";
   MpmSimulation<double, 2> sim(parse_scene_text(scene, "projectile"));
   sim.step_fixed(1e-3);
-  const std::size_t first_nodes = sim.grid().size(), first_bytes = sim.grid().allocated_bytes();
+  const std::size_t first_nodes = MpmProbe(sim).grid().size(),
+                    first_bytes = MpmProbe(sim).grid().allocated_bytes();
   std::size_t most_nodes = first_nodes, most_bytes = first_bytes;
   for (int s = 0; s < 1000; ++s) {  // 1 s at 12 length/s along a domain 16 long
     sim.step_fixed(1e-3);
-    most_nodes = std::max(most_nodes, sim.grid().size());
-    most_bytes = std::max(most_bytes, sim.grid().allocated_bytes());
+    most_nodes = std::max(most_nodes, MpmProbe(sim).grid().size());
+    most_bytes = std::max(most_bytes, MpmProbe(sim).grid().allocated_bytes());
   }
   double centre = 0;
-  for (const auto& x : sim.particles().x) centre += x[0] / double(sim.particles().size());
+  for (const auto& x : MpmProbe(sim).particles().x)
+    centre += x[0] / double(MpmProbe(sim).particles().size());
   EXPECT_NEAR(centre, 0.3 + 12 * 1.001, 0.05);  // it really flew (no walls in the way)
-  EXPECT_GT(sim.grid().lo[0], 300);             // and the box went with it: 12 / dx = 384
-  const double domain_nodes = double(sim.grid().n[0]) * double(sim.grid().n[1]);
+  EXPECT_GT(MpmProbe(sim).grid().lo[0], 300);   // and the box went with it: 12 / dx = 384
+  const double domain_nodes = double(MpmProbe(sim).grid().n[0]) * double(MpmProbe(sim).grid().n[1]);
   std::printf("projectile: box %zu..%zu nodes, %zu..%zu bytes; domain %.0f nodes\n", first_nodes,
               most_nodes, first_bytes, most_bytes, domain_nodes);
   // Blocks of 4 cells: the box may gain one block per axis as the ball straddles block edges.
@@ -143,9 +145,9 @@ TEST(SparseGrid, EstimateMatchesTheAllocatedBox) {
     sim->step_fixed(1e-5);
     std::size_t nodes = 0;
     if (scene.dim == 2)
-      nodes = dynamic_cast<MpmSimulation<double, 2>&>(*sim).grid().size();
+      nodes = MpmProbe(dynamic_cast<MpmSimulation<double, 2>&>(*sim)).grid().size();
     else
-      nodes = dynamic_cast<MpmSimulation<double, 3>&>(*sim).grid().size();
+      nodes = MpmProbe(dynamic_cast<MpmSimulation<double, 3>&>(*sim)).grid().size();
     EXPECT_GE(e.grid_nodes, double(nodes));
     EXPECT_LE(e.grid_nodes, 1.25 * double(nodes));
   }
@@ -161,7 +163,7 @@ TEST(SparseGrid, HugeDomainWithASmallObjectIsNotRefused) {
   EXPECT_LT(estimate_memory(scene, Precision::dbl).bytes(), 2e6);
   MpmSimulation<double, 2> sim(scene);
   for (int s = 0; s < 3; ++s) sim.step_fixed(1e-3);
-  EXPECT_LT(sim.grid().allocated_bytes(), 1000000u);
+  EXPECT_LT(MpmProbe(sim).grid().allocated_bytes(), 1000000u);
   EXPECT_TRUE(std::isfinite(sim.measure().total));
 }
 

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "sim/mpm/probe.hpp"
 #include "sim/mpm/schemes/polypic_modes.hpp"
 #include "tests/mpm/test_helpers.hpp"
 
@@ -32,7 +33,7 @@ inline SceneDesc scheme_scene(int dim, const std::string& scheme, const std::str
 template <int D>
 void randomize_modes(MpmSimulation<double, D>& sim, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
-  auto& p = sim.particles();
+  auto& p = MpmProbe(sim).particles();
   for (auto& mode : p.modes)
     for (auto& c : mode) c = random_vector<double, D>(rng, -1.0, 1.0);
   const int kept = polypic::kept_modes(sim.scene().solver.polypic_modes, D);
@@ -45,15 +46,15 @@ void randomize_modes(MpmSimulation<double, D>& sim, std::uint64_t seed) {
 // fairly.
 template <int D>
 double momentum_scale(const MpmSimulation<double, D>& sim) {
-  const auto& p = sim.particles();
+  const auto& p = MpmProbe(sim).particles();
   double s = 0;
   for (std::size_t q = 0; q < p.size(); ++q) s += p.mass[q] * p.v[q].norm();
   return s;
 }
 template <int D>
 double angular_scale(const MpmSimulation<double, D>& sim) {
-  const auto& p = sim.particles();
-  const double dx = sim.grid().dx;
+  const auto& p = MpmProbe(sim).particles();
+  const double dx = MpmProbe(sim).grid().dx;
   double s = 0;
   for (std::size_t q = 0; q < p.size(); ++q) {
     double modes = 0;
@@ -78,17 +79,17 @@ Change p2g_change(const SceneDesc& scene, std::uint64_t seed) {
   randomize_modes<D>(sim, 3);
   const DiagnosticsRow before = sim.measure();
   double msum = 0;
-  for (double m : sim.particles().mass) msum += m;
+  for (double m : MpmProbe(sim).particles().mass) msum += m;
   const double sp = momentum_scale<D>(sim), sL = angular_scale<D>(sim);
-  sim.sort_particles();
-  sim.clear_grid();
-  sim.particles_to_grid(false);
+  MpmProbe(sim).sort_particles();
+  MpmProbe(sim).clear_grid();
+  MpmProbe(sim).particles_to_grid(false);
   double mgrid = 0;
-  for (double m : sim.grid().mass) mgrid += m;
+  for (double m : MpmProbe(sim).grid().mass) mgrid += m;
   EXPECT_NEAR(mgrid, msum, kRoundOff * msum) << "mass (eq 24)";
-  sim.grid_velocity_update(0.0);  // v_i = (mv)_i / m_i (eq 26); Δt = 0 leaves ṽ = v
-  Eigen::Vector3d p, L;
-  sim.grid_momentum(false, p, L);
+  MpmProbe(sim).grid_velocity_update(0.0);  // v_i = (mv)_i / m_i (eq 26); Δt = 0 leaves ṽ = v
+  const GridMoments moments = MpmProbe(sim).grid_moments(false);
+  const Eigen::Vector3d p = moments.momentum, L = moments.angular_momentum;
   return {(p - to3(before.p)).norm() / sp, (L - to3(before.L)).norm() / sL};
 }
 
@@ -101,11 +102,11 @@ Change g2p_change(const SceneDesc& scene, std::uint64_t seed, double dt, double 
   randomize_particles<D>(sim, D == 2 ? 600 : 300, seed, 0.3, 0.7,
                          scene.solver.scheme == Scheme::rpic,
                          kick > 0 && !is_affine(scene.solver.scheme));
-  sim.sort_particles();
-  sim.clear_grid();
-  sim.particles_to_grid(false);
-  sim.grid_velocity_update(0.0);
-  auto& g = sim.grid();
+  MpmProbe(sim).sort_particles();
+  MpmProbe(sim).clear_grid();
+  MpmProbe(sim).particles_to_grid(false);
+  MpmProbe(sim).grid_velocity_update(0.0);
+  auto& g = MpmProbe(sim).grid();
   std::mt19937_64 rng(kick > 0 ? 5 : 99);
   for (std::size_t i = 0; i < g.size(); ++i) {
     if (g.mass[i] <= 0) continue;
@@ -115,7 +116,7 @@ Change g2p_change(const SceneDesc& scene, std::uint64_t seed, double dt, double 
       g.velocity[i] = g.velocity_new[i] = random_vector<double, D>(rng, -1.0, 1.0);
   }
   const GridMoments m = grid_moments<D>(g, dt);
-  sim.grid_to_particles(dt);
+  MpmProbe(sim).grid_to_particles(dt);
   const DiagnosticsRow after = sim.measure();
   return {(to3(after.p) - m.p).norm() / m.p_scale, (to3(after.L) - m.L).norm() / m.L_scale};
 }
@@ -133,22 +134,22 @@ void particle_affine_round_trip(const std::string& scheme, const std::string& ke
   const Vec<double, D> v = random_vector<double, D>(rng, -1.0, 1.0);
   Mat<double, D> C = random_matrix<double, D>(rng, 2.0);
   if (scheme == "rpic") C = (0.5 * (C - C.transpose())).eval();
-  auto& p = sim.particles();
+  auto& p = MpmProbe(sim).particles();
   for (std::size_t q = 0; q < n; ++q) {
     p.v[q] = v + C * p.x[q];
     p.C[q] = C;
   }
   const double scale = v.norm() + C.norm() * 1.0;  // |x| ≤ √D, the field is O(|v| + |C|)
-  sim.sort_particles();
-  sim.clear_grid();
-  sim.particles_to_grid(false);
-  sim.grid_velocity_update(0.0);
-  const auto& g = sim.grid();
+  MpmProbe(sim).sort_particles();
+  MpmProbe(sim).clear_grid();
+  MpmProbe(sim).particles_to_grid(false);
+  MpmProbe(sim).grid_velocity_update(0.0);
+  const auto& g = MpmProbe(sim).grid();
   double grid_err = 0;
   for (std::size_t i = 0; i < g.size(); ++i)
     if (g.mass[i] > 0)
       grid_err = std::max(grid_err, (g.velocity[i] - (v + C * g.node_position(i))).norm());
-  sim.grid_to_particles(0.0);
+  MpmProbe(sim).grid_to_particles(0.0);
   double verr = 0, cerr = 0;
   for (std::size_t q = 0; q < n; ++q) {
     verr = std::max(verr, (p.v[q] - (v + C * p.x[q])).norm());
@@ -177,7 +178,7 @@ void one_particle(const std::string& scheme, const std::string& kernel) {
   randomize_particles<D>(sim, 1, 77 + D, 0.4, 0.45, scheme == "rpic",
                          !is_affine(scene.solver.scheme));
   randomize_modes<D>(sim, 4);
-  auto& p = sim.particles();
+  auto& p = MpmProbe(sim).particles();
   p.v[0] *= 0.1;  // moves ≤ 0.17 in 1000 steps of 1e-3: stays clear of the walls
   for (auto& m : p.modes) m[0] *= 0.1;
   p.volume0[0] = 0;  // no elastic energy, so no force as F follows C (eq 34 scales by V_p)
@@ -190,14 +191,14 @@ void one_particle(const std::string& scheme, const std::string& kernel) {
     sim.step_fixed(dt);  // the solver's own phase order
     verr = std::max(verr, (p.v[0] - v0).norm());
     cerr = std::max(cerr, (p.C[0] - C0).norm());
-    err = std::max(err, (p.v[0] - v0).norm() + (p.C[0] - C0).norm() * sim.grid().dx);
+    err = std::max(err, (p.v[0] - v0).norm() + (p.C[0] - C0).norm() * MpmProbe(sim).grid().dx);
     for (std::size_t j = 0; j < modes0.size(); ++j)
       err = std::max(err, (p.modes[j][0] - modes0[j][0]).norm());
   }
   // Each step rounds B = Σ w ṽ rᵀ (|ṽ| ≤ |v| + |C|·2Δx) and divides by k Δx²: ~1e-14 of
   // |v|/Δx + |C| per step; 1000 steps of drift stay below 1e-10 of that scale, and below 1e-10
   // of |v| + |C|Δx (+ the modes) absolutely.
-  const double scale = v0.norm() / sim.grid().dx + C0.norm();
+  const double scale = v0.norm() / MpmProbe(sim).grid().dx + C0.norm();
   EXPECT_LE(verr, 1e-10 * scale);
   EXPECT_LE(cerr, 1e-10 * scale);
   EXPECT_LE(err, 1e-10);

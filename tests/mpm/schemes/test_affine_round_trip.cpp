@@ -26,13 +26,13 @@ TEST(AffineRoundTrip, PicLosesAffineField) {
   randomize_particles<2>(sim, 300, 11, 0.3, 0.7, false, true);
   Mat<double, 2> C;
   C << 0.0, -1.0, 1.0, 0.0;  // rigid rotation
-  auto& p = sim.particles();
+  auto& p = MpmProbe(sim).particles();
   for (std::size_t q = 0; q < p.size(); ++q) p.v[q] = C * p.x[q];
-  sim.sort_particles();
-  sim.clear_grid();
-  sim.particles_to_grid(false);
-  sim.grid_velocity_update(0.0);
-  sim.grid_to_particles(0.0);
+  MpmProbe(sim).sort_particles();
+  MpmProbe(sim).clear_grid();
+  MpmProbe(sim).particles_to_grid(false);
+  MpmProbe(sim).grid_velocity_update(0.0);
+  MpmProbe(sim).grid_to_particles(0.0);
   double err = 0;
   for (std::size_t q = 0; q < p.size(); ++q) err = std::max(err, (p.v[q] - C * p.x[q]).norm());
   EXPECT_GT(err, 1e-3);  // random particles: the smoothing error is a sizeable fraction of Δx|C|
@@ -49,14 +49,14 @@ void grid_affine_round_trip(const std::string& scheme, const std::string& kernel
   std::mt19937_64 rng(123);
   const Vec<double, D> v = test::random_vector<double, D>(rng, -1.0, 1.0);
   const Mat<double, D> A = test::random_matrix<double, D>(rng, 2.0);
-  sim.sort_particles();
-  sim.clear_grid();
-  sim.particles_to_grid(false);  // only to mark the nodes the particles reach
-  auto& g = sim.grid();
+  MpmProbe(sim).sort_particles();
+  MpmProbe(sim).clear_grid();
+  MpmProbe(sim).particles_to_grid(false);  // only to mark the nodes the particles reach
+  auto& g = MpmProbe(sim).grid();
   for (std::size_t i = 0; i < g.size(); ++i)
     g.velocity[i] = g.velocity_new[i] = v + A * g.node_position(i);
-  sim.grid_to_particles(0.0);
-  const auto& p = sim.particles();
+  MpmProbe(sim).grid_to_particles(0.0);
+  const auto& p = MpmProbe(sim).particles();
   const double scale = v.norm() + A.norm();
   double verr = 0, cerr = 0, merr = 0;
   for (std::size_t q = 0; q < p.size(); ++q) {
@@ -64,9 +64,9 @@ void grid_affine_round_trip(const std::string& scheme, const std::string& kernel
     cerr = std::max(cerr, (p.C[q] - A).norm());
     for (const auto& m : p.modes) merr = std::max(merr, m[q].norm());
   }
-  sim.clear_grid();
-  sim.particles_to_grid(false);
-  sim.grid_velocity_update(0.0);
+  MpmProbe(sim).clear_grid();
+  MpmProbe(sim).particles_to_grid(false);
+  MpmProbe(sim).grid_velocity_update(0.0);
   double grid_err = 0;
   for (std::size_t i = 0; i < g.size(); ++i)
     if (g.mass[i] > 0)
@@ -98,16 +98,16 @@ double kept_modes_round_trip(int modes) {
   MpmSimulation<double, D> sim(scheme_scene(D, "polypic", "quadratic", modes));
   randomize_particles<D>(sim, 1, 31 + std::uint64_t(modes), 0.4, 0.6);
   randomize_modes<D>(sim, 17);
-  auto& p = sim.particles();
+  auto& p = MpmProbe(sim).particles();
   const Vec<double, D> v0 = p.v[0];
   const Mat<double, D> C0 = p.C[0];
   const std::vector<std::vector<Vec<double, D>>> modes0 = p.modes;
-  sim.sort_particles();
-  sim.clear_grid();
-  sim.particles_to_grid(false);
-  sim.grid_velocity_update(0.0);
-  sim.grid_to_particles(0.0);
-  double err = (p.v[0] - v0).norm() + (p.C[0] - C0).norm() * sim.grid().dx;
+  MpmProbe(sim).sort_particles();
+  MpmProbe(sim).clear_grid();
+  MpmProbe(sim).particles_to_grid(false);
+  MpmProbe(sim).grid_velocity_update(0.0);
+  MpmProbe(sim).grid_to_particles(0.0);
+  double err = (p.v[0] - v0).norm() + (p.C[0] - C0).norm() * MpmProbe(sim).grid().dx;
   for (std::size_t j = 0; j < modes0.size(); ++j) err += (p.modes[j][0] - modes0[j][0]).norm();
   EXPECT_EQ(p.modes.size(), std::size_t(polypic::extra_modes(modes, D)));
   return err;

@@ -28,7 +28,7 @@ double run_difference(const SceneDesc& a, const SceneDesc& b, int steps) {
     EXPECT_FALSE(sa.step(100.0, nullptr));
     EXPECT_FALSE(sb.step(100.0, nullptr));
   }
-  const auto &pa = sa.particles(), &pb = sb.particles();
+  const auto &pa = MpmProbe(sa).particles(), &pb = MpmProbe(sb).particles();
   std::vector<std::size_t> at(pb.size());
   for (std::size_t q = 0; q < pb.size(); ++q) at[std::size_t(pb.id[q])] = q;
   double d = 0;
@@ -73,12 +73,12 @@ TEST(SchemeReductions, XpicIsTheOperatorSeriesAndDropsTheNullSpace) {
   SceneDesc scene = make_scene(2, "xpic", "quadratic");
   MpmSimulation<double, 2> base(scene);
   randomize_particles<2>(base, n, 2024, 0.35, 0.65, false, true);
-  auto& bp = base.particles();
+  auto& bp = MpmProbe(base).particles();
   for (std::size_t q = 0; q < n; ++q)
     bp.mass[q] = 1, bp.volume0[q] = 1;  // P symmetric; F = I: no stress
   // P from the weights at xⁿ (the state's own order: the solver sorts a copy).
   // The whole domain's nodes (the solver's own grid stores only the box it needs, from a sort).
-  Grid<double, 2> whole = base.grid();
+  Grid<double, 2> whole = MpmProbe(base).grid();
   whole.store_whole_domain();
   Eigen::MatrixXd W = Eigen::MatrixXd::Zero(Eigen::Index(whole.size()), Eigen::Index(n));
   for (std::size_t q = 0; q < n; ++q) {
@@ -111,11 +111,12 @@ TEST(SchemeReductions, XpicIsTheOperatorSeriesAndDropsTheNullSpace) {
   double last_distance = 1e300, worst_series = 0, worst_null = 0;
   for (int m : {1, 2, 3, 5, 10, 40, 200, 1000}) {
     MpmSimulation<double, 2> sim = base;
-    sim.solver().xpic_order = m;
+    MpmProbe(sim).solver().xpic_order = m;
     sim.step_fixed(1e-4);
     Eigen::MatrixXd V(Eigen::Index(n), 2);
     for (std::size_t q = 0; q < n; ++q)
-      V.row(Eigen::Index(sim.particles().id[q])) = sim.particles().v[q].transpose();
+      V.row(Eigen::Index(MpmProbe(sim).particles().id[q])) =
+          MpmProbe(sim).particles().v[q].transpose();
     Eigen::MatrixXd expected = V0;
     if (m <= 40) {  // dense powers: (I − P)^m by repeated products
       Eigen::MatrixXd Q = I;
@@ -154,8 +155,8 @@ TEST(SchemeReductions, PolypicModesAreOrthogonal) {
   double worst = 0;
   for (int trial = 0; trial < 20; ++trial) {
     Stencil<double, 3, QuadraticKernel> st;
-    st.compute(test::random_vector<double, 3>(rng, 0.3, 0.7), sim.grid());
-    const auto b = polypic::axis_bases<double, 3>(st, sim.grid().inv_dx);
+    st.compute(test::random_vector<double, 3>(rng, 0.3, 0.7), MpmProbe(sim).grid());
+    const auto b = polypic::axis_bases<double, 3>(st, MpmProbe(sim).grid().inv_dx);
     for (int r = 0; r < 27; ++r)
       for (int t = 0; t < 27; ++t) {
         double dot = 0;
@@ -186,7 +187,7 @@ double max_difference(const SceneDesc& a, const SceneDesc& b, bool random_state)
     sa.step_fixed(1e-4);
     sb.step_fixed(1e-4);
   }
-  const auto &pa = sa.particles(), &pb = sb.particles();
+  const auto &pa = MpmProbe(sa).particles(), &pb = MpmProbe(sb).particles();
   double d = 0;
   for (std::size_t q = 0; q < pa.size(); ++q) {
     EXPECT_EQ(pa.id[q], pb.id[q]);
