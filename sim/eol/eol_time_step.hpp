@@ -21,8 +21,8 @@ double EolSimulation<T, D>::choose_dt() {
   return dt;
 }
 
-// One pass for max|u|, and for eq 32's two fields u (v₀) and M⁻¹f (v₁) either their rates
-// (eulerian: v* is the field) or the sums of their splits (eq 23).
+// One pass for eq 32's two fields u (v₀) and M⁻¹f (v₁): either their rates and max|u| (eulerian:
+// v* is the field) or the sums of their splits (eq 23).
 template <class T, int D>
 typename EolSimulation<T, D>::DtSums EolSimulation<T, D>::dt_sums(const EolObject<T, D>& o) {
   const auto& mass = o.grid.mass;
@@ -30,10 +30,10 @@ typename EolSimulation<T, D>::DtSums EolSimulation<T, D>::dt_sums(const EolObjec
   return sum_node_blocks(o.grid.size(), parallel_, dt_partial_, [&](DtSums& acc, std::size_t i) {
     if (!(mass[i] > T(0))) return;
     const Vec<T, D> a = o.force[i] / mass[i];
-    acc.umax = std::max(acc.umax, double(o.u[i].norm()));
     if (lagrangian_) {
       acc.split.template add<T>(o.r[i], {o.u[i], a});
     } else {
+      acc.umax = std::max(acc.umax, double(o.u[i].norm()));
       acc.gamma0 = std::max(acc.gamma0, double(o.u[i].template lpNorm<1>()) / dx);
       acc.gamma1 = std::max(acc.gamma1, double(a.template lpNorm<1>()) / dx);
     }
@@ -41,17 +41,17 @@ typename EolSimulation<T, D>::DtSums EolSimulation<T, D>::dt_sums(const EolObjec
 }
 
 // Eq 32: v* = v₀* + Δt v₁*, each the split (eq 24) of its own field; eq 33's γ are maxima (the
-// same in any order), so a plain parallel max.
+// same in any order), so a plain parallel max. Also max|v₀*|, the speed through the grid.
 template <class T, int D>
-std::array<double, 2> EolSimulation<T, D>::split_rates(const EolObject<T, D>& o,
+std::array<double, 3> EolSimulation<T, D>::split_rates(const EolObject<T, D>& o,
                                                        const DtSums& sums) const {
   const auto& mass = o.grid.mass;
   const double dx = double(o.grid.dx);
   const std::array<FrameVec<T, D>, 2> q = sums.split.template solve<T>();
   const Mat<T, D> Rt = o.frame.rotation().transpose();
   const std::ptrdiff_t n = std::ptrdiff_t(o.grid.size());
-  double g0 = 0, g1 = 0;
-#pragma omp parallel for reduction(max : g0, g1) if (parallel_)
+  double g0 = 0, g1 = 0, speed = 0;
+#pragma omp parallel for reduction(max : g0, g1, speed) if (parallel_)
   for (std::ptrdiff_t ii = 0; ii < n; ++ii) {
     const std::size_t i = std::size_t(ii);
     if (!(mass[i] > T(0))) continue;
@@ -60,19 +60,23 @@ std::array<double, 2> EolSimulation<T, D>::split_rates(const EolObject<T, D>& o,
     const Vec<T, D> v1 = eulerian_velocity<T, D>(a, o.r[i], q[1], Rt);
     g0 = std::max(g0, double(v0.template lpNorm<1>()) / dx);
     g1 = std::max(g1, double(v1.template lpNorm<1>()) / dx);
+    speed = std::max(speed, double(v0.norm()));
   }
-  return {g0, g1};
+  return {g0, g1, speed};
 }
 
 // dt lowered to this object's advection limit (eq 33) and explicit elastic limit
-// ν Δx / (c + max|u|), with the bound that set it.
+// ν Δx / (c + max|v*|), with the bound that set it. v* is the velocity through the object's own
+// grid (u itself on the Eulerian baseline's world grid), so the frame's motion does not count:
+// a step is the same at any constant velocity (Galilean invariance).
 template <class T, int D>
 double EolSimulation<T, D>::object_dt(const EolObject<T, D>& o, double dt, DtLimit& limit) {
   const DtSums sums = dt_sums(o);
-  const std::array<double, 2> gamma =
-      lagrangian_ ? split_rates(o, sums) : std::array<double, 2>{sums.gamma0, sums.gamma1};
-  const double advection = advection_limit(gamma[0], gamma[1], scene_.solver.eol.alpha);
-  const double elastic = scene_.time.nu * double(o.grid.dx) / (max_wave_speed_ + sums.umax);
+  const std::array<double, 3> rates =
+      lagrangian_ ? split_rates(o, sums)
+                  : std::array<double, 3>{sums.gamma0, sums.gamma1, sums.umax};
+  const double advection = advection_limit(rates[0], rates[1], scene_.solver.eol.alpha);
+  const double elastic = scene_.time.nu * double(o.grid.dx) / (max_wave_speed_ + rates[2]);
   if (advection < dt) {
     dt = advection;
     limit = DtLimit::advection;

@@ -4,8 +4,10 @@
 // split being linear (eq 32), v* = v₀* + Δt v₁*, and the bound becomes
 //   γ₁ Δt² + γ₀ Δt − α = 0,   γ_j = max_i Σ_a |v*_{j,ia}| / Δx   (eq 33),
 // whose positive root is the advection limit. It is capped by the explicit elastic limit
-// ν Δx / (c + max|u|) (c the fastest wave speed; the paper treats elasticity explicitly too,
-// Sec 5), by time.dt.value and by the frame time. Every step records which limit bound it.
+// ν Δx / (c + max|v*|) (c the fastest wave speed, v* the velocity through the object's own grid,
+// so that a frame's constant velocity does not shorten the step; the paper treats elasticity
+// explicitly too, Sec 5), by time.dt.value and by the frame time. Every step records which limit
+// bound it.
 #pragma once
 #include <algorithm>
 #include <cmath>

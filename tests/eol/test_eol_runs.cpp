@@ -79,6 +79,28 @@ void check_pure_translation() {
       D, sim->steps(), vmax, Xerr / Xscale);
 }
 
+// Galilean invariance of the time step: a disk translating at 0, 3 or 30 m/s through an empty
+// world takes the same steps, since only the velocity through its own grid (v* = 0) counts
+// against the explicit elastic limit ν Δx / (c + max|v*|).
+TEST(EolRuns, TimeStepIsTheSameAtAnyConstantVelocity) {
+  std::vector<double> steps;
+  for (double speed : {0.0, 3.0, 30.0}) {
+    test::EolSceneSpec spec;
+    spec.radius = 0.1;
+    spec.dx = 0.02;
+    spec.domain_max = {40, 1, 1};
+    spec.center = {0.4, 0.5, 0.5};
+    spec.velocity = {speed, 0.0, 0.0};
+    spec.end = 0.2;
+    auto sim = test::make_eol<2>(spec);
+    ASSERT_TRUE(sim);
+    ASSERT_FALSE(sim->step(1.0));
+    steps.push_back(sim->time());
+  }
+  EXPECT_NEAR(steps[1], steps[0], 1e-12 * steps[0]);
+  EXPECT_NEAR(steps[2], steps[0], 1e-12 * steps[0]);
+}
+
 TEST(EolRuns, PureTranslationKeepsFrameMomentumAndMaterialCoordinates) {
   check_pure_translation<2>();
   check_pure_translation<3>();
@@ -299,7 +321,8 @@ TEST(EolRuns, FixedStepLandsOnFrameTimesOnlyWhenAsked) {
     }
   }
   // The rule itself: the adaptive rules are capped at the frame interval.
-  TimeDesc tm;
+  TimeDesc tm = SceneDesc().time;  // the registry's default rule, an adaptive one
+  ASSERT_NE(tm.rule, DtRule::fixed);
   tm.fps = 100;
   const FrameStep capped = land_on_frame(tm, 0.5, 1.0);
   EXPECT_EQ(capped.dt, 0.01);

@@ -10,8 +10,8 @@
 
 #include "sim/eol/contact/global_contact.hpp"
 #include "sim/eol/contact/object_contact.hpp"
-#include "sim/eol/rest_surface.hpp"
-#include "sim/eol/surface_placement.hpp"
+#include "sim/eol/surface/rest_surface.hpp"
+#include "sim/eol/surface/surface_placement.hpp"
 #include "tests/eol/eol_test_scenes.hpp"
 
 namespace apiclab {

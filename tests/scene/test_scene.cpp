@@ -677,7 +677,9 @@ void check_word_key(const ChoiceParameter& c) {
     EXPECT_EQ(c.get(parse_scene_text(text, "good.json", {key + "=" + o.key}), 0), o.key);
     others += o.key != c.get(base, 0);
   }
-  if (c.key != "objects.*.shape.type") EXPECT_GE(others, 1);  // another shape needs its own keys
+  if (c.key != "objects.*.shape.type") {  // another shape needs its own keys
+    EXPECT_GE(others, 1);
+  }
   const std::string unknown = reader_message({}, with_word(text, c, "nosuchword"));
   EXPECT_EQ(reader_message({key + "=nosuchword"}, text), unknown);
   for (const std::string& needle : {"good.json: key '" + key + "'", std::string("nosuchword")})

@@ -88,7 +88,7 @@ Change p2g_change(const SceneDesc& scene, std::uint64_t seed) {
   for (double m : MpmProbe(sim).grid().mass) mgrid += m;
   EXPECT_NEAR(mgrid, msum, kRoundOff * msum) << "mass (eq 24)";
   MpmProbe(sim).grid_velocity_update(0.0);  // v_i = (mv)_i / m_i (eq 26); Δt = 0 leaves ṽ = v
-  const GridMoments moments = MpmProbe(sim).grid_moments(false);
+  const apiclab::GridMoments moments = MpmProbe(sim).grid_moments(false);
   const Eigen::Vector3d p = moments.momentum, L = moments.angular_momentum;
   return {(p - to3(before.p)).norm() / sp, (L - to3(before.L)).norm() / sL};
 }
