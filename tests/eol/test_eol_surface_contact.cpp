@@ -290,7 +290,7 @@ TEST(EolSurfaceContact, BallRestingOnTheFloorStaysAtRest3D) { check_rest<3>("eol
 // Δx 0.025 m in 2D, 0.05 m in 3D, past the first bounce). Eq 29's zero right-hand side only
 // stops Ω from growing: the surface enters the floor by the step that crosses it, the parts of
 // the surface that reach the floor as the ball flattens by their own step each, and whatever
-// the advection of X (eq 15) moves beyond the constrained velocity. Measured (2026-11-24): 2D
+// the advection of X (eq 15) moves beyond the constrained velocity. Measured: 2D
 // 4.1 mm (0.16 Δx), 3D 11.9 mm (0.24 Δx); the node rows (contact nodes) 20 mm (0.8 Δx) and
 // 14 mm. Bound 0.3 Δx: the surface sinks less than a third of a cell and comes back out.
 template <int D>

@@ -83,13 +83,13 @@ void randomize_particles(MpmSimulation<double, D>& sim, std::size_t n, std::uint
 // The grid's momentum Σ m_i ṽ_i and angular momentum Σ x̃_i × m_i ṽ_i (x̃_i = x_i + Δt ṽ_i, ṽ
 // the velocity_new of every node with mass), with the scales Σ |m ṽ| and Σ |x̃| |m ṽ| that the
 // G2P conservation tests divide by.
-struct GridMoments {
+struct MovedGridMoments {
   Eigen::Vector3d p = Eigen::Vector3d::Zero(), L = Eigen::Vector3d::Zero();
   double p_scale = 0, L_scale = 0;
 };
 template <int D>
-GridMoments grid_moments(const Grid<double, D>& g, double dt) {
-  GridMoments m;
+MovedGridMoments moved_grid_moments(const Grid<double, D>& g, double dt) {
+  MovedGridMoments m;
   for (std::size_t i = 0; i < g.size(); ++i) {
     if (g.mass[i] <= 0) continue;
     const Vec<double, D> xt = g.node_position(i) + dt * g.velocity_new[i];

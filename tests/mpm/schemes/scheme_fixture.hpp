@@ -88,7 +88,7 @@ Change p2g_change(const SceneDesc& scene, std::uint64_t seed) {
   for (double m : MpmProbe(sim).grid().mass) mgrid += m;
   EXPECT_NEAR(mgrid, msum, kRoundOff * msum) << "mass (eq 24)";
   MpmProbe(sim).grid_velocity_update(0.0);  // v_i = (mv)_i / m_i (eq 26); Δt = 0 leaves ṽ = v
-  const apiclab::GridMoments moments = MpmProbe(sim).grid_moments(false);
+  const GridMoments moments = MpmProbe(sim).grid_moments(false);
   const Eigen::Vector3d p = moments.momentum, L = moments.angular_momentum;
   return {(p - to3(before.p)).norm() / sp, (L - to3(before.L)).norm() / sL};
 }
@@ -115,7 +115,7 @@ Change g2p_change(const SceneDesc& scene, std::uint64_t seed, double dt, double 
     else
       g.velocity[i] = g.velocity_new[i] = random_vector<double, D>(rng, -1.0, 1.0);
   }
-  const GridMoments m = grid_moments<D>(g, dt);
+  const MovedGridMoments m = moved_grid_moments<D>(g, dt);
   MpmProbe(sim).grid_to_particles(dt);
   const DiagnosticsRow after = sim.measure();
   return {(to3(after.p) - m.p).norm() / m.p_scale, (to3(after.L) - m.L).norm() / m.L_scale};
