@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "app/version.hpp"
+
 namespace apiclab::cli {
 
 struct Command {
@@ -22,7 +24,6 @@ void register_docs(CLI::App& root, CommandTable& table);  // app/cmd_docs.cpp
 // Up to the first ". " that ends a sentence (the next word starts with a capital letter).
 std::string first_sentence(const std::string& text);                    // app/cmd_list.cpp
 std::vector<std::filesystem::path> json_files(const std::string& dir);  // sorted *.json
-std::string version_text();                                // "apiclab 0.1.0 (git 1fbbf76-dirty)"
 void register_sweep(CLI::App& root, CommandTable& table);  // app/cmd_sweep.cpp
 #ifdef APICLAB_HAVE_RENDER
 void register_render(CLI::App& root, CommandTable& table);  // render and compare

@@ -9,15 +9,13 @@
 #include <vector>
 
 #include "app/output_file.hpp"
+#include "app/version.hpp"
 #include "sim/measure/diagnostics.hpp"
 #include "sim/measure/run_summary.hpp"
 #include "sim/scene/scene.hpp"
 #include "sim/snapshot.hpp"
 
 namespace apiclab {
-
-// The version string of this build ("unknown" when the build did not define one).
-std::string apiclab_version();
 
 // Every setting a run used: scene (name, file), solver choices, time-step rule, precision, the
 // --set overrides given, and every numeric scene parameter with its value (registry keys,

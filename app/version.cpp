@@ -2,8 +2,7 @@
 // (app/CMakeLists.txt passes both to this file alone, so a new commit recompiles only it).
 #include <string>
 
-#include "app/run_outputs.hpp"
-#include "commands.hpp"
+#include "app/version.hpp"
 
 #ifndef APICLAB_VERSION
 #define APICLAB_VERSION "unknown"

@@ -46,17 +46,18 @@ void check_projection(MaterialModel model) {
       EXPECT_LE((H.col(c) - col).norm(), 1e-4 * H.norm()) << "column " << c;
     }
     const Matrix Hp = projected_stress_hessian<double, D>(model, F, l);
-    Eigen::SelfAdjointEigenSolver<Matrix> eig(H);
+    // The oracle's eigensolver: dynamic size, one instantiation for both dimensions.
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(H);
     const double scale = eig.eigenvalues().cwiseAbs().maxCoeff();
     if (eig.eigenvalues().minCoeff() > 1e-9 * scale) {
       ++definite;
       EXPECT_EQ(Hp, H) << "a positive definite ∂P/∂F is returned as it is";
     } else if (eig.eigenvalues().minCoeff() < -1e-9 * scale) {
       ++projected;
-      const Matrix expected = eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).asDiagonal() *
+      const Eigen::MatrixXd expected = eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).asDiagonal() *
                               eig.eigenvectors().transpose();
       EXPECT_LE((Hp - expected).norm(), 1e-12 * scale);
-      EXPECT_GE(Eigen::SelfAdjointEigenSolver<Matrix>(Hp).eigenvalues().minCoeff(), -1e-12 * scale);
+      EXPECT_GE(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(Hp).eigenvalues().minCoeff(), -1e-12 * scale);
     }
   }
   // Both branches are taken by these deformations (so both are tested).

@@ -78,6 +78,11 @@ bool remove_negative_modes_neo_hookean(const Mat<T, D>& F, Lame<T> l,
   return true;
 }
 
+// A symmetric matrix with its negative eigenvalues set to zero, in place (stress_hessian.cpp):
+// one eigensolver, in double, for every precision and dimension, since it is the slowest
+// template to compile and reached only where the closed forms above do not apply.
+void clamp_negative_eigenvalues(Eigen::MatrixXd& symmetric);
+
 // stress_hessian with negative eigenvalues clamped to zero, as Stomakhin et al. 2012 and Teran
 // et al. 2005 do per particle, so CG always sees a positive definite M + bΔt²K.
 template <class T, int D>
@@ -90,11 +95,21 @@ Eigen::Matrix<T, D * D, D * D> projected_stress_hessian(MaterialModel model, con
   if (Eigen::LLT<Eigen::Matrix<T, N, N>>(H).info() == Eigen::Success) return H;
   if (model == MaterialModel::neo_hookean && remove_negative_modes_neo_hookean<T, D>(F, l, H))
     return H;
-  Eigen::SelfAdjointEigenSolver<Eigen::Matrix<T, N, N>> eig(H);
-  Eigen::Matrix<T, N, 1> ev = eig.eigenvalues();
-  if (ev.minCoeff() >= T(0)) return H;
-  ev = ev.cwiseMax(T(0));
-  return eig.eigenvectors() * ev.asDiagonal() * eig.eigenvectors().transpose();
+  Eigen::MatrixXd clamped = H.template cast<double>();
+  clamp_negative_eigenvalues(clamped);
+  return clamped.template cast<T>();
 }
+
+// Compiled once per precision and dimension in stress_hessian.cpp, shared by the solver and its
+// tests: ∂P/∂F's fixed-size Eigen code is among the slowest templates of the build.
+#define APICLAB_STRESS_HESSIAN(EXTERN, T, D)                                                      \
+  EXTERN template Eigen::Matrix<T, D * D, D * D> stress_hessian<T, D>(MaterialModel,             \
+                                                                      const Mat<T, D>&, Lame<T>); \
+  EXTERN template Eigen::Matrix<T, D * D, D * D> projected_stress_hessian<T, D>(                  \
+      MaterialModel, const Mat<T, D>&, Lame<T>);
+APICLAB_STRESS_HESSIAN(extern, float, 2)
+APICLAB_STRESS_HESSIAN(extern, float, 3)
+APICLAB_STRESS_HESSIAN(extern, double, 2)
+APICLAB_STRESS_HESSIAN(extern, double, 3)
 
 }  // namespace apiclab
