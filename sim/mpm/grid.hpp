@@ -83,10 +83,7 @@ template <class T, int D>
 struct Grid : GridGeometry<T, D> {
   // Per stored node. The phase contract of a step (MpmSimulation::step_fixed):
   std::vector<T> mass;  // m_i^n (eq 24), from P2G on
-  // Two quantities in one array, to keep P2G and the update one pass each:
-  //   after particles_to_grid: the momentum (m v)_i (eq 25);
-  //   after the grid update (velocity_from_momentum, eq 26): the velocity v_i^n.
-  std::vector<Vec<T, D>> velocity;
+  std::vector<Vec<T, D>> velocity;      // v_i^n (eq 26), from P2G on; zero without mass
   std::vector<Vec<T, D>> velocity_new;  // ṽ_i^{n+1} (eq 29), after the grid update
   std::vector<Vec<T, D>> force;         // f_i (eq 34), after P2G with forces
   // 1 + 2D lanes per node (sim/mpm/simd/lanes.hpp), two uses in one step (nodes of a stencil row

@@ -22,20 +22,14 @@ void MpmSimulation<T, D>::pack_velocities() {
   });
 }
 
-// Eq 26, the one place it is written: v_i^n = (m v)_i / m_i in Grid::velocity, which held the
-// momentum since P2G; zero at nodes without mass. Returns whether node i has mass.
+// Whether node i has mass: the nodes the grid update and the implicit solve move (the others'
+// velocity is zero since P2G).
 template <class T, int D>
-inline bool MpmSimulation<T, D>::velocity_from_momentum(std::size_t i) {
-  const T m = grid_.mass[i];
-  if (m > T(0)) {
-    grid_.velocity[i] /= m;
-    return true;
-  }
-  grid_.velocity[i].setZero();
-  return false;
+inline bool MpmSimulation<T, D>::has_mass(std::size_t i) const {
+  return grid_.mass[i] > T(0);
 }
 
-// v_i^n by eq 26, then ṽ_i = v_i + Δt (f_i / m_i + g) (eq 29 with λ = 0). Also measures the
+// ṽ_i = v_i + Δt (f_i / m_i + g) (eq 29 with λ = 0). Also measures the
 // grid's kinetic energy and top speed, which the diagnostics and the two-step dt rule read.
 template <class T, int D>
 void MpmSimulation<T, D>::grid_velocity_update(T dt) {
@@ -48,7 +42,7 @@ void MpmSimulation<T, D>::grid_velocity_update(T dt) {
   for (std::ptrdiff_t r = 0; r < rows; ++r) {
     const auto [start, length] = box_rows[std::size_t(r)];
     for (std::size_t i = start; i < start + length; ++i) {
-      if (velocity_from_momentum(i)) {
+      if (has_mass(i)) {
         const T m = grid_.mass[i];
         const Vec<T, D> v = grid_.velocity[i];
         grid_.velocity_new[i] = v + dt * (grid_.force[i] / m + g);

@@ -1,6 +1,6 @@
 // MPM with interchangeable transfers (Jiang et al. 2017). One step, as the paper orders it
 // (step_fixed, sim/mpm/mpm_step.hpp):
-//   sort → clear grid → P2G (eqs 24-25) → grid update (eq 26, then eqs 27-34) → boundary
+//   sort → clear grid → P2G (eqs 24-26) → grid update (eqs 27-34) → boundary
 //   → G2P (eqs 37-40) with the particle update.
 // The definitions live one concept per file, included by phases.hpp.
 #pragma once
@@ -103,7 +103,7 @@ class MpmSimulation final : public Simulation, public TransferControls {
   void clear_grid();  // zeroes the P2G accumulator
   void particles_to_grid(
       bool with_forces);            // eqs 24-25: m_i and (m v)_i (+ eq 34 at F^n when with_forces)
-  void grid_velocity_update(T dt);  // eq 26, then eq 29 explicit (λ = 0)
+  void grid_velocity_update(T dt);  // eq 29 explicit (λ = 0)
   void apply_boundary_conditions();
   // Eqs 37-40, or the scheme's variant; with sums, also the row's sums over the new particle
   // state (sim/mpm/particle_sums.hpp).
@@ -141,7 +141,7 @@ class MpmSimulation final : public Simulation, public TransferControls {
   void unpack_accumulator();
   void compute_stress();
   void pack_velocities();
-  bool velocity_from_momentum(std::size_t node);
+  bool has_mass(std::size_t node) const;
   template <class K, Scheme S>
   void g2p_impl(T dt, ParticleSums* sums);
   // step_fixed; G2P fills sums when given. False when the state was frozen (non-finite) and

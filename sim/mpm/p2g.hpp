@@ -174,23 +174,24 @@ void MpmSimulation<T, D>::p2g_impl() {
     scatter(std::false_type{});
 }
 
-// Accumulator lanes to the grid's arrays: m_i, (m v)_i (held in Grid::velocity until eq 26), f_i.
+// Accumulator lanes to the grid's arrays: m_i, v_i = (m v)_i / m_i (eq 26) and f_i.
 template <class T, int D>
 void MpmSimulation<T, D>::unpack_accumulator() {
   const auto* acc = grid_.accumulator.data();
   for_each_box_node([&](std::size_t i) {
     const auto& node = acc[i];
-    grid_.mass[i] = node[0];
+    const T m = node[0];
+    grid_.mass[i] = m;
     for (int a = 0; a < D; ++a) {
-      grid_.velocity[i][a] = node[1 + a];
+      grid_.velocity[i][a] = m > T(0) ? node[1 + a] / m : T(0);  // eq 26: v_i = (m v)_i / m_i
       grid_.force[i][a] = node[1 + D + a];
     }
   });
 }
 
 // Eqs 24-25: m_i = Σ w m_p and (m v)_i = Σ w m_p (v_p + C_p (x_i − x_p)) (C_p = 0 for PIC
-// and FLIP), with f_i = Σ (−V_p P F_pᵀ) ∇w (eq 34 at λ = 0) when with_forces. The velocity
-// v_i = (m v)_i / m_i (eq 26) is left to the grid update (velocity_from_momentum).
+// and FLIP), with f_i = Σ (−V_p P F_pᵀ) ∇w (eq 34 at λ = 0) when with_forces; then the
+// velocity v_i = (m v)_i / m_i (eq 26) as the accumulator is unpacked, zero at nodes without mass.
 template <class T, int D>
 void MpmSimulation<T, D>::particles_to_grid(bool with_forces) {
   const bool affine = is_affine(scene_.solver.scheme);

@@ -36,7 +36,7 @@ class MpmProbe {
   void clear_grid() const { sim_.clear_grid(); }  // zeroes the P2G accumulator
   // Eqs 24-25: m_i and (m v)_i (+ eq 34 at F^n when with_forces).
   void particles_to_grid(bool with_forces) const { sim_.particles_to_grid(with_forces); }
-  void grid_velocity_update(T dt) const { sim_.grid_velocity_update(dt); }  // eq 26, 29
+  void grid_velocity_update(T dt) const { sim_.grid_velocity_update(dt); }  // eq 29
   void apply_boundary_conditions() const { sim_.apply_boundary_conditions(); }
   // Eqs 37-40, or the scheme's variant; with sums, also the row's sums over the new state.
   void grid_to_particles(T dt, ParticleSums* sums = nullptr) const {

@@ -59,7 +59,7 @@ RoundTripResult roundtrip_error(KernelType kernel, Scheme scheme, int resolution
   probe.sort_particles();  // the phases run over the nodes the sorted particles reach
   // The node masses m_i = Σ w m_p (eq 24) of these particles before G2P, as a step has them:
   // XPIC's grid passes (A = S⁺S, sim/mpm/schemes/xpic_passes.hpp) read them; the other schemes' G2P
-  // does not. The P2G momentum is zero (v_p = 0) and is overwritten below.
+  // does not. The P2G velocity is zero (v_p = 0) and is overwritten below.
   probe.clear_grid();
   probe.particles_to_grid(false);
 

@@ -41,7 +41,7 @@ void MpmSimulation<T, D>::implicit_begin(T dt) {
   imp_.active.clear();
   for (const auto& [start, length] : blocks_.box_rows())
     for (std::size_t i = start; i < start + length; ++i)
-      if (velocity_from_momentum(i)) imp_.active.push_back(std::uint32_t(i));  // eq 26
+      if (has_mass(i)) imp_.active.push_back(std::uint32_t(i));
   double kinetic = 0, vref2 = 0;
   imp_.mass_sum = 0;
   for (std::uint32_t i : imp_.active) {
