@@ -22,7 +22,7 @@ using namespace apiclab::eol;
 // Two disks of radius 0.15 m (eol-drop's jelly, Δx 0.025) centred at x = left, right, y = 0.3,
 // thrown at each other at ±speed in a 1.2 × 0.6 m box, no gravity.
 std::unique_ptr<EolSimulation<double, 2>> two_disks(double left, double right, double speed,
-                                                    double end) {
+                                                    double end, double contact_cell = 0) {
   test::EolSceneSpec spec;
   spec.domain_max = {1.2, 0.6};
   spec.dx = 0.025;
@@ -34,6 +34,7 @@ std::unique_ptr<EolSimulation<double, 2>> two_disks(double left, double right, d
   spec.end = end;
   spec.fps = 24;
   nlohmann::json scene = nlohmann::json::parse(test::eol_scene_json(spec));
+  scene["solver"]["contact_cell"] = contact_cell;
   nlohmann::json second = scene["objects"][0];
   second["shape"]["center"] = {right, 0.3};
   second["velocity"] = {-speed, 0};
@@ -162,6 +163,37 @@ TEST(EolObjectContactStep, ObjectsApartStepAsTheyWouldAlone2D) {
     ASSERT_EQ(o.x.size(), p.x.size());
     for (std::size_t i = 0; i < o.x.size(); ++i) ASSERT_EQ(o.x[i], p.x[i]) << k << " node " << i;
     EXPECT_EQ(o.frame.p, p.frame.p);
+  }
+}
+
+// Not in the default tier (DISABLED_): the QP's Gauss–Seidel sweeps and time against its rows
+// through the head-on collision, the collision cell shrunk to give more rows. Run with
+// --gtest_also_run_disabled_tests --gtest_filter='*QPAgainstRowsInTheCollision*'.
+TEST(EolObjectContactStep, DISABLED_QPAgainstRowsInTheCollision) {
+  for (const double cell : {0.0, 0.0125, 0.00625, 0.003125, 0.0015625}) {
+    auto sim = two_disks(0.4, 0.8, 1.0, 0.12, cell);
+    const EolSimulation<double, 2>& s = *sim;
+    long solves = 0, sweeps = 0, polished = 0;
+    double violation = 0;
+    int rows = 0, most = 0;
+    double seconds = 0, slowest = 0;
+    sim->advance_to(0.12, [&](const DiagnosticsRow&) {
+      if (s.last_object_pairs().empty()) return;
+      const ContactSolveStats& st = s.last_contact_solve();
+      ++solves;
+      sweeps += st.sweeps;
+      polished += st.polished;
+      violation = std::max(violation, st.max_violation);
+      rows = std::max(rows, st.rows);
+      most = std::max(most, st.sweeps);
+      seconds += st.seconds;
+      slowest = std::max(slowest, st.seconds);
+    });
+    std::printf(
+        "[eol two disks] collision cell %.5f m: %ld solves, up to %d rows, sweeps mean %.1f max "
+        "%d, time mean %.2e s max %.2e s; %ld polished, max violation %.1e\n",
+        cell > 0 ? cell : 0.025, solves, rows, double(sweeps) / double(solves), most,
+        seconds / double(solves), slowest, polished, violation);
   }
 }
 
