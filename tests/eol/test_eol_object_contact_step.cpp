@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -19,16 +20,17 @@ namespace {
 
 using namespace apiclab::eol;
 
-// Two disks of radius 0.15 m (eol-drop's jelly, Δx 0.025) centred at x = left, right, y = 0.3,
-// thrown at each other at ±speed in a 1.2 × 0.6 m box, no gravity.
+// Two disks of radius 0.15 m (eol-drop's jelly, Δx 0.025) centred at x = left, right, y = y,
+// thrown at each other at ±speed (and at vy) in a 1.2 × 0.6 m box, no gravity.
 std::unique_ptr<EolSimulation<double, 2>> two_disks(double left, double right, double speed,
-                                                    double end, double contact_cell = 0) {
+                                                    double end, double contact_cell = 0,
+                                                    double y = 0.3, double vy = 0) {
   test::EolSceneSpec spec;
   spec.domain_max = {1.2, 0.6};
   spec.dx = 0.025;
   spec.radius = 0.15;
-  spec.center = {left, 0.3};
-  spec.velocity = {speed, 0};
+  spec.center = {left, y};
+  spec.velocity = {speed, vy};
   spec.E = 2000;
   spec.boundary = "separate";
   spec.end = end;
@@ -36,8 +38,8 @@ std::unique_ptr<EolSimulation<double, 2>> two_disks(double left, double right, d
   nlohmann::json scene = nlohmann::json::parse(test::eol_scene_json(spec));
   scene["solver"]["contact_cell"] = contact_cell;
   nlohmann::json second = scene["objects"][0];
-  second["shape"]["center"] = {right, 0.3};
-  second["velocity"] = {-speed, 0};
+  second["shape"]["center"] = {right, y};
+  second["velocity"] = {-speed, vy};
   scene["objects"].push_back(second);
   std::unique_ptr<Simulation> sim = make_simulation(parse_scene_text(scene.dump(), "two.json"));
   auto* eol = dynamic_cast<EolSimulation<double, 2>*>(sim.get());
@@ -112,7 +114,8 @@ TEST(EolObjectContactStep, TwoDisksThrownHeadOnBounceApart2D) {
   std::printf(
       "[eol two disks] %ld contact steps, up to %.0f rows, %d sweeps, QP %.3e s in all; max "
       "overlap %.3e m^2 (%.3f cell); centres %.4f / %.4f m, velocities %+.4f / %+.4f m/s; "
-      "momentum drift %.2e of %.3e; max (E - E0) %+.2e J of %.3e J; QP loss %.3e J, ledger "
+      "momentum drift %.2e of %.3e; max (E - E0) %+.2e J of %.3e J; impulse and QP loss %.3e J, "
+      "ledger "
       "closure %.1e (per step at most %.1e), min step loss %+.1e\n",
       contact_steps, max_rows, max_sweeps, qp_seconds, max_overlap, max_overlap / cell, a.centre[0],
       b.centre[0], a.velocity[0], b.velocity[0], max_drift, p_scale, max_gain, start.total,
@@ -136,6 +139,48 @@ TEST(EolObjectContactStep, TwoDisksThrownHeadOnBounceApart2D) {
   EXPECT_LT(max_step_closure, 1e-12 * start.total);
   EXPECT_LT(std::abs(closure), 1e-9 * start.total);
   EXPECT_GE(l.min_step_impulse_loss, -1e-13 * start.total);
+}
+
+// The pair and the floor in one QP: the disks thrown down and at each other meet each other and
+// the floor (the domain's separate wall y = 0) in the same steps. Neither sinks into the floor
+// by more than 0.3 Δx (EolSurfaceContact.DropDoesNotSinkIntoTheFloor2D's bound) nor into the
+// other by more than half a cell; both bounce up and apart; E never above E₀.
+TEST(EolObjectContactStep, TwoDisksMeetingOnTheFloorShareOneQP2D) {
+  const double end = 0.15;
+  auto sim = two_disks(0.4, 0.8, 1.0, end, 0, 0.2, -1.0);
+  ASSERT_TRUE(sim);
+  const EolSimulation<double, 2>& s = *sim;
+  const double e0 = s.measure().total, cell = 0.025 * 0.025;
+  double depth = 0, overlap = 0, gain = -1e300;
+  long shared = 0;  // steps whose QP held pair rows and floor rows
+  const auto failure = sim->advance_to(end, [&](const DiagnosticsRow& row) {
+    std::uint32_t pair_rows = 0;
+    for (const auto& pair : s.last_object_pairs()) {
+      overlap = std::max(overlap, double(pair.volume));
+      pair_rows += pair.rows;
+    }
+    shared += pair_rows > 0 && std::size_t(s.last_contact_solve().rows) > pair_rows;
+    for (const auto& o : s.objects())
+      for (std::size_t k = 0; k < o.surface_y.size(); ++k)
+        depth = std::max(depth, -o.surface_world(k)[1]);
+    gain = std::max(gain, row.total - e0);
+  });
+  ASSERT_FALSE(failure) << failure->message;
+  const ObjectMotion a = motion(s.objects()[0]), b = motion(s.objects()[1]);
+  std::printf(
+      "[eol two disks on the floor] %ld steps with pair and floor rows in one QP; deepest vertex "
+      "%.2e m below the floor, max overlap %.3f cell; velocities (%+.3f, %+.3f) / (%+.3f, "
+      "%+.3f) m/s; max (E - E0) %+.1e J of %.3e J\n",
+      shared, depth, overlap / cell, a.velocity[0], a.velocity[1], b.velocity[0], b.velocity[1],
+      gain, e0);
+  EXPECT_GT(shared, 0);
+  EXPECT_LT(depth, 0.3 * 0.025);
+  EXPECT_LE(overlap, 0.5 * cell);
+  EXPECT_GT(a.velocity[1], 0.0);
+  EXPECT_GT(b.velocity[1], 0.0);
+  EXPECT_LT(a.velocity[0], 0.0);
+  EXPECT_GT(b.velocity[0], 0.0);
+  EXPECT_LE(gain, 1e-12 * e0);
 }
 
 // Objects whose grid boxes never meet take the per-object step: positions after 200 steps are
