@@ -7,7 +7,9 @@
 //   impulse and plane rows (eqs 16, 29): u → u⁺ = P(u + Δt f/m), x and m fixed, so
 //     ΔK_impulse = W_e + W_g + W_qvv − loss,  W_• = Δt Σ f_•·u⁺,
 //     loss = ½ Σ m|u⁺ − u|² ≥ 0 (the plane rows remove only the normal part they act on, so
-//     u⁺·(u⁺ − u − Δt f/m) = 0 node by node; symplectic Euler's own dissipation);
+//     u⁺·(u⁺ − u − Δt f/m) = 0 node by node; symplectic Euler's own dissipation; the QP over
+//     several objects makes it Σ u⁺ᵀM(u⁺ − u*) = −λᵀJu⁺ = 0 over them together, so the step's
+//     loss is ≥ 0, one object's share need not be);
 //   split (eqs 23–24): moves velocity between modes, leaves u⁺ and so K unchanged;
 //   transport (frame update, advection eq 15, mass, extrapolation): ΔK_transport, ΔG, ΔΨ.
 // A consistent step returns each force's work in its potential: W_e + ΔΨ, W_g + ΔG and

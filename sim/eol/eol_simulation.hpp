@@ -4,8 +4,8 @@
 //   split (eqs 23-24) → frame update q₁ += Δt q̇₁ → advection of v and X by v* (eq 15) →
 //   extrapolation.
 // Each object has its own rigid frame and grid (eol). The pure-Eulerian baseline (eulerian) is
-// the same code with the frame locked to the world and one grid over the whole domain. Objects
-// do not touch each other yet (object–object contact is part 2).
+// the same code with the frame locked to the world and one grid over the whole domain. In 2D,
+// objects whose grid boxes meet share one contact QP (eq 29) over their pair and plane rows.
 #pragma once
 #include <algorithm>
 #include <chrono>
@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "sim/eol/contact/contact_qp.hpp"
+#include "sim/eol/contact/global_contact.hpp"
 #include "sim/eol/contact/impulse_solve.hpp"
 #include "sim/eol/energy_ledger.hpp"
 #include "sim/eol/frame.hpp"
@@ -121,10 +122,13 @@ class EolSimulation final : public Simulation {
     ledger_ = last_ledger_ = EnergyLedger{};
   }
   const EnergyLedger& energy_ledger() const { return ledger_; }
-  // solver.contact surface: the last step's rows (eq 28, the last object that had any) and
-  // its QP solve (eq 29), for tests.
+  // solver.contact surface: the last step's rows (eq 28: the last object that had any, or the
+  // objects' one QP) and its solve (eq 29), for tests.
   const ContactRows<T, D>& last_contact_rows() const { return contact_rows_; }
   const ContactSolveStats& last_contact_solve() const { return contact_stats_; }
+  // The pairs of objects whose placed surfaces overlapped at the start of the last step, with
+  // |Ω| and their rows in last_contact_rows() (2D; empty when no pair overlapped).
+  const std::vector<OverlapPair<T>>& last_object_pairs() const { return object_pairs_; }
   const EnergyLedger& last_step_ledger() const { return last_ledger_; }
 
  private:
@@ -151,6 +155,16 @@ class EolSimulation final : public Simulation {
   // finish_step's stages for one object (eol_step.hpp, eol_contact.hpp).
   void finish_object(EolObject<T, D>& o, double dt, EnergyLedger& ledger);
   SplitSums<D, 1> impulse(EolObject<T, D>& o, T dt);
+  // The pass after the contact solve: eq 16 node by node unless `impulse_done`, and the split's
+  // sums (eq 23) in the same pass.
+  SplitSums<D, 1> impulse_pass(EolObject<T, D>& o, T dt, bool impulse_done);
+  void impulse_nodes(EolObject<T, D>& o, T dt);  // eq 16 for every node with mass, no rows
+  // Object–object contact (2D, surface rows; eol_contact.hpp): per object, whether its grid box
+  // meets another's (all false: none can touch, the per-object step runs as it is).
+  std::vector<char> meeting_objects() const;
+  // The step's stages for the meeting objects together: impulse → one QP → split → transport.
+  void finish_together(const std::vector<char>& meeting, double dt, EnergyLedger& ledger);
+  void object_contact(const std::vector<char>& meeting);
   void split(EolObject<T, D>& o, const SplitSums<D, 1>& sums, T dt);
   void advect(EolObject<T, D>& o, T dt);
   void impulse_surface_contact(EolObject<T, D>& o, T dt);
@@ -193,6 +207,9 @@ class EolSimulation final : public Simulation {
   ContactRows<T, D> contact_rows_;
   ContactSolver<T, D> contact_solver_;
   ContactSolveStats contact_stats_;
+  GlobalContactSolver<T, D> global_solver_;
+  ContactRows<T, D> plane_scratch_;
+  std::vector<OverlapPair<T>> object_pairs_;
   double energy_ref_ = 0, max_wave_speed_ = 0;
   DtLimit last_limit_ = DtLimit::fixed;
   StageSeconds stages_;

@@ -1,6 +1,8 @@
 // One step of Algorithm 1 after the forces and Δt, per object: impulse and contact (eqs 16,
 // 27-29) → least-squares split (eqs 23-24) → q₁ += Δt q̇₁ → X and v advected by v* (eq 15) →
-// extrapolation and mass; then step()'s failure check. The skeleton is Simulation::step.
+// extrapolation and mass; then step()'s failure check. Objects whose grid boxes meet (2D) take
+// the impulse first, then one contact QP together, then each its split and transport. The
+// skeleton is Simulation::step.
 #pragma once
 #include <utility>
 
@@ -24,7 +26,11 @@ void EolSimulation<T, D>::finish_step(double dt) {
   forces_ready_ = false;
   EnergyLedger ledger;
   ledger.steps = 1;
-  for (auto& o : objects_) finish_object(o, dt, ledger);
+  object_pairs_.clear();
+  const std::vector<char> meeting = meeting_objects();
+  for (std::size_t k = 0; k < objects_.size(); ++k)
+    if (meeting.empty() || !meeting[k]) finish_object(objects_[k], dt, ledger);
+  if (!meeting.empty()) finish_together(meeting, dt, ledger);
   if (ledger_on_) {
     last_ledger_ = ledger;
     ledger_.add(ledger);
@@ -54,19 +60,55 @@ void EolSimulation<T, D>::finish_object(EolObject<T, D>& o, double dt, EnergyLed
 template <class T, int D>
 SplitSums<D, 1> EolSimulation<T, D>::impulse(EolObject<T, D>& o, T dt) {
   StageTimer timer{stages_.assembly};
-  static const std::vector<PlaneConstraint<T, D>> no_planes;
   const bool surface = scene_.solver.eol.contact == EolSolverDesc::Contact::surface;
   const bool surface_rows = surface && !planes_.empty() && may_touch_planes(o);
   if (surface_rows) impulse_surface_contact(o, dt);
+  return impulse_pass(o, dt, surface_rows);
+}
+
+template <class T, int D>
+SplitSums<D, 1> EolSimulation<T, D>::impulse_pass(EolObject<T, D>& o, T dt, bool impulse_done) {
+  static const std::vector<PlaneConstraint<T, D>> no_planes;
+  const bool surface = scene_.solver.eol.contact == EolSolverDesc::Contact::surface;
   const auto& node_planes = surface ? no_planes : planes_;
   return sum_node_blocks(o.grid.size(), parallel_, split_partial_,
                          [&](SplitSums<D, 1>& acc, std::size_t i) {
                            const T m = o.grid.mass[i];
                            if (!(m > T(0))) return;
-                           if (!surface_rows)
+                           if (!impulse_done)
                              impulse_update(o.u[i], o.force[i], m, o.x[i], node_planes, dt);
                            if (lagrangian_) acc.template add<T>(o.r[i], {o.u[i]});
                          });
+}
+
+// The meeting objects: each one's impulse (eq 16), then one QP over their pair rows and plane
+// rows (eq 29), then each one's split (eqs 23-24) from its constrained velocities and its
+// transport. The ledger's impulse loss is taken after the QP, so it holds the QP's loss.
+template <class T, int D>
+void EolSimulation<T, D>::finish_together(const std::vector<char>& meeting, double dt,
+                                          EnergyLedger& ledger) {
+  std::vector<LedgerEnergies> before(objects_.size());
+  for (std::size_t k = 0; k < objects_.size(); ++k) {
+    if (!meeting[k]) continue;
+    if (ledger_on_) before[k] = ledger_before(objects_[k], ledger);
+    StageTimer timer{stages_.assembly};
+    impulse_nodes(objects_[k], T(dt));
+  }
+  object_contact(meeting);
+  for (std::size_t k = 0; k < objects_.size(); ++k) {
+    if (!meeting[k]) continue;
+    EolObject<T, D>& o = objects_[k];
+    SplitSums<D, 1> sums;
+    {
+      StageTimer timer{stages_.assembly};
+      sums = impulse_pass(o, T(dt), true);
+    }
+    const LedgerEnergies pushed =
+        ledger_on_ ? ledger_impulse(o, dt, before[k], ledger) : LedgerEnergies{};
+    split(o, sums, T(dt));
+    advect(o, T(dt));
+    if (ledger_on_) ledger_transport(o, before[k], pushed, ledger);
+  }
 }
 
 // eol: q̇₁ from the split (eq 23), v* the remainder (eq 24), then q₁ += Δt q̇₁; eulerian: v* = u.

@@ -24,6 +24,7 @@ struct ContactSolveStats {
   int rows = 0, active = 0, sweeps = 0;
   bool polished = false;
   double max_violation = 0;  // max over rows of w (unilateral) or |w| (bilateral), after
+  double seconds = 0;        // the solve's wall time, where the caller times it
 };
 
 template <class T, int D>
