@@ -24,7 +24,7 @@ void register_docs(CLI::App& root, CommandTable& table);  // app/cmd_docs.cpp
 // Up to the first ". " that ends a sentence (the next word starts with a capital letter).
 std::string first_sentence(const std::string& text);                    // app/cmd_list.cpp
 std::vector<std::filesystem::path> json_files(const std::string& dir);  // sorted *.json
-void register_sweep(CLI::App& root, CommandTable& table);  // app/cmd_sweep.cpp
+void register_sweep(CLI::App& root, CommandTable& table);               // app/cmd_sweep.cpp
 #ifdef APICLAB_HAVE_RENDER
 void register_render(CLI::App& root, CommandTable& table);  // render and compare
 #endif

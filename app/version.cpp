@@ -1,8 +1,8 @@
 // `apiclab --version`: CMake's project() version and `git describe` at configure time
 // (app/CMakeLists.txt passes both to this file alone, so a new commit recompiles only it).
-#include <string>
-
 #include "app/version.hpp"
+
+#include <string>
 
 #ifndef APICLAB_VERSION
 #define APICLAB_VERSION "unknown"

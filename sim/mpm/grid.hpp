@@ -82,7 +82,7 @@ struct GridGeometry {
 template <class T, int D>
 struct Grid : GridGeometry<T, D> {
   // Per stored node. The phase contract of a step (MpmSimulation::step_fixed):
-  std::vector<T> mass;  // m_i^n (eq 24), from P2G on
+  std::vector<T> mass;                  // m_i^n (eq 24), from P2G on
   std::vector<Vec<T, D>> velocity;      // v_i^n (eq 26), from P2G on; zero without mass
   std::vector<Vec<T, D>> velocity_new;  // ṽ_i^{n+1} (eq 29), after the grid update
   std::vector<Vec<T, D>> force;         // f_i (eq 34), after P2G with forces

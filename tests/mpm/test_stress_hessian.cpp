@@ -54,10 +54,12 @@ void check_projection(MaterialModel model) {
       EXPECT_EQ(Hp, H) << "a positive definite ∂P/∂F is returned as it is";
     } else if (eig.eigenvalues().minCoeff() < -1e-9 * scale) {
       ++projected;
-      const Eigen::MatrixXd expected = eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).asDiagonal() *
-                              eig.eigenvectors().transpose();
+      const Eigen::MatrixXd expected = eig.eigenvectors() *
+                                       eig.eigenvalues().cwiseMax(0.0).asDiagonal() *
+                                       eig.eigenvectors().transpose();
       EXPECT_LE((Hp - expected).norm(), 1e-12 * scale);
-      EXPECT_GE(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(Hp).eigenvalues().minCoeff(), -1e-12 * scale);
+      EXPECT_GE(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(Hp).eigenvalues().minCoeff(),
+                -1e-12 * scale);
     }
   }
   // Both branches are taken by these deformations (so both are tested).
