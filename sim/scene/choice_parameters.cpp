@@ -31,6 +31,22 @@ std::vector<ChoiceOption> switch_options(std::string_view on, std::string_view o
   return {{"true", std::string(on)}, {"false", std::string(off)}};
 }
 
+// A collider's kind: a plane is the one there is.
+const std::vector<Choice<int>>& collider_type_choices() {
+  static const std::vector<Choice<int>> c = {
+      {"plane", 0, "grid nodes behind the plane through point with normal get the condition"}};
+  return c;
+}
+
+// The vertex rows of a triangulated box that anchors hold.
+const std::vector<Choice<int>>& anchor_row_choices() {
+  static const std::vector<Choice<int>> c = {{"top", 0, "the row at the box's max y"},
+                                             {"bottom", 1, "the row at the box's min y"},
+                                             {"left", 2, "the column at the box's min x"},
+                                             {"right", 3, "the column at the box's max x"}};
+  return c;
+}
+
 bool switch_value(std::string_view word) {
   if (word != "true" && word != "false")
     throw std::invalid_argument("expected true or false, got '" + message_text(std::string(word)) +
@@ -131,6 +147,23 @@ std::vector<ChoiceParameter> make_table() {
        [](const S& s, int i) {
          return std::string(choice_key(sampling_choices(), s.objects[size_t(i)].sampling.type));
        }},
+      {"objects.*.anchors.rows",
+       "the vertex rows held by zero-length springs (a list of words; triangulated sampling)", "",
+       "", options_of(anchor_row_choices()),
+       [](S& s, int i, std::string_view w) {
+         parse_choice(anchor_row_choices(), w, "anchor row");
+         s.objects[size_t(i)].anchors.emplace_back(w);
+       },
+       [](const S& s, int i) {
+         const auto& rows = s.objects[size_t(i)].anchors;
+         return rows.empty() ? std::string() : rows.front();
+       },
+       true},
+      {"colliders.*.type", "the collider's kind", "plane", "", options_of(collider_type_choices()),
+       [](S&, int, std::string_view w) {
+         parse_choice(collider_type_choices(), w, "collider type");
+       },
+       [](const S&, int) { return std::string("plane"); }},
       // Periodic is parsed (the reader refuses it on a collider by name) but not offered.
       {"colliders.*.condition", "the plane's condition", "slip", "", collider_options(),
        [](S& s, int i, std::string_view w) {
