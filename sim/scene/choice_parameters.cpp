@@ -65,14 +65,40 @@ std::string solver_method(std::string_view word) {
                               "' (one of: " + names + ")");
 }
 
+// The walls' condition where the scene names none, for all walls or one.
+constexpr std::string_view kWallDefault = "slip";
+
+// domain.boundary as an object: wall W's condition (x-, x+, y-, y+, z-, z+).
+template <int W>
+void set_wall(S& s, int, std::string_view w) {
+  s.domain.walls[W] = parse_choice(boundary_choices(), w, "boundary condition");
+}
+template <int W>
+std::string wall(const S& s, int) {
+  return std::string(key_of(s.domain.walls[W]));
+}
+
+ChoiceParameter wall_key(std::string_view key, std::string_view what,
+                         void (*set)(S&, int, std::string_view), std::string (*get)(const S&, int),
+                         bool only_3d) {
+  return {key,   what,   std::string(kWallDefault), "", options_of(boundary_choices()), set, get,
+          false, only_3d};
+}
+
 std::vector<ChoiceParameter> make_table() {
   return {
       {"domain.boundary", "every wall's condition, or an object of walls x-, x+, y-, y+, z-, z+",
-       "slip", "", options_of(boundary_choices()),
+       std::string(kWallDefault), "", options_of(boundary_choices()),
        [](S& s, int, std::string_view w) {
          s.domain.walls.fill(parse_choice(boundary_choices(), w, "boundary condition"));
        },
        [](const S& s, int) { return std::string(key_of(s.domain.walls[0])); }},
+      wall_key("domain.boundary.x-", "the wall at domain.min x", set_wall<0>, wall<0>, false),
+      wall_key("domain.boundary.x+", "the wall at domain.max x", set_wall<1>, wall<1>, false),
+      wall_key("domain.boundary.y-", "the wall at domain.min y", set_wall<2>, wall<2>, false),
+      wall_key("domain.boundary.y+", "the wall at domain.max y", set_wall<3>, wall<3>, false),
+      wall_key("domain.boundary.z-", "the wall at domain.min z (3D)", set_wall<4>, wall<4>, true),
+      wall_key("domain.boundary.z+", "the wall at domain.max z (3D)", set_wall<5>, wall<5>, true),
       {"time.dt.rule", "time-step rule", "elastic", "", options_of(dt_rule_choices()),
        [](S& s, int, std::string_view w) {
          s.time.rule = parse_choice(dt_rule_choices(), w, "time-step rule");

@@ -27,7 +27,8 @@ struct ChoiceParameter {
   // from "true" or "false"; throws std::invalid_argument naming the word and the words allowed.
   void (*set)(SceneDesc&, int index, std::string_view word);
   std::string (*get)(const SceneDesc&, int index);  // a list: its first word
-  bool list = false;  // the file gives an array of words, each set in turn
+  bool list = false;     // the file gives an array of words, each set in turn
+  bool only_3d = false;  // read in 3D scenes only (the z walls)
 
   std::string key_at(int index) const;  // "materials.*.model", 0 -> "materials.0.model"
   bool is_switch() const;               // the file gives true or false

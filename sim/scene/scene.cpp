@@ -183,6 +183,7 @@ void read_word_list(Reader& r, SceneDesc& s, const ChoiceParameter& p, const std
 void read_choices(Reader& r, SceneDesc& s, std::string_view prefix, int index = 0) {
   for (const ChoiceParameter& p : choice_parameters()) {
     if (!p.key.starts_with(prefix) || !p.read_by(s.solver.method)) continue;
+    if (p.only_3d && s.dim != 3) continue;
     const std::string key(p.key.substr(prefix.size()));
     if (key.find('.') != std::string::npos) continue;  // a key of a child section
     if (!r.has(key)) {
@@ -204,17 +205,14 @@ void read_choices(Reader& r, SceneDesc& s, std::string_view prefix, int index = 
   }
 }
 
-// domain.boundary: a word for every wall (the registry's key), or an object of walls each
-// defaulting to the registry's word.
+// domain.boundary: a word for every wall, or an object of walls (domain.boundary.x-, ...), each
+// one the object leaves out at the registry's default.
 void read_domain(Reader r, SceneDesc& s) {
-  auto& d = s.domain;
+  const DomainDesc& d = s.domain;
   read_numbers(r, s, "domain.");
   if (!r.has("boundary") || r.raw("boundary").is_string()) return read_choices(r, s, "domain.");
-  find_choice("domain.boundary")->set(s, 0, find_choice("domain.boundary")->default_key);
-  Reader br(r.raw("boundary"), r.join("boundary"), r.file());
-  const char* names[6] = {"x-", "x+", "y-", "y+", "z-", "z+"};
-  for (int w = 0; w < 2 * s.dim; ++w)
-    d.walls[w] = br.choice(names[w], boundary_choices(), d.walls[w], "boundary condition");
+  Reader walls = r.child("boundary");
+  read_choices(walls, s, "domain.boundary.");
   for (int a = 0; a < s.dim; ++a)
     if ((d.walls[2 * a] == BoundaryCondition::periodic) !=
         (d.walls[2 * a + 1] == BoundaryCondition::periodic))

@@ -642,6 +642,20 @@ std::string word_text_for(const ChoiceParameter& c, bool companions = true) {
     j["objects"][0]["shape"] = {{"type", "box"}, {"min", {0.3, 0.3}}, {"max", {0.7, 0.7}}};
     j["objects"][0]["sampling"] = {{"type", "lattice"}, {"spacing", 0.05}};
   }
+  // The walls as an object (a z wall in a 3D scene).
+  if (c.key.starts_with("domain.boundary.")) {
+    j["domain"]["boundary"] = {{"x-", "slip"}, {"x+", "slip"}};
+    if (c.only_3d) {
+      j["dim"] = 3;
+      j["domain"]["min"] = {0, 0, 0};
+      j["domain"]["max"] = {1, 1, 1};
+      j["gravity"] = {0, 0, -9.8};
+      j["objects"][0]["shape"]["center"] = {0.5, 0.5, 0.5};
+      j["objects"][0]["velocity"] = {0.1, 0, 0};
+      j["colliders"][0]["point"] = {0, 0.1, 0};
+      j["colliders"][0]["normal"] = {0, 1, 0};
+    }
+  }
   // Anchors hold rows of a triangulated box.
   if (c.key == "objects.*.anchors.rows") {
     j["objects"][0]["shape"] = {{"type", "box"}, {"min", {0.3, 0.3}}, {"max", {0.7, 0.7}}};
