@@ -169,6 +169,15 @@ std::vector<LayoutParameter> declare() {
            [](const S& s, int i) {
              return V{{}, object(s, i).shape.rotation_seed};
            }},
+      {.key = "objects.*.material",
+       .label = "material",
+       .unit = "1",
+       .form = F::material,
+       .range = Range{0, kInf, false, true},
+       .required = true,
+       .help = "the object's material: a name of materials[], or its index",
+       .set = [](S& s, int i, const V& v) { object(s, i).material = int(v.x[0]); },
+       .get = [](const S& s, int i) { return scalar(object(s, i).material); }},
       // Sampling (sim/geometry/sampling.hpp).
       {.key = "objects.*.sampling.spacing",
        .label = "sample spacing",
@@ -305,6 +314,8 @@ std::string LayoutParameter::form_text() const {
       return "3 numbers";
     case LayoutForm::spin:
       return "a number (2D), 3 numbers (3D)";
+    case LayoutForm::material:
+      return "a name or an index";
   }
   return "";
 }
@@ -323,6 +334,7 @@ std::string LayoutParameter::default_text() const {
 std::string LayoutParameter::allowed_text() const {
   if (direction) return "not all zero";
   if (form == LayoutForm::seed) return "[0, 2^63)";
+  if (form == LayoutForm::material) return "a material of the scene";
   return range.text() + (form == LayoutForm::count ? ", integer" : "");
 }
 

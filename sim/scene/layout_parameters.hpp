@@ -1,8 +1,8 @@
-// The numbers that lay a scene out: its dimension, each object's shape, sampling, motion and
-// anchors, each collider's plane. Each key is declared once with its label, form, range, default,
-// help and the types that read it; the scene reader walks this table as it walks the numeric
-// registry (sim/scene/parameters.hpp), and `run --help` and docs/scene-keys.md print it. They
-// build the scene's bodies once: `--set` reaches them through the file, but they are no viewer
+// The numbers that lay a scene out: its dimension, each object's material, shape, sampling,
+// motion and anchors, each collider's plane. Each key is declared once with its label, form, range,
+// default, help and the types that read it; the scene reader walks this table as it walks the
+// numeric registry (sim/scene/parameters.hpp), and `run --help` and docs/scene-keys.md print it.
+// They build the scene's bodies once: `--set` reaches them through the file, but they are no viewer
 // widget, sweep axis or run setting.
 #pragma once
 #include <cstdint>
@@ -17,12 +17,13 @@ namespace apiclab {
 
 // How a key's value is written in the file.
 enum class LayoutForm {
-  number,  // one number
-  count,   // one whole number (4.0 counts as 4)
-  seed,    // a non-negative JSON integer, kept exactly
-  point,   // one number per axis of the scene
-  axis,    // three numbers (2D scenes too: a rotation is about any axis)
-  spin,    // 2D: one number, the rate about z; 3D: three numbers
+  number,    // one number
+  count,     // one whole number (4.0 counts as 4)
+  seed,      // a non-negative JSON integer, kept exactly
+  point,     // one number per axis of the scene
+  axis,      // three numbers (2D scenes too: a rotation is about any axis)
+  spin,      // 2D: one number, the rate about z; 3D: three numbers
+  material,  // a material's name or index, kept as the index
 };
 
 // A value as read: its numbers (a scalar in x[0]) and a seed's exact integer.
@@ -62,8 +63,8 @@ struct LayoutParameter {
   std::string describe() const;      // help, unit, form, range and default in one line
 };
 
-// In the order a scene file reads: dim, objects (shape, rotation, sampling, motion, anchors),
-// colliders.
+// In the order a scene file reads: dim, objects (shape, rotation, material, sampling, motion,
+// anchors), colliders.
 const std::vector<LayoutParameter>& layout_parameters();
 
 // A key like "objects.0.shape.radius" (or its pattern): its entry and the index its '*' stands

@@ -246,10 +246,25 @@ void read_material(Reader r, SceneDesc& s, int index) {
   read_numbers(r, s, "materials.*.", index);
 }
 
+// The index of the material a key names by name or index.
+int material_index(Reader& r, const std::string& key, const SceneDesc& s) {
+  const json& m = r.raw(key);
+  if (m.is_number_integer()) {
+    if (m < json(0) || m >= json(s.materials.size()))  // compared as JSON: no int wrap-around
+      r.fail(key, "no material with index " + shown(m.dump()));
+    return m.get<int>();
+  }
+  if (!m.is_string()) r.fail(key, "expected a material name or index");
+  for (size_t i = s.materials.size(); i-- > 0;)  // of two with one name, the last
+    if (s.materials[i].name == m.get<std::string>()) return int(i);
+  r.fail(key, "no material named " + shown(m.dump()));
+}
+
 // One value of the layout table's form: numbers (of the scene's dimension, or three for an axis;
 // a 2D spin is one number about z) or a seed kept exactly.
 LayoutValue read_layout_value(Reader& r, const std::string& key, const LayoutParameter& p,
-                              int dim) {
+                              const SceneDesc& s) {
+  const int dim = s.dim;
   LayoutValue v{p.default_value};
   switch (p.form) {
     case LayoutForm::number:
@@ -275,6 +290,9 @@ LayoutValue read_layout_value(Reader& r, const std::string& key, const LayoutPar
       else
         v.x = r.vec(key, p.default_value, 3);
       break;
+    case LayoutForm::material:
+      v.x[0] = material_index(r, key, s);
+      break;
   }
   return v;
 }
@@ -295,7 +313,7 @@ void read_layout(Reader& r, SceneDesc& s, std::string_view prefix, int index = 0
         p.set(s, index, {p.default_value, std::int64_t(p.default_value[0])});
       continue;
     }
-    const LayoutValue v = read_layout_value(r, key, p, s.dim);
+    const LayoutValue v = read_layout_value(r, key, p, s);
     if (const auto why = layout_problem(p, v, s.dim)) r.fail(key, *why);
     p.set(s, index, v);
   }
@@ -354,22 +372,8 @@ void read_object(Reader r, SceneDesc& s, int index) {
   ObjectDesc& o = s.objects.emplace_back();
   o.name = r.string("name", "object" + std::to_string(index));
   read_shape(r.child("shape"), s, index);
-  if (!r.has("material")) r.fail("material", "missing");
-  const json& m = r.raw("material");
-  if (m.is_number_integer()) {
-    if (m < json(0) || m >= json(s.materials.size()))  // compared as JSON: no int wrap-around
-      r.fail("material", "no material with index " + shown(m.dump()));
-    o.material = m.get<int>();
-  } else if (m.is_string()) {
-    o.material = -1;
-    for (size_t i = 0; i < s.materials.size(); ++i)
-      if (s.materials[i].name == m.get<std::string>()) o.material = int(i);
-    if (o.material < 0) r.fail("material", "no material named " + shown(m.dump()));
-  } else {
-    r.fail("material", "expected a material name or index");
-  }
+  read_layout(r, s, "objects.*.", index);  // material, velocity, angular_velocity
   read_sampling(r.has("sampling") ? r.child("sampling") : empty_section(r, "sampling"), s, index);
-  read_layout(r, s, "objects.*.", index);  // velocity, angular_velocity
   if (o.sampling.type == SamplingType::triangulated &&
       (s.dim != 2 || o.shape.type != ShapeType::box || o.shape.rotation_degrees != 0))
     r.fail("sampling", "triangulated sampling needs an unrotated box in 2D");

@@ -22,7 +22,7 @@ using nlohmann::json;
 // Scenes that between them give every layout key explicitly.
 const std::vector<std::string> kLayoutScenes = {
     R"({"dim": 2, "domain": {"min": [0, 0], "max": [1, 1], "dx": 0.05},
-        "materials": [{"E": 1000, "nu": 0.3, "rho": 2}],
+        "materials": [{"E": 1000, "nu": 0.3, "rho": 2}, {"E": 2000, "nu": 0.3, "rho": 2}],
         "objects": [{"shape": {"type": "ball", "center": [0.5, 0.5], "radius": 0.2,
                                "rotation": {"axis": [0, 0, 1], "degrees": 30}},
                      "material": 0, "sampling": {"type": "ppc", "ppc": 4},
@@ -70,6 +70,7 @@ json layout_scene_for(const LayoutParameter& p) {
 json file_value(const LayoutParameter& p, const LayoutValue& v, int dim) {
   switch (p.form) {
     case LayoutForm::count:
+    case LayoutForm::material:
     case LayoutForm::seed:
       return p.form == LayoutForm::seed ? v.seed : static_cast<long long>(v.x[0]);
     case LayoutForm::number:
@@ -91,7 +92,7 @@ json file_value(const LayoutParameter& p, const LayoutValue& v, int dim) {
 LayoutValue another_layout_value(const LayoutParameter& p, LayoutValue v) {
   if (p.form == LayoutForm::seed) {
     ++v.seed;
-  } else if (p.form == LayoutForm::count) {
+  } else if (p.form == LayoutForm::count || p.form == LayoutForm::material) {
     v.x[0] += 1;
   } else if (p.form == LayoutForm::number) {
     v.x[0] = p.range.lo == 0 ? 1.1 * v.x[0] : v.x[0] + 3;
@@ -154,9 +155,10 @@ TEST(LayoutParameters, EveryKeyIsReadListedDefaultedAndRefusedAlike) {
       ++refused;
       const json value = file_value(p, *bad, base.dim);
       const std::string expected =
-          p.form == LayoutForm::seed
-              ? "good.json: key '" + key + "': expected a non-negative integer, got " + value.dump()
-              : "good.json: key '" + key + "': " + *layout_problem(p, *bad, base.dim);
+          "good.json: key '" + key + "': " +
+          (p.form == LayoutForm::seed       ? "expected a non-negative integer, got " + value.dump()
+           : p.form == LayoutForm::material ? "no material with index " + value.dump()
+                                            : *layout_problem(p, *bad, base.dim));
       json edited = scene;
       edited[layout_pointer(key)] = value;
       EXPECT_EQ(layout_message(edited.dump(), {}), expected) << "the file";
@@ -185,7 +187,7 @@ TEST(LayoutParameters, EveryKeyIsReadListedDefaultedAndRefusedAlike) {
       EXPECT_EQ(built.x, fallback.x) << "built in code";
     }
   }
-  EXPECT_GE(refused, 15);
+  EXPECT_GE(refused, 16);
 }
 
 }  // namespace
