@@ -93,17 +93,6 @@ class Reader {
     }
     return out;
   }
-  template <class E>
-  E choice(const std::string& key, const std::vector<Choice<E>>& choices, E fallback,
-           const char* what) {
-    if (!has(key)) return fallback;
-    std::string s = string(key, "");
-    try {
-      return parse_choice(choices, s, what);
-    } catch (const std::invalid_argument& e) {
-      fail(key, e.what());
-    }
-  }
   Reader child(const std::string& key) { return Reader(raw(key), join(key), file_); }
   const std::string& file() const { return file_; }
   std::string path() const { return path_; }
