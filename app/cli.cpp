@@ -17,6 +17,7 @@
 #include "sim/method_registry.hpp"
 #include "sim/scene/choice_parameters.hpp"
 #include "sim/scene/input_file.hpp"
+#include "sim/scene/layout_parameters.hpp"
 #include "sim/scene/memory_estimate.hpp"
 #include "sim/scene/message_text.hpp"
 #include "sim/scene/parameters.hpp"
@@ -76,6 +77,13 @@ std::string choice_table() {
            " [default: " + (c.default_key.empty() ? "required" : c.default_key) +
            (c.method.empty() ? "" : "; solver.method " + method_list(c.method)) + "]\n";
   }
+  return out;
+}
+
+std::string layout_table() {
+  std::string out = "\nLayout scene keys (--set KEY=VALUE; * is an object or collider index):\n";
+  for (const LayoutParameter& l : layout_parameters())
+    out += "  " + std::string(l.key) + "  " + std::string(l.label) + ": " + l.describe() + "\n";
   return out;
 }
 
@@ -139,7 +147,7 @@ void add_run_options(CLI::App* cmd, RunOptions& o, RunOptionSet which) {
                   "default: 1e6]")
       ->check(number_above(0));
   if (which.quiet) cmd->add_flag("--quiet", o.quiet, "no progress line [default: off]");
-  cmd->footer(scheme_table() + parameter_table() + choice_table());
+  cmd->footer(scheme_table() + parameter_table() + choice_table() + layout_table());
 }
 
 std::vector<DumpFormat> dump_formats_of(const RunOptions& o, bool particles) {

@@ -9,6 +9,7 @@
 #include "commands.hpp"
 #include "sim/mpm/schemes/scheme_facts.hpp"
 #include "sim/scene/choice_parameters.hpp"
+#include "sim/scene/layout_parameters.hpp"
 #include "sim/scene/parameters.hpp"
 
 namespace apiclab::cli {
@@ -65,6 +66,21 @@ void print_choice_keys() {
   }
 }
 
+// The shape or sampling types that read a layout key, and whether 3D scenes alone do.
+std::string read_by(const LayoutParameter& l) {
+  std::string out = l.types.empty() ? "all" : solver_family(l.types);
+  return l.only_3d ? out + " (3D)" : out;
+}
+
+void print_layout_keys() {
+  std::printf("| key | meaning | value | unit | allowed | default | type |\n");
+  std::printf("| --- | --- | --- | --- | --- | --- | --- |\n");
+  for (const LayoutParameter& l : layout_parameters())
+    std::printf("| `%s` | %s | %s | %s | %s | %s | %s |\n", std::string(l.key).c_str(),
+                cell(l.help).c_str(), l.form_text().c_str(), std::string(l.unit).c_str(),
+                l.allowed_text().c_str(), cell(l.default_text()).c_str(), read_by(l).c_str());
+}
+
 int print_scene_keys() {
   std::printf(
       "Numbers (`sim/scene/parameters.cpp`; `*` stands for an index: `materials.0.E`, "
@@ -72,6 +88,11 @@ int print_scene_keys() {
   print_numeric_keys();
   std::printf("\nWords and switches (`sim/scene/choice_parameters.cpp`):\n\n");
   print_choice_keys();
+  std::printf(
+      "\nLayout: the dimension, shapes, sampling, motion and colliders "
+      "(`sim/scene/layout_parameters.cpp`; `*` stands for an object's or collider's index; "
+      "type: the shape's or sampling's `type` that reads the key):\n\n");
+  print_layout_keys();
   return 0;
 }
 

@@ -31,6 +31,22 @@ std::vector<ChoiceOption> switch_options(std::string_view on, std::string_view o
   return {{"true", std::string(on)}, {"false", std::string(off)}};
 }
 
+// A collider's kind: a plane is the one there is.
+const std::vector<Choice<int>>& collider_type_choices() {
+  static const std::vector<Choice<int>> c = {
+      {"plane", 0, "grid nodes behind the plane through point with normal get the condition"}};
+  return c;
+}
+
+// The vertex rows of a triangulated box that anchors hold.
+const std::vector<Choice<int>>& anchor_row_choices() {
+  static const std::vector<Choice<int>> c = {{"top", 0, "the row at the box's max y"},
+                                             {"bottom", 1, "the row at the box's min y"},
+                                             {"left", 2, "the column at the box's min x"},
+                                             {"right", 3, "the column at the box's max x"}};
+  return c;
+}
+
 bool switch_value(std::string_view word) {
   if (word != "true" && word != "false")
     throw std::invalid_argument("expected true or false, got '" + message_text(std::string(word)) +
@@ -49,14 +65,40 @@ std::string solver_method(std::string_view word) {
                               "' (one of: " + names + ")");
 }
 
+// The walls' condition where the scene names none, for all walls or one.
+constexpr std::string_view kWallDefault = "slip";
+
+// domain.boundary as an object: wall W's condition (x-, x+, y-, y+, z-, z+).
+template <int W>
+void set_wall(S& s, int, std::string_view w) {
+  s.domain.walls[W] = parse_choice(boundary_choices(), w, "boundary condition");
+}
+template <int W>
+std::string wall(const S& s, int) {
+  return std::string(key_of(s.domain.walls[W]));
+}
+
+ChoiceParameter wall_key(std::string_view key, std::string_view what,
+                         void (*set)(S&, int, std::string_view), std::string (*get)(const S&, int),
+                         bool only_3d) {
+  return {key,   what,   std::string(kWallDefault), "", options_of(boundary_choices()), set, get,
+          false, only_3d};
+}
+
 std::vector<ChoiceParameter> make_table() {
   return {
       {"domain.boundary", "every wall's condition, or an object of walls x-, x+, y-, y+, z-, z+",
-       "slip", "", options_of(boundary_choices()),
+       std::string(kWallDefault), "", options_of(boundary_choices()),
        [](S& s, int, std::string_view w) {
          s.domain.walls.fill(parse_choice(boundary_choices(), w, "boundary condition"));
        },
        [](const S& s, int) { return std::string(key_of(s.domain.walls[0])); }},
+      wall_key("domain.boundary.x-", "the wall at domain.min x", set_wall<0>, wall<0>, false),
+      wall_key("domain.boundary.x+", "the wall at domain.max x", set_wall<1>, wall<1>, false),
+      wall_key("domain.boundary.y-", "the wall at domain.min y", set_wall<2>, wall<2>, false),
+      wall_key("domain.boundary.y+", "the wall at domain.max y", set_wall<3>, wall<3>, false),
+      wall_key("domain.boundary.z-", "the wall at domain.min z (3D)", set_wall<4>, wall<4>, true),
+      wall_key("domain.boundary.z+", "the wall at domain.max z (3D)", set_wall<5>, wall<5>, true),
       {"time.dt.rule", "time-step rule", "elastic", "", options_of(dt_rule_choices()),
        [](S& s, int, std::string_view w) {
          s.time.rule = parse_choice(dt_rule_choices(), w, "time-step rule");
@@ -131,6 +173,23 @@ std::vector<ChoiceParameter> make_table() {
        [](const S& s, int i) {
          return std::string(choice_key(sampling_choices(), s.objects[size_t(i)].sampling.type));
        }},
+      {"objects.*.anchors.rows",
+       "the vertex rows held by zero-length springs (a list of words; triangulated sampling)", "",
+       "", options_of(anchor_row_choices()),
+       [](S& s, int i, std::string_view w) {
+         parse_choice(anchor_row_choices(), w, "anchor row");
+         s.objects[size_t(i)].anchors.emplace_back(w);
+       },
+       [](const S& s, int i) {
+         const auto& rows = s.objects[size_t(i)].anchors;
+         return rows.empty() ? std::string() : rows.front();
+       },
+       true},
+      {"colliders.*.type", "the collider's kind", "plane", "", options_of(collider_type_choices()),
+       [](S&, int, std::string_view w) {
+         parse_choice(collider_type_choices(), w, "collider type");
+       },
+       [](const S&, int) { return std::string("plane"); }},
       // Periodic is parsed (the reader refuses it on a collider by name) but not offered.
       {"colliders.*.condition", "the plane's condition", "slip", "", collider_options(),
        [](S& s, int i, std::string_view w) {

@@ -26,7 +26,9 @@ struct ChoiceParameter {
   // Sets the value at `index` (a material, object or collider; 0 otherwise) from a word, a switch
   // from "true" or "false"; throws std::invalid_argument naming the word and the words allowed.
   void (*set)(SceneDesc&, int index, std::string_view word);
-  std::string (*get)(const SceneDesc&, int index);
+  std::string (*get)(const SceneDesc&, int index);  // a list: its first word
+  bool list = false;     // the file gives an array of words, each set in turn
+  bool only_3d = false;  // read in 3D scenes only (the z walls)
 
   std::string key_at(int index) const;  // "materials.*.model", 0 -> "materials.0.model"
   bool is_switch() const;               // the file gives true or false

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "sim/scene/choice_parameters.hpp"
+#include "sim/scene/layout_parameters.hpp"
 
 namespace apiclab {
 namespace {
@@ -458,7 +459,8 @@ std::optional<std::string> parameter_error(const NumericParameter& p, int index,
          (p.integer ? " (integers)" : "");
 }
 
-// Numbers and words start at the registries' defaults; an optional key (is_set) starts unset.
+// Numbers, words and the dimension start at the registries' defaults; an optional key (is_set)
+// starts unset.
 SceneDesc::SceneDesc() {
   for (const NumericParameter& p : numeric_parameters()) {
     if (p.is_set) continue;
@@ -467,6 +469,8 @@ SceneDesc::SceneDesc() {
   }
   for (const ChoiceParameter& c : choice_parameters())
     if (c.key.find('*') == std::string_view::npos) c.set(*this, 0, c.default_key);
+  for (const LayoutParameter& l : layout_parameters())
+    if (l.key.find('*') == std::string_view::npos) l.set(*this, 0, {l.default_value});
 }
 
 void validate(const SceneDesc& s) {

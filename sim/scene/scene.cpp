@@ -3,7 +3,6 @@
 #include <climits>
 #include <filesystem>
 #include <nlohmann/json.hpp>
-#include <random>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -11,6 +10,7 @@
 #include "sim/method_registry.hpp"
 #include "sim/scene/choice_parameters.hpp"
 #include "sim/scene/input_file.hpp"
+#include "sim/scene/layout_parameters.hpp"
 #include "sim/scene/message_text.hpp"
 #include "sim/scene/parameters.hpp"
 #include "sim/scene/scene_json.hpp"
@@ -51,24 +51,15 @@ class Reader {
     used_.insert(key);
     return j_.at(key);
   }
-  double number(const std::string& key, double fallback, bool required = false) {
-    if (!has(key)) {
-      if (required) fail(key, "required key is missing");
-      return fallback;
-    }
+  // A key the section gives (raw refuses a missing one), as a finite number.
+  double number(const std::string& key) {
     const json& v = raw(key);
     if (!v.is_number()) fail(key, "expected a number, got " + shown(v.dump()));
     double d = v.get<double>();
     if (!std::isfinite(d)) fail(key, "not finite");
     return d;
   }
-  double positive(const std::string& key, double fallback, bool required = false) {
-    double d = number(key, fallback, required);
-    if (!(d > 0)) fail(key, "must be positive, got " + fmt(d));
-    return d;
-  }
-  int integer(const std::string& key, int fallback) {
-    if (!has(key)) return fallback;
+  int integer(const std::string& key) {
     const json& v = raw(key);
     if (!v.is_number_integer() || v < json(INT_MIN) || v > json(INT_MAX))
       fail(key, "expected an integer, got " + shown(v.dump()));
@@ -89,12 +80,8 @@ class Reader {
     if (!v.is_string()) fail(key, "expected a string, got " + shown(v.dump()));
     return v.get<std::string>();
   }
-  // A vector of `dim` numbers (missing trailing components stay as in fallback).
-  Vec3d vec(const std::string& key, Vec3d fallback, int dim, bool required = false) {
-    if (!has(key)) {
-      if (required) fail(key, "required key is missing");
-      return fallback;
-    }
+  // A vector of `dim` numbers (the components past `dim` stay as in fallback).
+  Vec3d vec(const std::string& key, Vec3d fallback, int dim) {
     const json& v = raw(key);
     if (!v.is_array() || int(v.size()) != dim)
       fail(key, "expected " + std::to_string(dim) + " numbers, got " + shown(v.dump()));
@@ -106,23 +93,7 @@ class Reader {
     }
     return out;
   }
-  template <class E>
-  E choice(const std::string& key, const std::vector<Choice<E>>& choices, E fallback,
-           const char* what) {
-    if (!has(key)) return fallback;
-    std::string s = string(key, "");
-    try {
-      return parse_choice(choices, s, what);
-    } catch (const std::invalid_argument& e) {
-      fail(key, e.what());
-    }
-  }
   Reader child(const std::string& key) { return Reader(raw(key), join(key), file_); }
-  static std::string fmt(double d) {
-    std::ostringstream o;
-    o << d;
-    return o.str();
-  }
   const std::string& file() const { return file_; }
   std::string path() const { return path_; }
 
@@ -169,11 +140,28 @@ void read_numbers(Reader& r, SceneDesc& s, std::string_view prefix, int index = 
       continue;
     }
     if (!vector) {
-      p.set(s, index, p.integer ? r.integer(key, 0) : r.number(key, 0));
+      p.set(s, index, p.integer ? r.integer(key) : r.number(key));
       continue;
     }
     const Vec3d v = r.vec(key, {0, 0, 0}, s.dim);
     for (int a = 0; a < s.dim; ++a) p.set(s, a, v[a]);
+  }
+}
+
+// A list key's array, each word set in turn.
+void read_word_list(Reader& r, SceneDesc& s, const ChoiceParameter& p, const std::string& key,
+                    int index) {
+  std::string words;
+  for (const ChoiceOption& o : p.options) words += (words.empty() ? "" : "|") + o.key;
+  const json& v = r.raw(key);
+  if (!v.is_array()) r.fail(key, "expected an array of " + words + ", got " + shown(v.dump()));
+  for (const json& w : v) {
+    if (!w.is_string()) r.fail(key, "expected words of " + words + ", got " + shown(w.dump()));
+    try {
+      p.set(s, index, w.get<std::string>());
+    } catch (const std::invalid_argument& e) {
+      r.fail(key, e.what());
+    }
   }
 }
 
@@ -184,11 +172,16 @@ void read_numbers(Reader& r, SceneDesc& s, std::string_view prefix, int index = 
 void read_choices(Reader& r, SceneDesc& s, std::string_view prefix, int index = 0) {
   for (const ChoiceParameter& p : choice_parameters()) {
     if (!p.key.starts_with(prefix) || !p.read_by(s.solver.method)) continue;
+    if (p.only_3d && s.dim != 3) continue;
     const std::string key(p.key.substr(prefix.size()));
     if (key.find('.') != std::string::npos) continue;  // a key of a child section
     if (!r.has(key)) {
       if (p.default_key.empty()) r.fail(key, "required key is missing");
       p.set(s, index, p.default_key);
+      continue;
+    }
+    if (p.list) {
+      read_word_list(r, s, p, key, index);
       continue;
     }
     const std::string word =
@@ -201,17 +194,14 @@ void read_choices(Reader& r, SceneDesc& s, std::string_view prefix, int index = 
   }
 }
 
-// domain.boundary: a word for every wall (the registry's key), or an object of walls each
-// defaulting to the registry's word.
+// domain.boundary: a word for every wall, or an object of walls (domain.boundary.x-, ...), each
+// one the object leaves out at the registry's default.
 void read_domain(Reader r, SceneDesc& s) {
-  auto& d = s.domain;
+  const DomainDesc& d = s.domain;
   read_numbers(r, s, "domain.");
   if (!r.has("boundary") || r.raw("boundary").is_string()) return read_choices(r, s, "domain.");
-  find_choice("domain.boundary")->set(s, 0, find_choice("domain.boundary")->default_key);
-  Reader br(r.raw("boundary"), r.join("boundary"), r.file());
-  const char* names[6] = {"x-", "x+", "y-", "y+", "z-", "z+"};
-  for (int w = 0; w < 2 * s.dim; ++w)
-    d.walls[w] = br.choice(names[w], boundary_choices(), d.walls[w], "boundary condition");
+  Reader walls = r.child("boundary");
+  read_choices(walls, s, "domain.boundary.");
   for (int a = 0; a < s.dim; ++a)
     if ((d.walls[2 * a] == BoundaryCondition::periodic) !=
         (d.walls[2 * a + 1] == BoundaryCondition::periodic))
@@ -245,90 +235,125 @@ void read_material(Reader r, SceneDesc& s, int index) {
   read_numbers(r, s, "materials.*.", index);
 }
 
-// rotation.random_seed: an angle uniform in [0, 360). mt19937_64's output is fixed by the
-// standard (std::uniform_real_distribution's is not), so a seed gives the same angle everywhere.
-double random_rotation_degrees(std::uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  return 360.0 * double(rng() >> 11) * 0x1.0p-53;
+// The index of the material a key names by name or index.
+int material_index(Reader& r, const std::string& key, const SceneDesc& s) {
+  const json& m = r.raw(key);
+  if (m.is_number_integer()) {
+    if (m < json(0) || m >= json(s.materials.size()))  // compared as JSON: no int wrap-around
+      r.fail(key, "no material with index " + shown(m.dump()));
+    return m.get<int>();
+  }
+  if (!m.is_string()) r.fail(key, "expected a material name or index");
+  for (size_t i = s.materials.size(); i-- > 0;)  // of two with one name, the last
+    if (s.materials[i].name == m.get<std::string>()) return int(i);
+  r.fail(key, "no material named " + shown(m.dump()));
 }
 
-double norm(const Vec3d& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+// One value of the layout table's form: numbers (of the scene's dimension, or three for an axis;
+// a 2D spin is one number about z) or a seed kept exactly.
+LayoutValue read_layout_value(Reader& r, const std::string& key, const LayoutParameter& p,
+                              const SceneDesc& s) {
+  const int dim = s.dim;
+  LayoutValue v{p.default_value};
+  switch (p.form) {
+    case LayoutForm::number:
+    case LayoutForm::count:
+      v.x[0] = r.number(key);
+      break;
+    case LayoutForm::seed: {
+      const json& j = r.raw(key);
+      if (!j.is_number_integer() || j.get<long long>() < 0)
+        r.fail(key, "expected a non-negative integer, got " + shown(j.dump()));
+      v.seed = j.get<std::int64_t>();
+      break;
+    }
+    case LayoutForm::point:
+      v.x = r.vec(key, p.default_value, dim);
+      break;
+    case LayoutForm::axis:
+      v.x = r.vec(key, p.default_value, 3);
+      break;
+    case LayoutForm::spin:
+      if (dim == 2)
+        v.x = {0, 0, r.number(key)};
+      else
+        v.x = r.vec(key, p.default_value, 3);
+      break;
+    case LayoutForm::material:
+      v.x[0] = material_index(r, key, s);
+      break;
+  }
+  return v;
+}
 
-// Object `index`'s shape, its type read through the registry.
+// The layout table's keys of one section (`prefix` "objects.*.shape.", ...), as read_numbers
+// reads the registry's: each one a section of this `type` word reads is a value of the key's form
+// within its range, one it leaves out is refused when required, else keeps its default.
+void read_layout(Reader& r, SceneDesc& s, std::string_view prefix, int index = 0,
+                 std::string_view type = {}) {
+  for (const LayoutParameter& p : layout_parameters()) {
+    if (!p.key.starts_with(prefix) || !p.read_by(s.dim, type)) continue;
+    const std::string key(p.key.substr(prefix.size()));
+    if (key.find('.') != std::string::npos) continue;  // a key of a child section
+    if (!r.has(key)) {
+      if (p.required && (p.unless.empty() || !r.has(std::string(p.unless))))
+        r.fail(key, "required key is missing");
+      if (!p.required && p.unset_default.empty())
+        p.set(s, index, {p.default_value, std::int64_t(p.default_value[0])});
+      continue;
+    }
+    const LayoutValue v = read_layout_value(r, key, p, s);
+    if (const auto why = layout_problem(p, v, s.dim)) r.fail(key, *why);
+    p.set(s, index, v);
+  }
+}
+
+// A section the file leaves out, read as an empty one: its keys keep their defaults.
+Reader empty_section(const Reader& parent, const std::string& key) {
+  static const json empty = json::object();
+  return Reader(empty, parent.join(key), parent.file());
+}
+
+// Object `index`'s shape: its type through the choice registry, its numbers through the layout
+// table; what relates them is checked here.
 void read_shape(Reader r, SceneDesc& s, int index) {
   read_choices(r, s, "objects.*.shape.", index);
   ShapeDesc& sh = s.objects[size_t(index)].shape;
   const int dim = s.dim;
+  read_layout(r, s, "objects.*.shape.", index, choice_key(shape_choices(), sh.type));
   switch (sh.type) {
     case ShapeType::box:
-      sh.min = r.vec("min", {0, 0, 0}, dim, true);
-      sh.max = r.vec("max", {0, 0, 0}, dim, true);
       for (int a = 0; a < dim; ++a)
         if (!(sh.max[a] > sh.min[a])) r.fail("max", "must exceed min on every axis");
       for (int a = 0; a < dim; ++a) sh.center[a] = 0.5 * (sh.min[a] + sh.max[a]);
       break;
-    case ShapeType::ball:
-      sh.center = r.vec("center", {0, 0, 0}, dim, true);
-      sh.radius = r.positive("radius", 0, true);
-      break;
     case ShapeType::annulus:
     case ShapeType::torus:
-      sh.center = r.vec("center", {0, 0, 0}, dim, true);
-      sh.inner = r.positive("inner", 0, true);
-      sh.outer = r.positive("outer", 0, true);
       if (!(sh.outer > sh.inner)) r.fail("outer", "must exceed inner");
-      if (dim == 3) {
-        sh.axis = r.vec("axis", {0, 0, 1}, 3);
-        if (!(norm(sh.axis) > 0)) r.fail("axis", "the axis has zero length; give a direction");
-        if (sh.type == ShapeType::annulus) sh.length = r.positive("length", 0, true);
-      }
       if (sh.type == ShapeType::torus && dim != 3)
         r.fail("type", "torus needs dim 3 (use annulus in 2D)");
       break;
     case ShapeType::mesh:
       sh.file = r.string("file", "", true);
-      sh.scale = r.positive("scale", 1.0);
-      sh.translate = r.vec("translate", {0, 0, 0}, dim);
       if (dim != 3) r.fail("type", "mesh needs dim 3");
+      break;
+    default:
       break;
   }
   if (r.has("rotation")) {
     Reader rot = r.child("rotation");
-    sh.rotation_axis = rot.vec("axis", {0, 0, 1}, 3);
-    if (!(norm(sh.rotation_axis) > 0))
-      rot.fail("axis", "the rotation axis has zero length; give a direction");
-    if (rot.has("random_seed")) {
-      if (rot.has("degrees"))
-        rot.fail("random_seed", "give either degrees or random_seed, not both");
-      const json& v = rot.raw("random_seed");
-      if (!v.is_number_integer() || v.get<long long>() < 0)
-        rot.fail("random_seed", "expected a non-negative integer, got " + shown(v.dump()));
-      sh.rotation_seed = v.get<std::int64_t>();
-      sh.rotation_degrees = random_rotation_degrees(std::uint64_t(sh.rotation_seed));
-    } else {
-      sh.rotation_degrees = rot.number("degrees", 0, true);
-    }
+    if (rot.has("random_seed") && rot.has("degrees"))
+      rot.fail("random_seed", "give either degrees or random_seed, not both");
+    read_layout(rot, s, "objects.*.shape.rotation.", index);
   }
 }
 
-// Object `index`'s sampling, its type read through the registry.
+// Object `index`'s sampling: its type through the choice registry, its numbers through the
+// layout table.
 void read_sampling(Reader r, SceneDesc& scene, int index) {
   read_choices(r, scene, "objects.*.sampling.", index);
-  SamplingDesc& s = scene.objects[size_t(index)].sampling;
-  if (s.type == SamplingType::lattice || s.type == SamplingType::triangulated)
-    s.spacing = r.positive("spacing", 0, true);
-  if (s.type == SamplingType::ppc) {
-    // A count: particles per cell.
-    s.ppc = r.positive("ppc", 4);
-    if (s.ppc != std::floor(s.ppc) || s.ppc > 1e6)
-      r.fail("ppc", "particles per cell must be a whole number from 1 to 1e6, got " + r.fmt(s.ppc));
-  }
-  if (s.type == SamplingType::poisson) {
-    s.radius = r.positive("radius", 0, true);
-    const int seed = r.integer("seed", 1);
-    if (seed < 0) r.fail("seed", "expected a non-negative integer, got " + std::to_string(seed));
-    s.seed = std::uint64_t(seed);
-  }
+  read_layout(r, scene, "objects.*.sampling.", index,
+              choice_key(sampling_choices(), scene.objects[size_t(index)].sampling.type));
 }
 
 // Object `index`, added to the scene before it is read (its words are set through the registry).
@@ -336,50 +361,17 @@ void read_object(Reader r, SceneDesc& s, int index) {
   ObjectDesc& o = s.objects.emplace_back();
   o.name = r.string("name", "object" + std::to_string(index));
   read_shape(r.child("shape"), s, index);
-  if (!r.has("material")) r.fail("material", "missing");
-  const json& m = r.raw("material");
-  if (m.is_number_integer()) {
-    if (m < json(0) || m >= json(s.materials.size()))  // compared as JSON: no int wrap-around
-      r.fail("material", "no material with index " + shown(m.dump()));
-    o.material = m.get<int>();
-  } else if (m.is_string()) {
-    o.material = -1;
-    for (size_t i = 0; i < s.materials.size(); ++i)
-      if (s.materials[i].name == m.get<std::string>()) o.material = int(i);
-    if (o.material < 0) r.fail("material", "no material named " + shown(m.dump()));
-  } else {
-    r.fail("material", "expected a material name or index");
-  }
-  if (r.has("sampling")) {
-    read_sampling(r.child("sampling"), s, index);
-  } else {
-    const ChoiceParameter& sampling = *find_choice("objects.*.sampling.type");
-    sampling.set(s, index, sampling.default_key);
-  }
-  o.velocity = r.vec("velocity", {0, 0, 0}, s.dim);
+  read_layout(r, s, "objects.*.", index);  // material, velocity, angular_velocity
+  read_sampling(r.has("sampling") ? r.child("sampling") : empty_section(r, "sampling"), s, index);
   if (o.sampling.type == SamplingType::triangulated &&
       (s.dim != 2 || o.shape.type != ShapeType::box || o.shape.rotation_degrees != 0))
     r.fail("sampling", "triangulated sampling needs an unrotated box in 2D");
   if (r.has("anchors")) {
     Reader a = r.child("anchors");
-    if (!a.has("rows") || !a.raw("rows").is_array())
-      a.fail("rows", "expected an array of top|bottom|left|right");
-    for (const auto& row : a.raw("rows")) {
-      std::string name = row.is_string() ? row.get<std::string>() : "";
-      if (name != "top" && name != "bottom" && name != "left" && name != "right")
-        a.fail("rows", "expected top, bottom, left or right, got " + shown(row.dump()));
-      o.anchors.push_back(name);
-    }
-    o.anchor_stiffness = a.positive("stiffness", o.anchor_stiffness);
+    read_choices(a, s, "objects.*.anchors.", index);
+    read_layout(a, s, "objects.*.anchors.", index);
     if (o.sampling.type != SamplingType::triangulated)
       r.fail("anchors", "anchors need triangulated sampling");
-  }
-  if (r.has("angular_velocity")) {
-    if (s.dim == 2) {
-      o.angular_velocity = {0, 0, r.number("angular_velocity", 0)};
-    } else {
-      o.angular_velocity = r.vec("angular_velocity", {0, 0, 0}, 3);
-    }
   }
   // The object's bounding box must lie inside the domain.
   const ShapeDesc& sh = o.shape;
@@ -399,18 +391,10 @@ void read_object(Reader r, SceneDesc& s, int index) {
 
 // Collider `index`, added to the scene before it is read.
 void read_collider(Reader r, SceneDesc& s, int index) {
-  ColliderDesc& c = s.colliders.emplace_back();
-  const int dim = s.dim;
-  std::string type = r.string("type", "plane");
-  if (type != "plane") r.fail("type", "unknown collider type '" + type + "' (expected plane)");
-  c.point = r.vec("point", {0, 0, 0}, dim, true);
-  c.normal = r.vec("normal", {0, 1, 0}, dim, true);
-  double n =
-      std::sqrt(c.normal[0] * c.normal[0] + c.normal[1] * c.normal[1] + c.normal[2] * c.normal[2]);
-  if (!(n > 0)) r.fail("normal", "must be non-zero");
-  for (double& x : c.normal) x /= n;
+  s.colliders.emplace_back();
   read_choices(r, s, "colliders.*.", index);
-  if (c.condition == BoundaryCondition::periodic)
+  read_layout(r, s, "colliders.*.", index);
+  if (s.colliders.back().condition == BoundaryCondition::periodic)
     r.fail("condition", "a collider cannot be periodic");
 }
 
@@ -421,8 +405,7 @@ SceneDesc parse_json(const json& j, const std::string& file,
   Reader r(j, "", file);
   s.name = r.string("name", std::filesystem::path(file).stem().string());
   s.description = r.string("description", "");
-  s.dim = r.integer("dim", 2);
-  if (s.dim != 2 && s.dim != 3) r.fail("dim", "must be 2 or 3");
+  read_layout(r, s, "");  // dim, before every key whose length it sets
   if (!r.has("domain")) r.fail("domain", "missing");
   read_domain(r.child("domain"), s);
   read_numbers(r, s, "");  // gravity

@@ -196,7 +196,7 @@ expect_error "fractional dim" "'dim'" "integer" -- run "$f"
 variant dim-huge 's/"dim": 2/"dim": 4294967298/'
 expect_error "dim past the int range" "'dim'" "integer" -- run "$f"
 variant ppc-fraction 's/"ppc": 4/"ppc": 4.5/'
-expect_error "fractional particles per cell" "'objects.0.sampling.ppc'" "whole number" -- run "$f"
+expect_error "fractional particles per cell" "'objects.0.sampling.ppc'" "(integers)" -- run "$f"
 variant E-string 's/"E": 1000/"E": "1000"/'
 expect_error "string where a number goes" "'materials.0.E'" "expected a number" -- run "$f"
 variant E-bool 's/"E": 1000/"E": true/'

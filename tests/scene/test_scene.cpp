@@ -642,17 +642,40 @@ std::string word_text_for(const ChoiceParameter& c, bool companions = true) {
     j["objects"][0]["shape"] = {{"type", "box"}, {"min", {0.3, 0.3}}, {"max", {0.7, 0.7}}};
     j["objects"][0]["sampling"] = {{"type", "lattice"}, {"spacing", 0.05}};
   }
+  // The walls as an object (a z wall in a 3D scene).
+  if (c.key.starts_with("domain.boundary.")) {
+    j["domain"]["boundary"] = {{"x-", "slip"}, {"x+", "slip"}};
+    if (c.only_3d) {
+      j["dim"] = 3;
+      j["domain"]["min"] = {0, 0, 0};
+      j["domain"]["max"] = {1, 1, 1};
+      j["gravity"] = {0, 0, -9.8};
+      j["objects"][0]["shape"]["center"] = {0.5, 0.5, 0.5};
+      j["objects"][0]["velocity"] = {0.1, 0, 0};
+      j["colliders"][0]["point"] = {0, 0.1, 0};
+      j["colliders"][0]["normal"] = {0, 1, 0};
+    }
+  }
+  // Anchors hold rows of a triangulated box.
+  if (c.key == "objects.*.anchors.rows") {
+    j["objects"][0]["shape"] = {{"type", "box"}, {"min", {0.3, 0.3}}, {"max", {0.7, 0.7}}};
+    j["objects"][0]["sampling"] = {{"type", "triangulated"}, {"spacing", 0.05}};
+    j["objects"][0]["anchors"] = {{"rows", {"top"}}};
+  }
   return j.dump();
 }
 
-// `text` with the key at index 0 set to `word` in the JSON itself (a switch as a JSON boolean).
+// `text` with the key at index 0 set to `word` in the JSON itself (a switch as a JSON boolean, a
+// list key as a list of the one word).
 std::string with_word(const std::string& text, const ChoiceParameter& c, const std::string& word) {
   nlohmann::json j = nlohmann::json::parse(text);
   nlohmann::json* node = &j;
   std::stringstream parts(std::string(c.key));
   for (std::string part; std::getline(parts, part, '.');)
     node = node->is_array() ? &(*node)[0] : &(*node)[part];
-  if (c.is_switch() && (word == "true" || word == "false"))
+  if (c.list)
+    *node = nlohmann::json::array({word});
+  else if (c.is_switch() && (word == "true" || word == "false"))
     *node = word == "true";
   else
     *node = word;
@@ -667,21 +690,25 @@ void check_word_key(const ChoiceParameter& c) {
   const std::string key(c.key_at(0)), text = word_text_for(c);
   SCOPED_TRACE(key);
   const SceneDesc base = parse_scene_text(text, "good.json");
+  const auto set = [&](const std::string& word) {
+    return key + "=" + (c.list ? "[\"" + word + "\"]" : word);
+  };
   int others = 0;
   for (const ChoiceOption& o : c.options) {
     SCOPED_TRACE(o.key);
     const std::string file = reader_message({}, with_word(text, c, o.key));
-    EXPECT_EQ(reader_message({key + "=" + o.key}, text), file) << "--set and the file differ";
+    EXPECT_EQ(reader_message({set(o.key)}, text), file) << "--set and the file differ";
     if (file != "accepted") continue;
     EXPECT_EQ(c.get(parse_scene_text(with_word(text, c, o.key), "good.json"), 0), o.key);
-    EXPECT_EQ(c.get(parse_scene_text(text, "good.json", {key + "=" + o.key}), 0), o.key);
+    EXPECT_EQ(c.get(parse_scene_text(text, "good.json", {set(o.key)}), 0), o.key);
     others += o.key != c.get(base, 0);
   }
-  if (c.key != "objects.*.shape.type") {  // another shape needs its own keys
+  // Another shape needs its own keys; a plane is the one collider there is.
+  if (c.key != "objects.*.shape.type" && c.options.size() > 1) {
     EXPECT_GE(others, 1);
   }
   const std::string unknown = reader_message({}, with_word(text, c, "nosuchword"));
-  EXPECT_EQ(reader_message({key + "=nosuchword"}, text), unknown);
+  EXPECT_EQ(reader_message({set("nosuchword")}, text), unknown);
   for (const std::string& needle : {"good.json: key '" + key + "'", std::string("nosuchword")})
     EXPECT_NE(unknown.find(needle), std::string::npos) << unknown;
   if (c.default_key.empty()) return;

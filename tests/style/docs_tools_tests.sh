@@ -52,7 +52,7 @@ else nok "unknown generator: $(cat "$tmp/out")"; fi
 # Every registry key is on the generated page (the page comes from the registry, not by hand).
 "$APICLAB" docs scene-keys >"$tmp/keys.md"
 missing=0
-for key in $("$APICLAB" run --help | grep -oE '^ +[a-z_]+\.[a-z_.*0-9]+' | tr -d ' ' | sort -u); do
+for key in $("$APICLAB" run --help | grep -oE '^ +[a-z_]+\.[a-z_.*0-9+-]+' | tr -d ' ' | sort -u); do
   grep -q "^| \`$key\` |" "$tmp/keys.md" || { echo "not on the page: $key"; missing=1; }
 done
 [ $missing = 0 ] && ok "every key of run --help is on the scene-keys page" || nok "keys missing from the page"
