@@ -76,7 +76,7 @@ struct G2pPass {
 
   G2pPass(const SceneDesc& scene, const Grid<T, D>& g, Particles<T, D>& particles,
           const Vec<T, D>* xpic, T k, T step)
-      : p(particles), grid(g), packed(g.accumulator.data()), xpic_shift(xpic), dt(step) {
+      : p(particles), grid(g), packed(g.node_lanes.data()), xpic_shift(xpic), dt(step) {
     const SolverDesc& s = scene.solver;
     lambda = T(s.integrator_lambda());
     alpha = T(s.flip_alpha);

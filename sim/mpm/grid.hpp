@@ -93,7 +93,7 @@ struct Grid : GridGeometry<T, D> {
   //   read as its first 2D lanes (GatherLanes).
   using NodeLanes = Lanes<T, 1 + 2 * D>;
   using GatherLanes = Lanes<T, 2 * D>;
-  std::vector<NodeLanes, Eigen::aligned_allocator<NodeLanes>> accumulator;
+  std::vector<NodeLanes, Eigen::aligned_allocator<NodeLanes>> node_lanes;
 
   // The lattice of the scene, nothing stored yet: the first block sort stores the active box.
   void init(const SceneDesc& s) {
@@ -108,7 +108,7 @@ struct Grid : GridGeometry<T, D> {
     velocity.assign(total, Vec<T, D>::Zero());
     velocity_new.assign(total, Vec<T, D>::Zero());
     force.assign(total, Vec<T, D>::Zero());
-    accumulator.assign(total, NodeLanes{});
+    node_lanes.assign(total, NodeLanes{});
   }
   void store_whole_domain() {
     std::array<int, D> zero{};
@@ -119,7 +119,7 @@ struct Grid : GridGeometry<T, D> {
   std::size_t allocated_bytes() const {
     return mass.capacity() * sizeof(T) +
            (velocity.capacity() + velocity_new.capacity() + force.capacity()) * sizeof(Vec<T, D>) +
-           accumulator.capacity() * sizeof(NodeLanes);
+           node_lanes.capacity() * sizeof(NodeLanes);
   }
 };
 

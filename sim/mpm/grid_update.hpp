@@ -7,10 +7,10 @@
 namespace apiclab {
 
 // The accumulator, free after P2G, is reused as G2P's packed [ṽ_i, v_i^n] per node (see
-// Grid::accumulator): one contiguous load per node in the gather.
+// Grid::node_lanes): one contiguous load per node in the gather.
 template <class T, int D>
 void MpmSimulation<T, D>::pack_velocities() {
-  auto* acc = grid_.accumulator.data();
+  auto* acc = grid_.node_lanes.data();
   for_each_box_node([&](std::size_t i) {
     using NodeLanes = typename Grid<T, D>::NodeLanes;
     const Vec<T, D>& vt = grid_.velocity_new[i];

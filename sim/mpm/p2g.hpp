@@ -28,7 +28,7 @@ void MpmSimulation<T, D>::add_mesh_forces() {
 }
 template <class T, int D>
 void MpmSimulation<T, D>::clear_grid() {
-  auto* acc = grid_.accumulator.data();
+  auto* acc = grid_.node_lanes.data();
   for_each_box_node([&](std::size_t i) { acc[i] = typename Grid<T, D>::NodeLanes{}; });
 }
 
@@ -94,7 +94,7 @@ void MpmSimulation<T, D>::p2g_impl() {
   auto& cache = stencils<K>();
   if (keep) cache.resize(p_.size());
   constexpr int W = K::width;
-  auto* acc = grid_.accumulator.data();
+  auto* acc = grid_.node_lanes.data();
   // MLS-MPM: f_i = −Σ V P Fᵀ D⁻¹ w (x_i − x_p), the stress riding the affine weights.
   const T inv_k = mls_forces ? T(1) / inertia_scale() : T(0);
   // Keeping the stencils compiled apart: the copy in the loop, even untaken, let GCC hoist the
@@ -177,7 +177,7 @@ void MpmSimulation<T, D>::p2g_impl() {
 // Accumulator lanes to the grid's arrays: m_i, v_i = (m v)_i / m_i (eq 26) and f_i.
 template <class T, int D>
 void MpmSimulation<T, D>::unpack_accumulator() {
-  const auto* acc = grid_.accumulator.data();
+  const auto* acc = grid_.node_lanes.data();
   for_each_box_node([&](std::size_t i) {
     const auto& node = acc[i];
     const T m = node[0];
@@ -218,7 +218,7 @@ template <class T, int D>
 template <class K>
 void MpmSimulation<T, D>::p2g_polypic_modes() {
   using Lanes = typename Grid<T, D>::NodeLanes;
-  auto* acc = grid_.accumulator.data();
+  auto* acc = grid_.node_lanes.data();
   const T inv_dx = grid_.inv_dx;
   auto pass = [&](auto functions) {  // per-axis functions reached: 2, or 3 with the G modes
     constexpr int F = decltype(functions)::value;

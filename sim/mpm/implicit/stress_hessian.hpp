@@ -103,6 +103,8 @@ Eigen::Matrix<T, D * D, D * D> projected_stress_hessian(MaterialModel model, con
 // Compiled once per precision and dimension in stress_hessian.cpp, shared by the solver and its
 // tests: ∂P/∂F's fixed-size Eigen code is among the slowest templates of the build.
 #define APICLAB_STRESS_HESSIAN(EXTERN, T, D)                                                      \
+  EXTERN template Eigen::Matrix<T, D * D, D * D> stress_differential_matrix<T, D>(                \
+      MaterialModel, const Mat<T, D>&, Lame<T>);                                                  \
   EXTERN template Eigen::Matrix<T, D * D, D * D> stress_hessian<T, D>(MaterialModel,              \
                                                                       const Mat<T, D>&, Lame<T>); \
   EXTERN template Eigen::Matrix<T, D * D, D * D> projected_stress_hessian<T, D>(                  \

@@ -35,7 +35,7 @@ void MpmSimulation<T, D>::xpic_grid_passes() {
   });
   using Lanes = typename Grid<T, D>::NodeLanes;
   constexpr int W = K::width;
-  auto* acc = grid_.accumulator.data();  // free between P2G and G2P's pack_velocities
+  auto* acc = grid_.node_lanes.data();  // free between P2G and G2P's pack_velocities
   const Vec<T, D>* term = xpic_term_.data();
   for (int k = 1; k < m; ++k) {
     for_each_box_node([&](std::size_t i) { acc[i] = Lanes{}; });
