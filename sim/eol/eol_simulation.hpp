@@ -46,6 +46,8 @@ struct EolObject {
   RestSurface<D> surface;
   std::vector<Vec<T, D>> surface_y;
   int surface_misses = 0;
+  // eulerian: Σ m at set-up; every update_mass scales the node masses back to it (eol_mass.hpp).
+  double rest_mass = 0;
   // Grid storage held (Fig 6): every per-node and per-cell array of this object's grid.
   std::size_t grid_bytes() const {
     std::size_t b = grid.bytes() + elastic.bytes() + extrapolation.bytes() + held_bytes(owner);
@@ -145,6 +147,7 @@ class EolSimulation final : public Simulation {
   // Mass and spatial state (eol_mass.hpp), forces (eol_forces.hpp).
   void update_mass(EolObject<T, D>& o, bool after_extrapolation);
   void update_spatial(EolObject<T, D>& o) const;
+  void keep_rest_mass(EolObject<T, D>& o);
   void forces(EolObject<T, D>& o);
   void forces_ahead();  // every object's, for the state now (forces_ready_)
   // step()'s hooks (Simulation::step; eol_time_step.hpp, eol_step.hpp).
