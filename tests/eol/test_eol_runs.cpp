@@ -292,7 +292,7 @@ TEST(EolRuns, DropOnASlipFloorNeverGainsEnergy) {
     EXPECT_LT(ymin, 0.1 + 2.5 * spec.dx) << method;
     EXPECT_GT(ymin, 0.05) << method;  // and did not fall through
     // Both methods, with the surface contact rows (eqs 27-29, the default): EoL at most −1e-7 J,
-    // the Eulerian baseline +9.4e-4 J of 0.104 J released. With the node rows (contact nodes)
+    // the Eulerian baseline +1.9e-4 J of 0.104 J released. With the node rows (contact nodes)
     // the Eulerian baseline gained 0.019 J here (about 19 %: the advection of X against the
     // floor's staircase of constrained nodes, test_eol_energy_ledger.cpp).
     EXPECT_LE(worst, bound) << method;
