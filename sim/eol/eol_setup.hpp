@@ -1,5 +1,5 @@
-// Setup: the materials, one grid per object (eol) or one world grid (eulerian), the initial
-// velocities, the mass and spatial state, and the blow-up check's energy scale.
+// Setup: the materials, one grid per object (eol: around it; eulerian: over the domain), the
+// initial velocities, the mass and spatial state, and the blow-up check's energy scale.
 #pragma once
 #include <cmath>
 #include <sstream>

@@ -4,8 +4,8 @@
 //   split (eqs 23-24) → frame update q₁ += Δt q̇₁ → advection of v and X by v* (eq 15) →
 //   extrapolation.
 // Each object has its own rigid frame and grid (eol). The pure-Eulerian baseline (eulerian) is
-// the same code with the frame locked to the world and one grid over the whole domain. In 2D,
-// objects whose grid boxes meet share one contact QP (eq 29) over their pair and plane rows.
+// the same code with the frame locked to the world and each object's grid over the whole
+// domain. In 2D, objects that meet share one contact QP (eq 29) over their pair and plane rows.
 #pragma once
 #include <algorithm>
 #include <chrono>
