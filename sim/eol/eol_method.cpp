@@ -1,6 +1,7 @@
 // The Eulerian-on-Lagrangian family as registered methods (Fan et al. 2013): `eol` (a rigid
-// frame and a grid per object) and `eulerian` (the baseline: the frame locked to the world, one
-// grid over the domain), with the validation of their keys in the scene's `solver` section.
+// frame and a grid per object) and `eulerian` (the baseline: the frame locked to the world, each
+// object's grid over the domain), with the validation of their keys in the scene's `solver`
+// section.
 #include "sim/eol/eol_positions.hpp"
 #include "sim/eol/eol_simulation.hpp"
 #include "sim/method_registry.hpp"

@@ -1,5 +1,5 @@
-// Setup: the materials, one grid per object (eol) or one world grid (eulerian), the initial
-// velocities, the mass and spatial state, and the blow-up check's energy scale.
+// Setup: the materials, one grid per object (eol: around it; eulerian: over the domain), the
+// initial velocities, the mass and spatial state, and the blow-up check's energy scale.
 #pragma once
 #include <cmath>
 #include <sstream>
@@ -41,14 +41,13 @@ void EolSimulation<T, D>::add_materials() {
 }
 
 // eol: a grid per object around its rest shape (padded, or solver.grid_extent wide); eulerian:
-// one grid over the domain holding every object.
+// per object its own X and v on a grid over the whole domain (eq 27's v^A, v^B).
 template <class T, int D>
 void EolSimulation<T, D>::add_object_grids() {
   const SceneDesc& scene = scene_;
   if (!lagrangian_) {
-    std::vector<int> all;
-    for (int o = 0; o < int(scene.objects.size()); ++o) all.push_back(o);
-    add_object_grid(all, scene.domain.min, scene.domain.max, scene.domain.dx, 0);
+    for (int o = 0; o < int(scene.objects.size()); ++o)
+      add_object_grid({o}, scene.domain.min, scene.domain.max, scene.domain.dx, 0);
     return;
   }
   const EolSolverDesc& e = scene.solver.eol;
@@ -138,8 +137,8 @@ std::pair<Vec<T, D>, Spin<T, D>> EolSimulation<T, D>::initial_velocity(int s,
   return {Vec<T, D>(V + spin_cross<T, D>(w, Vec<T, D>(x - c))), w};
 }
 
-// eol: the frame moves with the object's initial velocity at its origin; eulerian: each node of
-// the world grid takes the velocity field of the nearest rest shape.
+// eol: the frame moves with the object's initial velocity at its origin; eulerian: every node of
+// the object's world grid takes the object's velocity field.
 template <class T, int D>
 void EolSimulation<T, D>::set_initial_velocity(EolObject<T, D>& o) const {
   if (lagrangian_) {

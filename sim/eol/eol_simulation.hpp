@@ -4,8 +4,8 @@
 //   split (eqs 23-24) → frame update q₁ += Δt q̇₁ → advection of v and X by v* (eq 15) →
 //   extrapolation.
 // Each object has its own rigid frame and grid (eol). The pure-Eulerian baseline (eulerian) is
-// the same code with the frame locked to the world and one grid over the whole domain. In 2D,
-// objects whose grid boxes meet share one contact QP (eq 29) over their pair and plane rows.
+// the same code with the frame locked to the world and each object's grid over the whole
+// domain. In 2D, objects that meet share one contact QP (eq 29) over their pair and plane rows.
 #pragma once
 #include <algorithm>
 #include <chrono>
@@ -46,6 +46,8 @@ struct EolObject {
   RestSurface<D> surface;
   std::vector<Vec<T, D>> surface_y;
   int surface_misses = 0;
+  // eulerian: Σ m at set-up; every update_mass scales the node masses back to it (eol_mass.hpp).
+  double rest_mass = 0;
   // Grid storage held (Fig 6): every per-node and per-cell array of this object's grid.
   std::size_t grid_bytes() const {
     std::size_t b = grid.bytes() + elastic.bytes() + extrapolation.bytes() + held_bytes(owner);
@@ -145,6 +147,7 @@ class EolSimulation final : public Simulation {
   // Mass and spatial state (eol_mass.hpp), forces (eol_forces.hpp).
   void update_mass(EolObject<T, D>& o, bool after_extrapolation);
   void update_spatial(EolObject<T, D>& o) const;
+  void keep_rest_mass(EolObject<T, D>& o);
   void forces(EolObject<T, D>& o);
   void forces_ahead();  // every object's, for the state now (forces_ready_)
   // step()'s hooks (Simulation::step; eol_time_step.hpp, eol_step.hpp).

@@ -84,7 +84,9 @@ std::shared_ptr<Snapshot> EolSimulation<T, D>::snapshot() const {
   s->integrator = "explicit";
   for (const EolObject<T, D>& o : objects_) {
     detail::add_node_dots(o, *s);
-    const std::string name = lagrangian_ ? scene_.objects[std::size_t(o.shapes[0])].name : "world";
+    // eulerian: one object's grid is the world's; with several, each object's field has its name.
+    const bool world = !lagrangian_ && objects_.size() == 1;
+    const std::string name = world ? "world" : scene_.objects[std::size_t(o.shapes[0])].name;
     s->grids.push_back(detail::grid_layer(o, name));
     s->surfaces.push_back(detail::surface_layer(o, placed_surface(o), name));
   }

@@ -172,9 +172,10 @@ void bytes_per_item(const SceneDesc& scene, MemoryEstimate& e) {
   }
 }
 
-// The Eulerian-on-Lagrangian family (sim/eol): no particles, one grid per object (eol) or one
-// over the domain (eulerian), sized as EolSimulation::add_object_grid sizes them. Without it a
-// tiny solver.cell or a large solver.grid_extent allocated until std::bad_alloc (fuzz finding).
+// The Eulerian-on-Lagrangian family (sim/eol): no particles, one grid per object, around the
+// object (eol) or over the domain (eulerian), sized as EolSimulation::add_object_grid sizes them.
+// Without it a tiny solver.cell or a large solver.grid_extent allocated until std::bad_alloc (fuzz
+// finding).
 void eol_estimate(const SceneDesc& scene, MemoryEstimate& e) {
   const EolSolverDesc& s = scene.solver.eol;
   auto nodes = [&](const Vec3d& lo, const Vec3d& hi, double dx, int padding) {
@@ -184,7 +185,8 @@ void eol_estimate(const SceneDesc& scene, MemoryEstimate& e) {
     return n;
   };
   if (scene.solver.method == "eulerian") {
-    e.grid_nodes = nodes(scene.domain.min, scene.domain.max, scene.domain.dx, 0);
+    e.grid_nodes = double(scene.objects.size()) *
+                   nodes(scene.domain.min, scene.domain.max, scene.domain.dx, 0);
   } else {
     const double dx = s.cell > 0 ? s.cell : scene.domain.dx;
     for (std::size_t i = 0; i < scene.objects.size(); ++i) {

@@ -126,6 +126,10 @@ TEST(MemoryEstimate, EolGridsAreCounted) {
   EXPECT_NEAR(estimate_memory(s, Precision::dbl).grid_nodes, 23 * 23, 0);
   s = load_scene(eol, {"solver.method=eulerian"});
   EXPECT_NEAR(estimate_memory(s, Precision::dbl).grid_nodes, 81 * 61, 0);
+  // The baseline keeps one world grid per object.
+  s = load_scene(std::string(APICLAB_SOURCE_DIR) + "/assets/scenes/eol-two-disks.json",
+                 {"solver.method=eulerian"});
+  EXPECT_NEAR(estimate_memory(s, Precision::dbl).grid_nodes, 2 * 65 * 33, 0);
 }
 
 TEST(MemoryEstimate, AvailableMemoryIsRead) {

@@ -66,16 +66,31 @@ std::pair<Vec<T, D>, Vec<T, D>> grid_world_box(const EolObject<T, D>& o) {
   return {lo, hi};
 }
 
-// A surface lies inside its grid box, so two objects whose boxes do not meet have no rows
-// between them. Only eol in 2D with surface rows (the pair rows are 2D; eulerian is one grid).
+// The world box of an Eulerian object's material: its nodes with mass, two cells wider each side
+// (the surface, φ₀ = 0, lies within a cell of a node with mass, since mass fades over |φ₀| < Δx/2).
+template <class T, int D>
+std::pair<Vec<T, D>, Vec<T, D>> material_world_box(const EolObject<T, D>& o) {
+  Vec<T, D> lo = Vec<T, D>::Constant(T(INFINITY)), hi = -lo;
+  for (std::size_t i = 0; i < o.grid.size(); ++i) {
+    if (!(o.grid.mass[i] > T(0))) continue;
+    lo = lo.cwiseMin(o.x[i]);
+    hi = hi.cwiseMax(o.x[i]);
+  }
+  const Vec<T, D> margin = Vec<T, D>::Constant(T(2) * o.grid.dx);
+  return {lo - margin, hi + margin};
+}
+
+// A surface lies inside its grid box (eol) or its material's box (eulerian, whose grids all
+// span the domain), so two objects whose boxes do not meet have no rows between them. Only in 2D
+// with surface rows (the pair rows are 2D).
 template <class T, int D>
 std::vector<char> EolSimulation<T, D>::meeting_objects() const {
   const std::size_t count = objects_.size();
-  if (D != 2 || count < 2 || !lagrangian_ ||
-      scene_.solver.eol.contact != EolSolverDesc::Contact::surface)
+  if (D != 2 || count < 2 || scene_.solver.eol.contact != EolSolverDesc::Contact::surface)
     return {};
   std::vector<std::pair<Vec<T, D>, Vec<T, D>>> box(count);
-  for (std::size_t k = 0; k < count; ++k) box[k] = grid_world_box(objects_[k]);
+  for (std::size_t k = 0; k < count; ++k)
+    box[k] = lagrangian_ ? grid_world_box(objects_[k]) : material_world_box(objects_[k]);
   std::vector<char> meeting(count, 0);
   bool any = false;
   for (std::size_t a = 0; a < count; ++a)
