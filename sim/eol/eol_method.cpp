@@ -57,7 +57,7 @@ SolverMethod eol_method() {
 SolverMethod eulerian_method() {
   return {"eulerian",
           "pure-Eulerian baseline of Fan et al. 2013: the EoL solver with the frame locked to the "
-          "world, one grid over the domain",
+          "world, one grid over the domain per object",
           [](const SceneDesc& s, Precision) { return make_eol_family(s, false); },
           validate_eol_family};
 }

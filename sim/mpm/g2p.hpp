@@ -18,7 +18,6 @@
 #include "sim/mpm/schemes/particle_update.hpp"
 #include "sim/mpm/schemes/polypic_modes.hpp"
 #include "sim/mpm/simd/deformation_update.hpp"
-#include "sim/mpm/simd/particle_move_2d.hpp"
 #include "sim/mpm/simd/stencil_batch.hpp"
 
 namespace apiclab {
@@ -68,10 +67,8 @@ struct G2pPass {
   bool xpic_gather;
   int polypic_kept, polypic_extra;
   bool polypic_g;
-  bool extras;        // the row's terms per particle (the multilinear D_p, PolyPIC's modes)
-  bool tail_batched;  // 2D: F and x a batch of particles at a time
-                      // (sim/mpm/simd/particle_move_2d.hpp)
-  T k_inertia;        // k Δx²
+  bool extras;  // the row's terms per particle (the multilinear D_p, PolyPIC's modes)
+  T k_inertia;  // k Δx²
   Vec3d gravity;
 
   G2pPass(const SceneDesc& scene, const Grid<T, D>& g, Particles<T, D>& particles,
@@ -96,11 +93,6 @@ struct G2pPass {
     polypic_extra = int(p.modes.size());
     polypic_g = polypic::keeps_g_modes(1 + D + polypic_extra, D);
     extras = (Sch::affine && multilinear) || (Sch::higher_modes && polypic_extra > 0);
-    const bool any_periodic =
-        std::find(g.periodic.begin(), g.periodic.end(), true) != g.periodic.end();
-    // Unless a particle's own later work reads its F^{n+1} (a corrected move) or x^{n+1} (the
-    // row's extra terms), or an axis wraps.
-    tail_batched = D == 2 && !Sch::corrects_move && !extras && !any_periodic;
   }
 
   // Particle `lane`'s stencil as Stencil::compute makes it, for the rare readers of the whole
@@ -398,7 +390,6 @@ struct G2pPass {
     // on the stack, and max_move updated per particle was a chain through memory (perf annotate).
     ChunkMoves moves;
     Batch batch;  // x^n's stencils, read before this loop moves the particles
-    ParticleMoveBatch2d<T, Batch::L> tail;
     for (std::ptrdiff_t q = first; q < end; ++q) {
       const int lane = int((q - first) % Batch::L);
       if (lane == 0)
@@ -406,18 +397,7 @@ struct G2pPass {
       GatheredSums<T, D> g = gathered_sums(batch, lane);
       const Vec<T, D> v_n = p.v[q];
       update_particle(q, batch, lane, g);
-      if (tail_batched) {  // once the batch's last particle is gathered
-        if constexpr (D == 2) {
-          tail.set_scaled(lane, g.grad_u, g.ubar, dt);
-          if (lane == Batch::L - 1 || q == end - 1) {
-            const std::ptrdiff_t at = q - lane;
-            if (!tail.apply(lane + 1, &p.F[at], &p.x[at], &p.v[at], lo, hi, moves.largest))
-              moves.bad = true;
-          }
-        }
-      } else if (!move_particle(q, g, v_n, moves.largest)) {
-        moves.bad = true;
-      }
+      if (!move_particle(q, g, v_n, moves.largest)) moves.bad = true;
       if (sums && terms.extras) diagnostics_terms(terms, int(q - first), q);
     }
     if (sums)
