@@ -482,6 +482,10 @@ if [ "$RC" -eq 0 ] && [ "$last_t" = "0.10000000000000001" ]; then
 else
   nok "rotating-disk under eol" "exit $RC, last t '$last_t'" "$(head -c 400 "$ERR")"
 fi
+# Under the elastic rule time.dt.nu is EoL's own; one it blows up with is named in the message.
+expect_blowup "eol-spin blows up at time.dt.nu = 1" run eol-spin --set time.dt.nu=1 --t-end 0.1 --csv "$TMP/spin-nu1.csv" --quiet
+if grep -q "time.dt.nu = 1 sets the explicit elastic cap" "$ERR"; then ok "the EoL blow-up names time.dt.nu"
+else nok "the EoL blow-up names time.dt.nu" "$(head -c 400 "$ERR")"; fi
 expect_error "EoL key in an MPM scene" "'solver.alpha'" "unknown key" -- run rotating-disk --set solver.alpha=0.5
 expect_error "MPM key in an EoL scene" "'solver.scheme'" "unknown key" -- run eol-spin --set solver.scheme=apic
 expect_error "rest shape outside its EoL grid" "'objects.0.shape'" "solver.grid_extent" -- run eol-spin --set solver.grid_extent=0.3
