@@ -9,6 +9,7 @@
 #include "sim/eol/eol_simulation.hpp"
 #include "sim/eol/grid/advection.hpp"
 #include "sim/eol/least_squares_split.hpp"
+#include "sim/scene/parameters.hpp"
 
 namespace apiclab::eol {
 
@@ -141,8 +142,15 @@ void EolSimulation<T, D>::advect(EolObject<T, D>& o, T dt) {
 
 template <class T, int D>
 std::optional<Failure> EolSimulation<T, D>::check_step(const DiagnosticsRow& r) const {
-  return energy_failure(r, steps_, time_, "grid state", scene_.solver.blowup_energy_factor,
-                        energy_ref_);
+  std::optional<Failure> f = energy_failure(r, steps_, time_, "grid state",
+                                            scene_.solver.blowup_energy_factor, energy_ref_);
+  // Elasticity is explicit: a ν above the shipped scenes' names the key that sets the cap.
+  const TimeDesc& tm = scene_.time;
+  if (f && tm.rule == DtRule::elastic && tm.nu > kElasticNu)
+    f->message += " (time.dt.nu = " + format_value(tm.nu) +
+                  " sets the explicit elastic cap; the shipped EoL scenes are stable at " +
+                  format_value(kElasticNu) + ")";
+  return f;
 }
 
 }  // namespace apiclab::eol

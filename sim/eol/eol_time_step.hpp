@@ -2,9 +2,18 @@
 // eq 33 capped by the explicit elastic limit and time.dt.value, per object; the landing on the
 // frame time is Simulation::step's.
 #pragma once
+#include <algorithm>
+
 #include "sim/eol/eol_simulation.hpp"
 
 namespace apiclab::eol {
+
+// The elastic cap's ν: time.dt.nu under the `elastic` rule, whose formula it is; MPM's `cfl` and
+// `two-step` rules give ν for a particle-speed bound (rotating-disk's ν = 1), so there it is at
+// most kElasticNu, the shipped EoL scenes' stable value.
+inline double elastic_nu(const TimeDesc& tm) {
+  return tm.rule == DtRule::elastic ? tm.nu : std::min(tm.nu, kElasticNu);
+}
 
 template <class T, int D>
 double EolSimulation<T, D>::choose_dt() {
@@ -76,7 +85,7 @@ double EolSimulation<T, D>::object_dt(const EolObject<T, D>& o, double dt, DtLim
       lagrangian_ ? split_rates(o, sums)
                   : std::array<double, 3>{sums.gamma0, sums.gamma1, sums.umax};
   const double advection = advection_limit(rates[0], rates[1], scene_.solver.eol.alpha);
-  const double elastic = scene_.time.nu * double(o.grid.dx) / (max_wave_speed_ + rates[2]);
+  const double elastic = elastic_nu(scene_.time) * double(o.grid.dx) / (max_wave_speed_ + rates[2]);
   if (advection < dt) {
     dt = advection;
     limit = DtLimit::advection;

@@ -26,6 +26,10 @@ inline double advection_limit(double gamma0, double gamma1, double alpha) {
   return denom > 0 ? 2.0 * alpha / denom : std::numeric_limits<double>::infinity();
 }
 
+// The explicit elastic cap's ν under the rules whose time.dt.nu is MPM's particle Courant number
+// (cfl, two-step): an MPM scene's ν = 1 blows rotating-disk up at t = 0.05 s under eol.
+inline constexpr double kElasticNu = 0.3;
+
 // Which bound set a step's Δt (the diagnostics' dt_limit column).
 enum class DtLimit { advection, elastic, max, frame, fixed };
 

@@ -93,7 +93,9 @@ std::vector<NumericParameter> declare() {
        .unit = "1",
        .range = kPositive,
        .default_value = 0.5,
-       .help = "CFL fraction of the cfl (Sec 4.3), elastic and two-step (Sec 6.7) rules",
+       .help = "CFL fraction of the cfl (Sec 4.3), elastic and two-step (Sec 6.7) rules; eol and "
+               "eulerian cap their elastic step with it under elastic, with at most 0.3 under "
+               "cfl and two-step",
        .get = [](const S& s, int) { return s.time.nu; },
        .set = [](S& s, int, double v) { s.time.nu = v; }},
       {.key = "time.dt.min",

@@ -472,6 +472,20 @@ if [ "$RC" -eq 0 ] && [ "$last_t" = "0.050000000000000003" ] && head -n 1 "$ECSV
 else
   nok "run eol-drop" "exit $RC, last t '$last_t', limit '$limit'" "$(head -c 400 "$ERR")"
 fi
+# An MPM scene's cfl rule (nu = 1, a particle Courant number) does not set EoL's elastic cap:
+# rotating-disk under eol blew up at t = 0.05 s with that nu (sim/eol/eol_time_step.hpp).
+RCSV="$TMP/disk-eol.csv"
+run_cli run rotating-disk --set solver.method=eol --t-end 0.1 --csv "$RCSV" --quiet
+last_t=$(tail -n 1 "$RCSV" 2>/dev/null | cut -d, -f2)
+if [ "$RC" -eq 0 ] && [ "$last_t" = "0.10000000000000001" ]; then
+  ok "rotating-disk under eol takes EoL's stable elastic nu, not cfl's nu = 1"
+else
+  nok "rotating-disk under eol" "exit $RC, last t '$last_t'" "$(head -c 400 "$ERR")"
+fi
+# Under the elastic rule time.dt.nu is EoL's own; one it blows up with is named in the message.
+expect_blowup "eol-spin blows up at time.dt.nu = 1" run eol-spin --set time.dt.nu=1 --t-end 0.1 --csv "$TMP/spin-nu1.csv" --quiet
+if grep -q "time.dt.nu = 1 sets the explicit elastic cap" "$ERR"; then ok "the EoL blow-up names time.dt.nu"
+else nok "the EoL blow-up names time.dt.nu" "$(head -c 400 "$ERR")"; fi
 expect_error "EoL key in an MPM scene" "'solver.alpha'" "unknown key" -- run rotating-disk --set solver.alpha=0.5
 expect_error "MPM key in an EoL scene" "'solver.scheme'" "unknown key" -- run eol-spin --set solver.scheme=apic
 expect_error "rest shape outside its EoL grid" "'objects.0.shape'" "solver.grid_extent" -- run eol-spin --set solver.grid_extent=0.3
