@@ -28,6 +28,7 @@ void EolSimulation<T, D>::finish_step(double dt) {
   EnergyLedger ledger;
   ledger.steps = 1;
   object_pairs_.clear();
+  move_planes(planes_, time_);  // moving colliders where they are at the step's start
   const std::vector<char> meeting = meeting_objects();
   for (std::size_t k = 0; k < objects_.size(); ++k)
     if (meeting.empty() || !meeting[k]) finish_object(objects_[k], dt, ledger);

@@ -57,6 +57,10 @@ class BlockPartition {
   const std::vector<std::pair<std::size_t, std::size_t>>& box_rows() const { return box_rows_; }
   // The wall and collider nodes inside the active box.
   const std::vector<ConstrainedNode<T, D>>& box_constraints() const { return box_constraints_; }
+  // Collects them again where a collider moves (BoundaryNodes::move_to sets the time).
+  void collect_constraints(const Grid<T, D>& grid, const BoundaryNodes<T, D>& boundary) {
+    boundary.collect(grid, box_constraints_);
+  }
 
   // The invariant above, checked against the current positions (which may have drifted since
   // the sort): blocks of one colour touch disjoint nodes, and every touched node lies in the

@@ -1,6 +1,7 @@
 // The scene's boundary conditions on grid nodes: domain walls (nodes on or beyond a non-periodic
 // face) and collider planes (nodes behind the plane). Evaluated for the stored region only, each
-// time the active box moves, so a large domain costs nothing for the nodes no particle reaches.
+// time the active box moves (and every step while a collider moves), so a large domain costs
+// nothing for the nodes no particle reaches.
 #pragma once
 #include <array>
 #include <vector>
@@ -10,12 +11,14 @@
 
 namespace apiclab {
 
-// A grid node with a boundary condition: a domain wall or a collider plane.
+// A grid node with a boundary condition: a domain wall or a collider plane. The condition holds
+// on the node's velocity relative to the body's (zero for walls and fixed planes).
 template <class T, int D>
 struct ConstrainedNode {
   std::size_t node;  // index into the stored region
   Vec<T, D> normal;  // into the free side
   BoundaryCondition condition;
+  Vec<T, D> body = Vec<T, D>::Zero();  // the wall's or plane's velocity
 };
 
 template <class T, int D>
@@ -30,16 +33,24 @@ class BoundaryNodes {
       walls_[2 * a + 1] = scene.domain.walls[2 * a + 1];
     }
     planes_.clear();
+    moving_ = false;
     for (const auto& c : scene.colliders) {
       Plane p;
       for (int a = 0; a < D; ++a) {
         p.normal[a] = T(c.normal[a]);
         p.point[a] = T(c.point[a]);
+        p.velocity[a] = T(c.velocity[a]);
       }
       p.condition = c.condition;
+      moving_ = moving_ || !p.velocity.isZero(T(0));
       planes_.push_back(p);
     }
   }
+
+  // Whether a collider moves: then its nodes change with time and are collected every step.
+  bool moving() const { return moving_; }
+  // The time at which collect() places the moving planes (point + t velocity).
+  void move_to(double t) { time_ = t; }
 
   // The constraints of every stored node of g, in node order; per node the walls axis by axis
   // (low face, high face), then the colliders in scene order.
@@ -57,8 +68,10 @@ class BoundaryNodes {
         if (x[a] <= min_[a] + eps) out.push_back({i, axis_normal(a, T(1)), walls_[2 * a]});
         if (x[a] >= max_[a] - eps) out.push_back({i, axis_normal(a, T(-1)), walls_[2 * a + 1]});
       }
-      for (const Plane& p : planes_)
-        if ((x - p.point).dot(p.normal) <= eps) out.push_back({i, p.normal, p.condition});
+      for (const Plane& p : planes_) {
+        const Vec<T, D> at = moving_ ? Vec<T, D>(p.point + T(time_) * p.velocity) : p.point;
+        if ((x - at).dot(p.normal) <= eps) out.push_back({i, p.normal, p.condition, p.velocity});
+      }
     }
   }
 
@@ -69,9 +82,11 @@ class BoundaryNodes {
     return n;
   }
   struct Plane {
-    Vec<T, D> normal, point;
+    Vec<T, D> normal, point, velocity;
     BoundaryCondition condition;
   };
+  bool moving_ = false;
+  double time_ = 0;
   std::array<bool, D> periodic_{};
   Vec<T, D> min_ = Vec<T, D>::Zero(), max_ = Vec<T, D>::Zero();
   std::array<BoundaryCondition, 2 * D> walls_{};

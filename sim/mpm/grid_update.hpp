@@ -61,10 +61,10 @@ template <class T, int D>
 void MpmSimulation<T, D>::apply_boundary_conditions() {
   for (const auto& c : blocks_.box_constraints()) {  // outside the box ṽ = 0 already satisfies them
     Vec<T, D>& v = grid_.velocity_new[c.node];
-    T vn = v.dot(c.normal);
+    T vn = (v - c.body).dot(c.normal);  // relative to the wall or plane
     switch (c.condition) {
       case BoundaryCondition::sticky:
-        v.setZero();
+        v = c.body;
         break;
       case BoundaryCondition::slip:
         v -= vn * c.normal;

@@ -38,7 +38,9 @@ bool MpmSimulation<T, D>::step_fixed_summing(double dt, ParticleSums* sums) {
   // A non-finite position would index the grid out of range: the state stays frozen, and
   // step() (or the caller of step_fixed, through measure()) reports it.
   if (non_finite_) return false;
+  if (boundary_.moving()) boundary_.move_to(time_ + dt);  // moving planes where the step ends
   sort_particles();
+  if (boundary_.moving()) blocks_.collect_constraints(grid_, boundary_);
   clear_grid();
   if (!uses_implicit_solve()) {
     particles_to_grid(true);  // forces at F^n, fused into the transfer

@@ -270,6 +270,15 @@ std::vector<LayoutParameter> declare() {
              for (int a = 0; a < 3; ++a) s.colliders[size_t(i)].normal[size_t(a)] = v.x[a] / n;
            },
        .get = [](const S& s, int i) { return V{s.colliders[size_t(i)].normal}; }},
+      {.key = "colliders.*.velocity",
+       .label = "collider velocity",
+       .unit = "m/s",
+       .form = F::point,
+       .range = kAnyReal,
+       .help = "constant velocity of the plane: its point at time t is point + t velocity; the "
+               "condition holds on the velocity relative to it",
+       .set = [](S& s, int i, const V& v) { s.colliders[size_t(i)].velocity = v.x; },
+       .get = [](const S& s, int i) { return V{s.colliders[size_t(i)].velocity}; }},
   };
 }
 

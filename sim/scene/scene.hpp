@@ -156,6 +156,11 @@ struct ColliderDesc {
   Vec3d point{0, 0, 0};
   Vec3d normal{0, 1, 0};  // points into the free side
   BoundaryCondition condition = BoundaryCondition::slip;
+  Vec3d velocity{0, 0, 0};  // constant: the plane moves rigidly with it
+  // The plane's point at time t: point + t velocity.
+  Vec3d point_at(double t) const {
+    return {point[0] + t * velocity[0], point[1] + t * velocity[1], point[2] + t * velocity[2]};
+  }
 };
 
 struct SceneDesc {

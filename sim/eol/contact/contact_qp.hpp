@@ -1,7 +1,8 @@
 // The contact QP of Fan et al. 2013, eq 29, with the lumped (diagonal) mass:
-//   minimise ½ (u − u*)ᵀ M (u − u*)   subject to  J u ≤ 0 (unilateral rows), J u = 0 (bilateral),
-// u* the velocities after the impulse (eq 16). Its dual on the m rows is the LCP
-//   u = u* − M⁻¹Jᵀλ,  w = J u = b − Aλ,  A = J M⁻¹ Jᵀ,  b = J u*,
+//   minimise ½ (u − u*)ᵀ M (u − u*)   subject to  J u ≤ r (unilateral rows), J u = r (bilateral),
+// u* the velocities after the impulse (eq 16), r = J v_b the rates of a moving body's rows (zero
+// elsewhere). Its dual on the m rows is the LCP
+//   u = u* − M⁻¹Jᵀλ,  w = J u − r = b − Aλ,  A = J M⁻¹ Jᵀ,  b = J u* − r,
 //   unilateral: λ ≥ 0, w ≤ 0, λ w = 0;  bilateral: w = 0.
 // Nodes without mass are not unknowns (their velocities are the extrapolated field, held fixed):
 // their terms go into b only. A is small and dense (m is tens of rows), so it is assembled and
@@ -98,7 +99,7 @@ class ContactSolver {
       if (l != 0.0) u[node_[e]] -= T(l / double(mass[node_[e]])) * coeff_[e];
     }
     for (int k = 0; k < m; ++k) st.active += lambda_[k] != 0.0;
-    rates(J, u);  // now J u, for the violation
+    rates(J, u);  // now J u − r, for the violation
     for (int k = 0; k < m; ++k)
       if (usable_[std::size_t(k)])
         st.max_violation =
@@ -111,9 +112,10 @@ class ContactSolver {
  private:
   // The active set S (bilateral rows, and unilateral rows with λ > 0): A_SS λ_S = b_S exactly;
   // kept when λ_S ≥ 0 on the unilateral rows and w ≤ 0 off S (up to round-off of b).
-  // b = J u, every row's rate.
+  // b = J u − r, every row's rate relative to its body.
   void rates(const ContactRows<T, D>& J, const std::vector<Vec<T, D>>& u) {
     b_.assign(J.rows(), 0.0);
+    for (std::size_t k = 0; k < J.rate.size(); ++k) b_[k] = -double(J.rate[k]);
     for (std::size_t e = 0; e < J.row.size(); ++e)
       b_[J.row[e]] += double(J.coeff[e].dot(u[J.node[e]]));
   }

@@ -36,6 +36,10 @@ void append_plane_rows(const ContactObject<T, D>& o,
     rows.node.push_back(o.node_offset + scratch.node[e]);
     rows.coeff.push_back(scratch.coeff[e]);
   }
+  if (!scratch.rate.empty()) {  // a moving plane's rates, after the earlier rows' zeros
+    rows.rate.resize(first, T(0));
+    rows.rate.insert(rows.rate.end(), scratch.rate.begin(), scratch.rate.end());
+  }
   rows.bilateral.insert(rows.bilateral.end(), scratch.bilateral.begin(), scratch.bilateral.end());
   rows.key.insert(rows.key.end(), scratch.key.begin(), scratch.key.end());
 }
@@ -53,6 +57,7 @@ class GlobalContactSolver {
     local_.row = J.row;
     local_.coeff = J.coeff;
     local_.bilateral = J.bilateral;
+    local_.rate = J.rate;
     local_.key = J.key;
     local_.node.resize(J.node.size());
     for (std::size_t e = 0; e < J.node.size(); ++e)

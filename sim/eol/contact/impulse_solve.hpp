@@ -5,6 +5,8 @@
 //   minimise ½ (u − u*)ᵀ M (u − u*)  subject to the plane's row
 // is solved exactly by projecting the node's velocity: slip n·u = 0, separate n·u ≥ 0,
 // sticky u = 0. Orthogonal planes (a domain corner) commute, so applying them in turn is exact.
+// A moving collider (velocity v_b) constrains the velocity relative to it, u − v_b: the row's
+// right-hand side is −jᵀv_b (eq 29), here the projection of u − v_b.
 #pragma once
 #include <vector>
 
@@ -16,9 +18,18 @@ namespace apiclab::eol {
 
 template <class T, int D>
 struct PlaneConstraint {
-  Vec<T, D> point, normal;  // normal into the free side
+  Vec<T, D> point, normal;  // normal into the free side; point at the step's time
   BoundaryCondition condition;
+  Vec<T, D> velocity = Vec<T, D>::Zero();  // the plane's (walls: zero)
+  Vec<T, D> start = Vec<T, D>::Zero();     // point at time 0
 };
+
+// Places the moving planes at time t: point = start + t velocity.
+template <class T, int D>
+void move_planes(std::vector<PlaneConstraint<T, D>>& planes, double t) {
+  for (auto& c : planes)
+    if (!c.velocity.isZero(T(0))) c.point = c.start + T(t) * c.velocity;
+}
 
 // The domain's walls (non-periodic faces) and the scene's colliders.
 template <class T, int D>
@@ -41,7 +52,9 @@ std::vector<PlaneConstraint<T, D>> scene_planes(const SceneDesc& s) {
     for (int a = 0; a < D; ++a) {
       c.point[a] = T(col.point[a]);
       c.normal[a] = T(col.normal[a]);
+      c.velocity[a] = T(col.velocity[a]);
     }
+    c.start = c.point;
     c.condition = col.condition;
     planes.push_back(c);
   }
@@ -54,10 +67,10 @@ void apply_planes(Vec<T, D>& u, const Vec<T, D>& x,
                   const std::vector<PlaneConstraint<T, D>>& planes) {
   for (const auto& c : planes) {
     if ((x - c.point).dot(c.normal) > T(0)) continue;
-    const T un = u.dot(c.normal);
+    const T un = (u - c.velocity).dot(c.normal);  // relative to the plane
     switch (c.condition) {
       case BoundaryCondition::sticky:
-        u.setZero();
+        u = c.velocity;
         break;
       case BoundaryCondition::separate:
         if (un < T(0)) u -= un * c.normal;

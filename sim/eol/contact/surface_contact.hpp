@@ -1,8 +1,10 @@
 // The surface contact rows of Fan et al. 2013, Sec 3.5, against the scene's planes (walls and
 // colliders). Ω is the part of the object behind a plane; the velocity-level constraint is that
-// Ω does not grow (eq 27), d|Ω|/dt = ∫_{Γ∩Ω} v·n dΓ ≤ 0 (the plane is fixed, so only the object's
+// Ω does not grow (eq 27), d|Ω|/dt = ∫_{Γ∩Ω} v·n dΓ ≤ 0 (for a fixed plane only the object's
 // surface Γ moves Ω's boundary; n is Γ's outward normal). With the grid's multilinear shape
-// functions Φ_s, v = Σ_s Φ_s u_s and each row is j_s = ∫_{Γ∩Ω} Φ_s n dΓ (eq 28).
+// functions Φ_s, v = Σ_s Φ_s u_s and each row is j_s = ∫_{Γ∩Ω} Φ_s n dΓ (eq 28). A plane moving
+// with velocity v_b holds the velocity relative to it: jᵀ(u − v_b) ≤ 0, eq 29's right-hand side
+// −jᵀv_b (ContactRows::rate).
 //
 // Against a fixed plane with normal N the row keeps only the plane's direction of Γ's normal:
 // j_s = ∫_{Γ∩Ω} Φ_s (n·N) N dΓ, so jᵀu is the rate of |Ω| under the normal part (u·N) N of the
@@ -49,8 +51,12 @@ struct ContactRows {
   std::vector<std::uint8_t> bilateral;
   // Per row, its collision cell's key: plane, kind (0 normal, 1.. tangent) and cell coordinates.
   std::vector<std::array<std::int64_t, D + 1>> key;
+  // Per row, the rate jᵀv_b its jᵀu is held to (a moving plane's rows: the constraint is on the
+  // velocity relative to the plane); rows past its end hold 0, so it is empty while no body moves.
+  std::vector<T> rate;
   std::size_t rows() const { return bilateral.size(); }
   void clear() {
+    rate.clear();
     row.clear();
     node.clear();
     coeff.clear();
@@ -195,6 +201,7 @@ void assemble_surface_rows(const EulerianGrid<T, D>& g, const std::vector<Vec<T,
     const auto tangents = plane_tangents<T, D>(plane.normal);
     const bool sticky = plane.condition == BoundaryCondition::sticky;
     const bool bilateral = plane.condition != BoundaryCondition::separate;
+    const bool moving = !plane.velocity.isZero(T(0));
     for (std::size_t f = 0; f < simplex.size(); f += std::size_t(D)) {
       Piece<T, D> s;
       s.n = D;
@@ -244,6 +251,10 @@ void assemble_surface_rows(const EulerianGrid<T, D>& g, const std::vector<Vec<T,
               rows.row.push_back(r);
               rows.node.push_back(std::uint32_t(cw.index[std::size_t(corner)]));
               rows.coeff.push_back((w * phi) * dir);
+              if (moving) {
+                if (rows.rate.size() < rows.rows()) rows.rate.resize(rows.rows(), T(0));
+                rows.rate[r] += rows.coeff.back().dot(plane.velocity);
+              }
             }
           }
         });

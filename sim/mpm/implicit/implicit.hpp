@@ -67,13 +67,17 @@ void MpmSimulation<T, D>::implicit_begin(T dt) {
   imp_.constraints.clear();
   for (const auto& c : blocks_.box_constraints()) {
     if (grid_.mass[c.node] <= T(0)) continue;
-    if (c.condition == BoundaryCondition::separate && grid_.velocity[c.node].dot(c.normal) >= T(0))
+    if (c.condition == BoundaryCondition::separate &&
+        (grid_.velocity[c.node] - c.body).dot(c.normal) >= T(0))
       continue;
     imp_.constraints.push_back(c);
   }
   for (const auto& c : imp_.constraints) {  // d: makes ṽ = v + d satisfy the constraints
     Vec<T, D> v = grid_.velocity[c.node] + imp_.dv[c.node];
-    project_on_constraint(v, c);
+    if (c.condition == BoundaryCondition::sticky)  // the body's velocity, relative to it
+      v = c.body;
+    else
+      v -= (v - c.body).dot(c.normal) * c.normal;
     imp_.dv[c.node] = v - grid_.velocity[c.node];
   }
 }
