@@ -70,6 +70,21 @@ ObjectMotion motion(const EolObject<double, 2>& o) {
   return m;
 }
 
+// What both methods' head-on runs must show: contact happened without the disks (r = 0.15)
+// passing into each other beyond half a cell, they end apart and moving apart, momentum held to
+// 1 % and the energy never above its start beyond the round-off of the sums (1e-12 of E0).
+void expect_bounced_apart(long contact_steps, double max_overlap, double cell,
+                          const ObjectMotion& a, const ObjectMotion& b, double max_drift,
+                          double p_scale, double max_gain, double e0) {
+  EXPECT_GT(contact_steps, 0);
+  EXPECT_LE(max_overlap, 0.5 * cell);
+  EXPECT_LT(a.centre[0] + 0.15, b.centre[0] - 0.15);
+  EXPECT_LT(a.velocity[0], 0.0);
+  EXPECT_GT(b.velocity[0], 0.0);
+  EXPECT_LT(max_drift, 0.01 * p_scale);
+  EXPECT_LE(max_gain, 1e-12 * e0);
+}
+
 // The acceptance test: the disks meet at t ≈ 0.05 s, do not pass through each other (overlap
 // |Ω| at most half a cell's area per pair), bounce and move apart; momentum and energy hold.
 // Without the object rows (meeting_objects() returning none) they overlap by 0.3 m and swap.
@@ -125,15 +140,8 @@ TEST(EolObjectContactStep, TwoDisksThrownHeadOnBounceApart2D) {
   for (const auto& [rows, b] : by_rows)
     std::printf("[eol two disks] QP of %2d rows: %3.0f solves, %5.1f sweeps, %.2e s each\n", rows,
                 b[0], b[1] / b[0], b[2] / b[0]);
-  EXPECT_GT(contact_steps, 0);
-  EXPECT_LE(max_overlap, 0.5 * cell);
-  // Separated, moving apart, each centre's velocity reversed.
-  EXPECT_LT(a.centre[0] + 0.15, b.centre[0] - 0.15);
-  EXPECT_LT(a.velocity[0], 0.0);
-  EXPECT_GT(b.velocity[0], 0.0);
-  EXPECT_LT(max_drift, 0.01 * p_scale);
-  // Energy never above its start beyond the round-off of the sums (1e-12 of E0).
-  EXPECT_LE(max_gain, 1e-12 * start.total);
+  expect_bounced_apart(contact_steps, max_overlap, cell, a, b, max_drift, p_scale, max_gain,
+                       start.total);
   // The ledger holds the QP's loss and still adds up, every step to the round-off of its sums
   // (measured 2.8e-14 J, 4e-13 E0; over the run's 1,700 steps 1.7e-11 J); each step's loss
   // (over both objects together) is ≥ 0.
@@ -174,13 +182,8 @@ TEST(EolObjectContactStep, EulerianTwoDisksThrownHeadOnBounceApart2D) {
       "%.3e J, E at the end %.3e J\n",
       contact_steps, max_overlap / cell, a.centre[0], b.centre[0], a.velocity[0], b.velocity[0],
       max_drift, p_scale, max_gain, start.total, s.measure().total);
-  EXPECT_GT(contact_steps, 0);
-  EXPECT_LE(max_overlap, 0.5 * cell);
-  EXPECT_LT(a.centre[0] + 0.15, b.centre[0] - 0.15);
-  EXPECT_LT(a.velocity[0], 0.0);
-  EXPECT_GT(b.velocity[0], 0.0);
-  EXPECT_LT(max_drift, 0.01 * p_scale);
-  EXPECT_LE(max_gain, 1e-12 * start.total);
+  expect_bounced_apart(contact_steps, max_overlap, cell, a, b, max_drift, p_scale, max_gain,
+                       start.total);
 }
 
 // The pair and the floor in one QP: the disks thrown down and at each other meet each other and
