@@ -109,9 +109,23 @@ Eigen::Matrix<T, D * D, D * D> projected_stress_hessian(MaterialModel model, con
                                                                       const Mat<T, D>&, Lame<T>); \
   EXTERN template Eigen::Matrix<T, D * D, D * D> projected_stress_hessian<T, D>(                  \
       MaterialModel, const Mat<T, D>&, Lame<T>);
-APICLAB_STRESS_HESSIAN(extern, float, 2)
-APICLAB_STRESS_HESSIAN(extern, float, 3)
 APICLAB_STRESS_HESSIAN(extern, double, 2)
 APICLAB_STRESS_HESSIAN(extern, double, 3)
+
+// In float, ∂P/∂F is computed in double and rounded once: a second set of fixed-size SVD,
+// Cholesky and differential templates would double the file's compile for a less exact matrix.
+#define APICLAB_STRESS_HESSIAN_FLOAT(D)                                                            \
+  template <>                                                                                      \
+  Eigen::Matrix<float, D * D, D * D> stress_differential_matrix<float, D>(                         \
+      MaterialModel, const Mat<float, D>&, Lame<float>);                                           \
+  template <>                                                                                      \
+  Eigen::Matrix<float, D * D, D * D> stress_hessian<float, D>(MaterialModel, const Mat<float, D>&, \
+                                                              Lame<float>);                        \
+  template <>                                                                                      \
+  Eigen::Matrix<float, D * D, D * D> projected_stress_hessian<float, D>(                           \
+      MaterialModel, const Mat<float, D>&, Lame<float>);
+APICLAB_STRESS_HESSIAN_FLOAT(2)
+APICLAB_STRESS_HESSIAN_FLOAT(3)
+#undef APICLAB_STRESS_HESSIAN_FLOAT
 
 }  // namespace apiclab
