@@ -148,6 +148,7 @@ class EolSimulation final : public Simulation {
   void update_mass(EolObject<T, D>& o, bool after_extrapolation);
   void update_spatial(EolObject<T, D>& o) const;
   void keep_rest_mass(EolObject<T, D>& o);
+  void drop_sliver_masses(EolObject<T, D>& o) const;
   void forces(EolObject<T, D>& o);
   void forces_ahead();  // every object's, for the state now (forces_ready_)
   // step()'s hooks (Simulation::step; eol_time_step.hpp, eol_step.hpp).
