@@ -54,8 +54,9 @@ killed_and_resumed() {
     sleep 0.02
   done
   kill "-$signal" "$pid" 2>/dev/null
-  wait "$pid"
-  local killed=$?
+  local killed
+  { wait "$pid"; } 2>/dev/null
+  killed=$?
   run_cli run --resume "$b/ck"
   local frame
   frame=$(sed -n 's/.* at frame \([0-9]*\) .*/\1/p' "$ERR" | head -n 1)
