@@ -25,8 +25,9 @@ struct FrameTimes {
 // Calls on_frame(0) on the initial state, then, for f = 1..frames, advances every pane to
 // frame f's time and calls on_frame(f). Stops early when on_frame returns false. Throws
 // SceneError when a pane's first steps predict more than times.max_steps steps, or when a pane
-// takes more (app/run_length.hpp).
+// takes more (app/run_length.hpp). A resumed run (app/checkpoint.hpp) passes the last frame it
+// wrote as `resume_after`: the loop goes on from the panes' time to frame resume_after + 1.
 void run_frame_loop(const FrameTimes& times, Lockstep& panes, const Lockstep::OnRow& on_row,
-                    const std::function<bool(int frame)>& on_frame);
+                    const std::function<bool(int frame)>& on_frame, int resume_after = -1);
 
 }  // namespace apiclab

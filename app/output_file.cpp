@@ -65,6 +65,18 @@ RowFile::RowFile(std::string path) : path_(std::move(path)), fd_(open_for_writin
   if (fd_ < 0) throw WriteError(path_, last_error());
 }
 
+RowFile::RowFile(std::string path, std::size_t keep) : path_(std::move(path)), size_(keep) {
+  errno = 0;
+  fd_ = ::open(path_.c_str(), O_WRONLY | O_CLOEXEC);
+  if (fd_ < 0) throw WriteError(path_, last_error());
+  if (::ftruncate(fd_, off_t(keep)) != 0 || ::lseek(fd_, off_t(keep), SEEK_SET) < 0) {
+    const int error = last_error();
+    ::close(fd_);
+    fd_ = -1;
+    throw WriteError(path_, error);
+  }
+}
+
 RowFile::RowFile(RowFile&& other) noexcept
     : path_(std::move(other.path_)),
       fd_(std::exchange(other.fd_, -1)),

@@ -34,6 +34,9 @@ class RowFile {
  public:
   RowFile() = default;
   explicit RowFile(std::string path);  // truncates; WriteError when it cannot be created
+  // Continues an existing file after its first `keep` bytes (a resumed run: what follows them
+  // is cut off); WriteError when it cannot be opened or cut.
+  RowFile(std::string path, std::size_t keep);
   RowFile(RowFile&& other) noexcept;
   RowFile& operator=(RowFile&& other) noexcept;
   RowFile(const RowFile&) = delete;
@@ -41,6 +44,7 @@ class RowFile {
   ~RowFile();
 
   bool is_open() const { return fd_ >= 0; }
+  std::size_t size() const { return size_; }  // bytes of whole rows in the file
   const std::string& path() const { return path_; }
   // Writes `row` (its newline included); WriteError when any byte is not written.
   void write_row(const std::string& row);

@@ -59,13 +59,17 @@ class PvdSeries {
  public:
   explicit PvdSeries(std::string dir) : dir_(std::move(dir)) {}
   void add(double t, const std::string& file, int part = 0);  // file relative to DIR
- private:
-  std::string dir_;
   struct Entry {
     double t;
     int part;
     std::string file;
   };
+  // The files listed so far; a resumed run (app/checkpoint.hpp) lists them again.
+  const std::vector<Entry>& entries() const { return frames_; }
+  void restore(std::vector<Entry> entries) { frames_ = std::move(entries); }
+
+ private:
+  std::string dir_;
   std::vector<Entry> frames_;
 };
 
@@ -84,6 +88,7 @@ class ParticleDump {
   ParticleDump(std::string dir, std::vector<DumpFormat> formats)
       : dir_(std::move(dir)), formats_(std::move(formats)), series_(dir_) {}
   void write(const Simulation& sim, int frame);
+  PvdSeries& series() { return series_; }
 
  private:
   std::string dir_;

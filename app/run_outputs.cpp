@@ -90,6 +90,9 @@ FrameIndex::FrameIndex(const std::string& dir, const std::vector<std::string>& p
   out_.write_row(head + '\n');
 }
 
+FrameIndex::FrameIndex(const std::string& dir, std::size_t keep)
+    : out_((std::filesystem::path(dir) / "frames.csv").string(), keep) {}
+
 void FrameIndex::add(int frame, double t, const std::vector<long>& steps) {
   if (!out_.is_open()) return;
   std::ostringstream row;

@@ -37,7 +37,10 @@ class FrameIndex {
  public:
   FrameIndex() = default;
   explicit FrameIndex(const std::string& dir, const std::vector<std::string>& panes = {});
+  // A resumed run's index: DIR/frames.csv continued after its first `keep` bytes.
+  FrameIndex(const std::string& dir, std::size_t keep);
   bool open() const { return out_.is_open(); }
+  std::size_t size() const { return out_.size(); }
   void add(int frame, double t, const std::vector<long>& steps);
 
  private:

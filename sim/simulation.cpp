@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "sim/method_registry.hpp"
+#include "sim/state_io.hpp"
 
 namespace apiclab {
 
@@ -30,6 +31,21 @@ std::optional<Failure> Simulation::step(double t_limit, DiagnosticsRow* row) {
   if (row) *row = r;
   failure_ = check_step(r);
   return failure_;
+}
+
+void Simulation::save_state(StateWriter& w) const {
+  w.tag("simulation");
+  w.value(time_);
+  w.value(steps_);
+  save_family_state(w);
+}
+
+void Simulation::load_state(StateReader& r) {
+  r.tag("simulation");
+  r.value(time_);
+  r.value(steps_);
+  failure_.reset();
+  load_family_state(r);
 }
 
 FrameStep land_on_frame(const TimeDesc& tm, double dt, double to_frame) {

@@ -16,6 +16,8 @@
 namespace apiclab {
 
 class TransferControls;
+class StateWriter;
+class StateReader;
 
 class Simulation {
  public:
@@ -65,6 +67,13 @@ class Simulation {
   // Immutable copy of the state for drawing.
   virtual std::shared_ptr<Snapshot> snapshot() const = 0;
 
+  // Checkpoints (app/checkpoint.hpp): whether the family saves its state, and the state itself:
+  // time, steps and everything the next step reads, so that a solver made fresh from the same
+  // scene and loaded continues bit for bit. load_state throws StateError (sim/state_io.hpp).
+  virtual bool checkpoints() const { return false; }
+  void save_state(StateWriter& w) const;
+  void load_state(StateReader& r);
+
   // The particle-transfer controls, or nullptr for a family without particle transfers.
   virtual TransferControls* transfers() { return nullptr; }
   virtual const TransferControls* transfers() const { return nullptr; }
@@ -82,6 +91,10 @@ class Simulation {
   virtual void reached_frame_time() {}
   // The family's checks of the row (failure_at, energy_failure): the failure, or none.
   virtual std::optional<Failure> check_step(const DiagnosticsRow& row) const = 0;
+
+  // The family's part of save_state and load_state (after time and steps).
+  virtual void save_family_state(StateWriter&) const {}
+  virtual void load_family_state(StateReader&) {}
 
   // A snapshot holding what every family fills alike: dim, step, time, the scene's name,
   // domain, colliders and material names, and the failure.

@@ -5,6 +5,7 @@
 #include <array>
 #include <climits>
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <utility>
 #include <vector>
@@ -42,6 +43,7 @@ class DriftRule {
   bool angular_momentum_relative() const { return L0_ > 0; }
 
  private:
+  friend class RunSummary;  // its checkpoint
   static double norm(const std::array<double, 3>& a) {
     return std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
   }
@@ -78,6 +80,50 @@ class RunSummary {
   // Seconds inside the steps (DiagnosticsRow::wall_seconds), without I/O around them.
   double step_wall_seconds() const { return step_wall_seconds_; }
 
+  // Its state for a checkpoint (sim/state_io.hpp), so a resumed run's summary is the whole run's.
+  template <class Writer>
+  void save(Writer& w) const {
+    w.tag("summary");
+    save_row(w, drift_.first_);
+    w.value(drift_.E0_);
+    w.value(drift_.L0_);
+    save_row(w, last_);
+    w.value(steps_);
+    w.value(min_dt_);
+    w.value(max_dt_);
+    w.value(std::uint64_t(dt_bins_.size()));
+    for (const auto& [bin, entry] : dt_bins_) {
+      w.value(bin);
+      w.value(entry.first);
+      w.value(entry.second);
+    }
+    w.value(step_wall_seconds_);
+    w.value(max_energy_drift_);
+    w.value(max_angular_momentum_drift_);
+    w.value(unconverged_);
+  }
+  template <class Reader>
+  void load(Reader& r) {
+    r.tag("summary");
+    load_row(r, drift_.first_);
+    r.value(drift_.E0_);
+    r.value(drift_.L0_);
+    load_row(r, last_);
+    r.value(steps_);
+    r.value(min_dt_);
+    r.value(max_dt_);
+    dt_bins_.clear();
+    for (auto n = r.template value<std::uint64_t>(); n > 0; --n) {
+      const auto bin = r.template value<long long>();
+      const auto dt = r.template value<double>();
+      dt_bins_[bin] = {dt, r.template value<long>()};
+    }
+    r.value(step_wall_seconds_);
+    r.value(max_energy_drift_);
+    r.value(max_angular_momentum_drift_);
+    r.value(unconverged_);
+  }
+
   struct DtStats {
     double min = 0, median = 0, max = 0;
   };
@@ -102,6 +148,26 @@ class RunSummary {
  private:
   DriftRule drift_;
   DiagnosticsRow last_;
+  template <class Writer>
+  static void save_row(Writer& w, const DiagnosticsRow& r) {
+    for (double v : {r.t, r.dt, r.kinetic, r.kinetic_grid, r.potential, r.elastic, r.total, r.p[0],
+                     r.p[1], r.p[2], r.L[0], r.L[1], r.L[2], r.wall_seconds, r.newton_iters,
+                     r.cg_iters, r.residual, r.grid_nodes, r.grid_bytes})
+      w.value(v);
+    w.value(r.step);
+    w.value(std::uint8_t(r.converged));
+    w.text(r.dt_limit);
+  }
+  template <class Reader>
+  static void load_row(Reader& in, DiagnosticsRow& r) {
+    for (double* v : {&r.t, &r.dt, &r.kinetic, &r.kinetic_grid, &r.potential, &r.elastic, &r.total,
+                      &r.p[0], &r.p[1], &r.p[2], &r.L[0], &r.L[1], &r.L[2], &r.wall_seconds,
+                      &r.newton_iters, &r.cg_iters, &r.residual, &r.grid_nodes, &r.grid_bytes})
+      in.value(*v);
+    in.value(r.step);
+    r.converged = in.template value<std::uint8_t>() != 0;
+    r.dt_limit = in.text();
+  }
   void add_dt(double dt) {
     if (steps_ == 0 || dt < min_dt_) min_dt_ = dt;
     if (steps_ == 0 || dt > max_dt_) max_dt_ = dt;

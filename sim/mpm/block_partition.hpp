@@ -62,6 +62,14 @@ class BlockPartition {
     boundary.collect(grid, box_constraints_);
   }
 
+  // The sort's state for a checkpoint (sim/state_io.hpp): the drift since the last sort, the
+  // blocks, their colours and the active box, so the next step sorts (or not) and sums in the
+  // same order as a run never stopped. load stores the box on the grid again (all zero).
+  template <class Writer>
+  void save(Writer& w) const;
+  template <class Reader>
+  void load(Reader& r, Grid<T, D>& grid, const BoundaryNodes<T, D>& boundary);
+
   // The invariant above, checked against the current positions (which may have drifted since
   // the sort): blocks of one colour touch disjoint nodes, and every touched node lies in the
   // active box. Returns "" or what breaks it.
@@ -70,6 +78,8 @@ class BlockPartition {
  private:
   void set_active_box(Grid<T, D>& grid, const BoundaryNodes<T, D>& boundary, int block_cells,
                       const std::array<int, D>& first_block, const std::array<int, D>& last_block);
+  // Stores [box_lo_, box_hi_) on the grid, all zero, with its rows and constraints.
+  void store_box(Grid<T, D>& grid, const BoundaryNodes<T, D>& boundary);
 
   // Particles of block b are [block_start_[b], block_start_[b+1]). Blocks are numbered over the
   // particles' bounding box: block coordinate first_block_[a] + (b's digit on axis a) of the
@@ -205,15 +215,52 @@ void BlockPartition<T, D>::set_active_box(Grid<T, D>& grid, const BoundaryNodes<
     }
   }
   if (lo == box_lo_ && hi == box_hi_ && !box_rows_.empty()) return;
-  grid.store(lo, hi);
   box_lo_ = lo;
   box_hi_ = hi;
+  store_box(grid, boundary);
+}
+
+template <class T, int D>
+void BlockPartition<T, D>::store_box(Grid<T, D>& grid, const BoundaryNodes<T, D>& boundary) {
+  grid.store(box_lo_, box_hi_);
   box_rows_.clear();
   const std::size_t rows = grid.size() / std::size_t(std::max(1, grid.extent[0]));
   if (grid.size() > 0)
     for (std::size_t r = 0; r < rows; ++r)
       box_rows_.push_back({r * grid.stride[1], std::size_t(grid.extent[0])});
   boundary.collect(grid, box_constraints_);
+}
+
+template <class T, int D>
+template <class Writer>
+void BlockPartition<T, D>::save(Writer& w) const {
+  w.tag("blocks");
+  w.value(drift_since_sort_);
+  w.value(blocks_per_axis_);
+  w.value(first_block_);
+  w.value(box_lo_);
+  w.value(box_hi_);
+  w.value(std::uint8_t(!box_rows_.empty()));
+  w.array(block_start_);
+  w.value(std::uint64_t(color_blocks_.size()));
+  for (const auto& c : color_blocks_) w.array(c);
+}
+
+template <class T, int D>
+template <class Reader>
+void BlockPartition<T, D>::load(Reader& r, Grid<T, D>& grid, const BoundaryNodes<T, D>& boundary) {
+  r.tag("blocks");
+  r.value(drift_since_sort_);
+  r.value(blocks_per_axis_);
+  r.value(first_block_);
+  r.value(box_lo_);
+  r.value(box_hi_);
+  const bool stored = r.template value<std::uint8_t>() != 0;
+  r.array(block_start_);
+  color_blocks_.resize(std::size_t(std::min<std::uint64_t>(r.template value<std::uint64_t>(), 27)));
+  for (auto& c : color_blocks_) r.array(c);
+  box_rows_.clear();
+  if (stored) store_box(grid, boundary);
 }
 
 template <class T, int D>

@@ -69,6 +69,11 @@ class MpmSimulation final : public Simulation, public TransferControls {
   ParticleTable particle_table() const override;
   std::size_t grid_bytes() const override { return grid_.allocated_bytes(); }
   std::unique_ptr<ReferenceRun> reference_run() const override;
+  bool checkpoints() const override { return true; }
+
+ protected:
+  void save_family_state(StateWriter& w) const override;  // sim/mpm/mpm_checkpoint.hpp
+  void load_family_state(StateReader& r) override;
 
  private:
   // Tests, the round-trip probe and the implicit tests drive the phases through these

@@ -4,6 +4,7 @@
 #include "sim/mpm/g2p.hpp"
 #include "sim/mpm/grid_update.hpp"
 #include "sim/mpm/implicit/implicit.hpp"
+#include "sim/mpm/mpm_checkpoint.hpp"
 #include "sim/mpm/mpm_measure.hpp"
 #include "sim/mpm/mpm_output.hpp"
 #include "sim/mpm/mpm_setup.hpp"
