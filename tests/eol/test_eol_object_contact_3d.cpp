@@ -213,7 +213,7 @@ std::vector<V3> moved(const Ball& b, const Affine& v, double s) {
 TEST(EolObjectContact3D, RowsAreTheRateOfTheDiscreteOverlap3D) {
   std::mt19937 rng(17);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
-  const double dx = 0.06;
+  const double dx = 0.08;
   M3 GA = M3::Identity(), GB = M3::Identity();
   GA(0, 1) = 0.03;
   GA(2, 2) = 1.04;
@@ -328,12 +328,12 @@ std::unique_ptr<EolSimulation<double, D>> two_balls(const std::string& file,
   nlohmann::json scene = nlohmann::json::parse(in);
   scene["solver"]["method"] = method;
   scene["domain"]["dx"] = dx;
-  scene["domain"]["max"] = D == 2 ? nlohmann::json{1.2, 0.5} : nlohmann::json{1.2, 0.5, 0.5};
+  scene["domain"]["max"] = D == 2 ? nlohmann::json{1.2, 0.7} : nlohmann::json{1.2, 0.7, 0.7};
   scene["time"]["end"] = end;
   for (int k = 0; k < 2; ++k) {  // 0.04 m apart, meeting at t = 0.02 s
     nlohmann::json& c = scene["objects"][k]["shape"]["center"];
     c[0] = k ? 0.77 : 0.43;
-    for (int a = 1; a < D; ++a) c[a] = 0.25;
+    for (int a = 1; a < D; ++a) c[a] = 0.35;
   }
   std::unique_ptr<Simulation> sim = make_simulation(parse_scene_text(scene.dump(), file));
   auto* eol = dynamic_cast<EolSimulation<double, D>*>(sim.get());
@@ -364,7 +364,6 @@ void expect_two_balls_bounce(const std::string& file, const std::string& method,
                              double end, double gain_bound = 1e-12) {
   auto sim = two_balls<D>(file, method, dx, end);
   ASSERT_TRUE(sim);
-  sim->record_energy_ledger(true);
   const EolSimulation<double, D>& s = *sim;
   const DiagnosticsRow start = s.measure();
   double p_scale = 0;
@@ -376,11 +375,18 @@ void expect_two_balls_bounce(const std::string& file, const std::string& method,
   const double cell = std::pow(dx, D);
   double max_overlap = 0, max_gain = -1e300, max_drift = 0;
   long contact_steps = 0, steps = 0;
+  int max_rows = 0, max_sweeps = 0;
+  double qp_seconds = 0;
   const auto failure = sim->advance_to(end, [&](const DiagnosticsRow& row) {
     ++steps;
     for (const auto& pair : s.last_object_pairs())
       max_overlap = std::max(max_overlap, double(pair.volume));
-    contact_steps += !s.last_object_pairs().empty();
+    if (!s.last_object_pairs().empty()) {
+      ++contact_steps;
+      max_rows = std::max(max_rows, s.last_contact_solve().rows);
+      max_sweeps = std::max(max_sweeps, s.last_contact_solve().sweeps);
+      qp_seconds += s.last_contact_solve().seconds;
+    }
     max_gain = std::max(max_gain, row.total - start.total);
     double drift = 0;
     for (int a = 0; a < D; ++a)
@@ -388,20 +394,15 @@ void expect_two_balls_bounce(const std::string& file, const std::string& method,
     max_drift = std::max(max_drift, std::sqrt(drift));
   });
   ASSERT_FALSE(failure) << failure->message;
-  const EnergyLedger& l = s.energy_ledger();
-  std::printf(
-      "[eol two balls %dD %s] ledger: QP and impulse loss %.3e J (smallest step %+.1e), "
-      "W_e + dPsi %+.3e J, transport dK %+.3e J\n",
-      D, method.c_str(), l.impulse_loss, l.min_step_impulse_loss, l.elastic_residual(),
-      l.transport_kinetic_change);
   const auto [xa, va] = centre_and_speed<D>(s.objects()[0]);
   const auto [xb, vb] = centre_and_speed<D>(s.objects()[1]);
   std::printf(
-      "[eol two balls %dD %s] dx %.4g, %ld steps, %ld with pair rows; max overlap %.3e "
+      "[eol two balls %dD %s] dx %.4g, %ld steps, %ld with pair rows (QP: up to %d rows, %d "
+      "sweeps, %.2e s in all); max overlap %.3e "
       "(%.4f cell); centres %.4f / %.4f m, velocities %+.4f / %+.4f m/s; momentum drift %.2e of "
       "%.3e; max (E - E0) %+.2e J of %.4e J\n",
-      D, method.c_str(), dx, steps, contact_steps, max_overlap, max_overlap / cell, xa, xb, va, vb,
-      max_drift, p_scale, max_gain, start.total);
+      D, method.c_str(), dx, steps, contact_steps, max_rows, max_sweeps, qp_seconds, max_overlap,
+      max_overlap / cell, xa, xb, va, vb, max_drift, p_scale, max_gain, start.total);
   EXPECT_GT(contact_steps, 0);
   EXPECT_LE(max_overlap, 0.5 * cell);
   EXPECT_LT(max_drift, 0.01 * p_scale);
@@ -412,15 +413,19 @@ void expect_two_balls_bounce(const std::string& file, const std::string& method,
 }
 
 TEST(EolTwoBalls, HeadOnBounceApart2D) {
-  expect_two_balls_bounce<2>("eol-two-balls.json", "eol", 0.025, 0.12);
+  expect_two_balls_bounce<2>("eol-two-balls.json", "eol", 0.025, 0.08);
 }
 
 TEST(EolTwoBalls, HeadOnBounceApart3D) {
-  expect_two_balls_bounce<3>("eol-two-balls-3d.json", "eol", 0.05, 0.12);
+  expect_two_balls_bounce<3>("eol-two-balls-3d.json", "eol", 0.05, 0.08);
 }
 
+// The Eulerian baseline, whose balls move through its grid: its energy rises above E₀ by
+// 2.4e-3 E₀ during the contact (the energy ledger puts it in the elastic forces' work W_e + ΔΨ,
+// about +9e-4 J over the contact, the advection of X compressing the material as in its drop,
+// eol.md, while the QP takes out about 1.8e-3 J), so its bound is 1e-2 E₀, not round-off.
 TEST(EolTwoBalls, EulerianHeadOnBounceApart3D) {
-  expect_two_balls_bounce<3>("eol-two-balls-3d.json", "eulerian", 0.05, 0.12);
+  expect_two_balls_bounce<3>("eol-two-balls-3d.json", "eulerian", 0.05, 0.08, 1e-2);
 }
 
 }  // namespace
