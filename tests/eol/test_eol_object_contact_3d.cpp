@@ -257,6 +257,32 @@ TEST(EolObjectContact3D, RowsAreTheRateOfTheDiscreteOverlap3D) {
       pairs[0].rows, A->surface.simplices(), B->surface.simplices(), pairs[0].volume, v0, worst);
 }
 
+// The overlap |Ω| of two placed ball meshes against the exact lens of the two spheres as the
+// grid (and the surface sampled at half its cell) refines: second order.
+TEST(EolObjectContact3D, OverlapConvergesToTheLens3D) {
+  const double r1 = 0.15, r2 = 0.12, d = 0.2;
+  const double lens = M_PI * std::pow(r1 + r2 - d, 2) *
+                      (d * d + 2 * d * r2 - 3 * r2 * r2 + 2 * d * r1 + 6 * r1 * r2 - 3 * r1 * r1) /
+                      (12 * d);
+  std::vector<double> h, err;
+  for (double dx : {0.06, 0.03, 0.015}) {
+    auto A = make_ball(r1, dx, V3(0.4, 0.5, 0.5), turn(V3(1, 1, 0), 0.2), M3::Identity());
+    auto B = make_ball(r2, dx, V3(0.4 + d, 0.5, 0.5), turn(V3(0, 1, 2), 0.9), M3::Identity());
+    ContactRows<double, 3> rows;
+    const auto pairs = assemble_object_rows<double>(
+        {A->object(0), B->object(std::uint32_t(A->grid.size()))}, dx, rows);
+    ASSERT_EQ(pairs.size(), 1u);
+    h.push_back(dx);
+    err.push_back(std::abs(pairs[0].volume - lens) / lens);
+  }
+  const double order = std::log(err[0] / err[2]) / std::log(h[0] / h[2]);
+  std::printf(
+      "[eol object contact 3d] lens %.6e, relative error at dx 0.06, 0.03, 0.015: %.2e "
+      "%.2e %.2e, order %.2f\n",
+      lens, err[0], err[1], err[2], order);
+  EXPECT_GT(order, 1.7);
+}
+
 // Two balls driven into each other, spinning, and down into a separate floor, one QP (eq 29):
 // J u ≤ 0, λ ≥ 0, λ (J u) = 0 and M (u − u*) + Jᵀλ = 0 to 1e-12 relative.
 TEST(EolObjectContact3D, OneQPOverTwoBallsAndAFloorSatisfiesKKT) {
