@@ -5,7 +5,7 @@
 //   extrapolation.
 // Each object has its own rigid frame and grid (eol). The pure-Eulerian baseline (eulerian) is
 // the same code with the frame locked to the world and each object's grid over the whole
-// domain. In 2D, objects that meet share one contact QP (eq 29) over their pair and plane rows.
+// domain. Objects that meet share one contact QP (eq 29) over their pair and plane rows.
 #pragma once
 #include <algorithm>
 #include <chrono>
@@ -129,7 +129,7 @@ class EolSimulation final : public Simulation {
   const ContactRows<T, D>& last_contact_rows() const { return contact_rows_; }
   const ContactSolveStats& last_contact_solve() const { return contact_stats_; }
   // The pairs of objects whose placed surfaces overlapped at the start of the last step, with
-  // |Ω| and their rows in last_contact_rows() (2D; empty when no pair overlapped).
+  // |Ω| and their rows in last_contact_rows() (empty when no pair overlapped).
   const std::vector<OverlapPair<T>>& last_object_pairs() const { return object_pairs_; }
   const EnergyLedger& last_step_ledger() const { return last_ledger_; }
 
@@ -163,7 +163,7 @@ class EolSimulation final : public Simulation {
   // sums (eq 23) in the same pass.
   SplitSums<D, 1> impulse_pass(EolObject<T, D>& o, T dt, bool impulse_done);
   void impulse_nodes(EolObject<T, D>& o, T dt);  // eq 16 for every node with mass, no rows
-  // Object–object contact (2D, surface rows; eol_contact.hpp): per object, whether its grid box
+  // Object–object contact (surface rows; eol_contact.hpp): per object, whether its material box
   // meets another's (all false: none can touch, the per-object step runs as it is).
   std::vector<char> meeting_objects() const;
   // The step's stages for the meeting objects together: impulse → one QP → split → transport.

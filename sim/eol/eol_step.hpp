@@ -1,6 +1,6 @@
 // One step of Algorithm 1 after the forces and Δt, per object: impulse and contact (eqs 16,
 // 27-29) → least-squares split (eqs 23-24) → q₁ += Δt q̇₁ → X and v advected by v* (eq 15) →
-// extrapolation and mass; then step()'s failure check. Objects whose grid boxes meet (2D) take
+// extrapolation and mass; then step()'s failure check. Objects whose material boxes meet take
 // the impulse first, then one contact QP together, then each its split and transport. The
 // skeleton is Simulation::step.
 #pragma once

@@ -472,6 +472,20 @@ if [ "$RC" -eq 0 ] && [ "$last_t" = "0.050000000000000003" ] && head -n 1 "$ECSV
 else
   nok "run eol-drop" "exit $RC, last t '$last_t', limit '$limit'" "$(head -c 400 "$ERR")"
 fi
+# The two-ball experiment runs under every family (a coarse cell, the balls 0.04 m apart so that
+# they touch within the run).
+for scene in eol-two-balls eol-two-balls-3d; do
+  for method in eol eulerian mpm; do
+    run_cli run $scene --set solver.method=$method --set domain.dx=0.05 --set 'objects.0.shape.center.0=0.78' \
+      --set 'objects.1.shape.center.0=1.12' --t-end 0.04 --csv "$TMP/$scene-$method.csv" --quiet
+    last_t=$(tail -n 1 "$TMP/$scene-$method.csv" 2>/dev/null | cut -d, -f2)
+    if [ "$RC" -eq 0 ] && [ "$last_t" = "0.040000000000000001" ]; then
+      ok "$scene runs under $method"
+    else
+      nok "$scene under $method" "exit $RC, last t '$last_t'" "$(head -c 400 "$ERR")"
+    fi
+  done
+done
 # An MPM scene's cfl rule (nu = 1, a particle Courant number) does not set EoL's elastic cap:
 # rotating-disk under eol blew up at t = 0.05 s with that nu (sim/eol/eol_time_step.hpp).
 RCSV="$TMP/disk-eol.csv"

@@ -50,24 +50,8 @@ void EolSimulation<T, D>::impulse_surface_contact(EolObject<T, D>& o, T dt) {
   contact_stats_ = contact_solver_.solve(contact_rows_, o.grid.mass, o.u);
 }
 
-// The world box of an object's grid (its 2^D corners through the frame).
-template <class T, int D>
-std::pair<Vec<T, D>, Vec<T, D>> grid_world_box(const EolObject<T, D>& o) {
-  const Mat<T, D> R = o.frame.rotation();
-  Vec<T, D> lo = Vec<T, D>::Constant(T(INFINITY)), hi = -lo;
-  for (int corner = 0; corner < (1 << D); ++corner) {
-    Vec<T, D> y = o.grid.origin;
-    for (int a = 0; a < D; ++a)
-      if (corner & (1 << a)) y[a] += o.grid.dx * T(o.grid.n[std::size_t(a)] - 1);
-    const Vec<T, D> x = R * y + o.frame.p;
-    lo = lo.cwiseMin(x);
-    hi = hi.cwiseMax(x);
-  }
-  return {lo, hi};
-}
-
-// The world box of an Eulerian object's material: its nodes with mass, two cells wider each side
-// (the surface, φ₀ = 0, lies within a cell of a node with mass, since mass fades over |φ₀| < Δx/2).
+// The world box of an object's material: its nodes with mass, two cells wider each side (the
+// surface, φ₀ = 0, lies within a cell of a node with mass, since mass fades over |φ₀| < Δx/2).
 template <class T, int D>
 std::pair<Vec<T, D>, Vec<T, D>> material_world_box(const EolObject<T, D>& o) {
   Vec<T, D> lo = Vec<T, D>::Constant(T(INFINITY)), hi = -lo;
@@ -80,17 +64,15 @@ std::pair<Vec<T, D>, Vec<T, D>> material_world_box(const EolObject<T, D>& o) {
   return {lo - margin, hi + margin};
 }
 
-// A surface lies inside its grid box (eol) or its material's box (eulerian, whose grids all
-// span the domain), so two objects whose boxes do not meet have no rows between them. Only in 2D
-// with surface rows (the pair rows are 2D).
+// A surface lies inside its material's box, so two objects whose boxes do not meet have no rows
+// between them (an eol grid's padding or the Eulerian grid's whole domain would meet far sooner).
+// Only with surface rows.
 template <class T, int D>
 std::vector<char> EolSimulation<T, D>::meeting_objects() const {
   const std::size_t count = objects_.size();
-  if (D != 2 || count < 2 || scene_.solver.eol.contact != EolSolverDesc::Contact::surface)
-    return {};
+  if (count < 2 || scene_.solver.eol.contact != EolSolverDesc::Contact::surface) return {};
   std::vector<std::pair<Vec<T, D>, Vec<T, D>>> box(count);
-  for (std::size_t k = 0; k < count; ++k)
-    box[k] = lagrangian_ ? grid_world_box(objects_[k]) : material_world_box(objects_[k]);
+  for (std::size_t k = 0; k < count; ++k) box[k] = material_world_box(objects_[k]);
   std::vector<char> meeting(count, 0);
   bool any = false;
   for (std::size_t a = 0; a < count; ++a)
@@ -110,42 +92,40 @@ std::vector<char> EolSimulation<T, D>::meeting_objects() const {
 // QP (global_contact.hpp); their u take the constrained velocities.
 template <class T, int D>
 void EolSimulation<T, D>::object_contact(const std::vector<char>& meeting) {
-  if constexpr (D == 2) {
-    std::vector<ContactObject<T, D>> bodies;
-    std::vector<ObjectVelocities<T, D>> views;
-    std::uint32_t offset = 0;
-    for (std::size_t k = 0; k < objects_.size(); ++k) {
-      if (!meeting[k]) continue;
-      EolObject<T, D>& o = objects_[k];
-      place_surface(o);
-      ContactObject<T, D> c;
-      c.grid = &o.grid;
-      c.y = &o.surface_y;
-      c.simplex = &o.surface.simplex;
-      c.R = o.frame.rotation();
-      c.p = o.frame.p;
-      c.node_offset = offset;
-      bodies.push_back(c);
-      views.push_back({&o.grid.mass, &o.u, offset});
-      offset += std::uint32_t(o.grid.size());
-    }
-    StageTimer timer{stages_.assembly};
-    const T cell = scene_.solver.eol.contact_cell > 0 ? T(scene_.solver.eol.contact_cell)
-                                                      : bodies.front().grid->dx;
-    contact_rows_.clear();
-    object_pairs_ = assemble_object_rows(bodies, cell, contact_rows_);
-    std::size_t b = 0;
-    for (std::size_t k = 0; k < objects_.size(); ++k) {
-      if (!meeting[k]) continue;
-      if (!planes_.empty() && may_touch_planes(objects_[k]))
-        append_plane_rows(bodies[b], planes_, cell, plane_scratch_, contact_rows_);
-      ++b;
-    }
-    const auto start = std::chrono::steady_clock::now();
-    contact_stats_ = global_solver_.solve(contact_rows_, views);
-    contact_stats_.seconds =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::vector<ContactObject<T, D>> bodies;
+  std::vector<ObjectVelocities<T, D>> views;
+  std::uint32_t offset = 0;
+  for (std::size_t k = 0; k < objects_.size(); ++k) {
+    if (!meeting[k]) continue;
+    EolObject<T, D>& o = objects_[k];
+    place_surface(o);
+    ContactObject<T, D> c;
+    c.grid = &o.grid;
+    c.y = &o.surface_y;
+    c.simplex = &o.surface.simplex;
+    c.R = o.frame.rotation();
+    c.p = o.frame.p;
+    c.node_offset = offset;
+    bodies.push_back(c);
+    views.push_back({&o.grid.mass, &o.u, offset});
+    offset += std::uint32_t(o.grid.size());
   }
+  StageTimer timer{stages_.assembly};
+  const T cell = scene_.solver.eol.contact_cell > 0 ? T(scene_.solver.eol.contact_cell)
+                                                    : bodies.front().grid->dx;
+  contact_rows_.clear();
+  object_pairs_ = assemble_object_rows(bodies, cell, contact_rows_);
+  std::size_t b = 0;
+  for (std::size_t k = 0; k < objects_.size(); ++k) {
+    if (!meeting[k]) continue;
+    if (!planes_.empty() && may_touch_planes(objects_[k]))
+      append_plane_rows(bodies[b], planes_, cell, plane_scratch_, contact_rows_);
+    ++b;
+  }
+  const auto start = std::chrono::steady_clock::now();
+  contact_stats_ = global_solver_.solve(contact_rows_, views);
+  contact_stats_.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 }  // namespace apiclab::eol

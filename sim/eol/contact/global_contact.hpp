@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "sim/eol/contact/contact_qp.hpp"
-#include "sim/eol/contact/object_contact.hpp"
+#include "sim/eol/contact/object_contact_3d.hpp"
 
 namespace apiclab::eol {
 

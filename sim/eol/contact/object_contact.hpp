@@ -18,7 +18,8 @@
 // parts are cut at A's grid lines and integrated exactly as surface_contact.hpp does (Φ_s is
 // quadratic along a segment in one cell: 2-point Gauss). Detection: B's segments in a uniform grid
 // over B's box (hand-written: a 40-line bucket grid over tens to thousands of segments; a BVH or
-// CGAL's box intersection would add a dependency for no gain at this size). 2D (polygons) for now.
+// CGAL's box intersection would add a dependency for no gain at this size). Triangle meshes (3D):
+// object_contact_3d.hpp.
 #pragma once
 #include <algorithm>
 #include <array>
@@ -149,6 +150,16 @@ class SegmentGrid {
   T h_ = T(1);
   std::array<int, 2> n_{};
   std::vector<std::uint32_t> start_, item_;
+};
+
+// The bucket grid over one object's world surface: SegmentGrid (2D), TriangleGrid (3D,
+// object_contact_3d.hpp).
+template <class T, int D>
+struct SurfaceIndexOf;
+
+template <class T>
+struct SurfaceIndexOf<T, 2> {
+  using type = SegmentGrid<T>;
 };
 
 namespace object_contact_detail {
@@ -286,23 +297,35 @@ void append_side_rows(const ContactObject<T, 2>& A, const std::vector<Vec<T, 2>>
 // Appends the unilateral rows (jᵀu ≤ 0) of every overlapping pair of `objects` to `rows`, one
 // per pair and collision cell of size `cell`; their keys are (−1 − pair index, cell), apart
 // from the planes' (surface_contact.hpp's keys start at 0). Returns the overlapping pairs.
-template <class T>
-std::vector<OverlapPair<T>> assemble_object_rows(const std::vector<ContactObject<T, 2>>& objects,
-                                                 T cell, ContactRows<T, 2>& rows) {
+template <class T, int D>
+std::vector<OverlapPair<T>> assemble_object_rows(const std::vector<ContactObject<T, D>>& objects,
+                                                 T cell, ContactRows<T, D>& rows) {
   const std::size_t count = objects.size();
-  std::vector<std::vector<Vec<T, 2>>> x(count);
-  std::vector<SegmentGrid<T>> grids(count);
+  std::vector<std::vector<Vec<T, D>>> x(count);
+  std::vector<std::pair<Vec<T, D>, Vec<T, D>>> box(count);  // each surface's world box
   for (std::size_t k = 0; k < count; ++k) {
     x[k].resize(objects[k].y->size());
-    for (std::size_t v = 0; v < x[k].size(); ++v) x[k][v] = objects[k].world(v);
-    grids[k].build(x[k], *objects[k].simplex);
+    box[k] = {Vec<T, D>::Constant(T(INFINITY)), Vec<T, D>::Constant(-T(INFINITY))};
+    for (std::size_t v = 0; v < x[k].size(); ++v) {
+      x[k][v] = objects[k].world(v);
+      box[k].first = box[k].first.cwiseMin(x[k][v]);
+      box[k].second = box[k].second.cwiseMax(x[k][v]);
+    }
   }
+  // The bucket grids only of surfaces whose boxes meet another's.
+  std::vector<typename SurfaceIndexOf<T, D>::type> grids(count);
+  std::vector<char> built(count, 0);
+  auto grid = [&](std::size_t k) -> const typename SurfaceIndexOf<T, D>::type& {
+    if (!built[k]) grids[k].build(x[k], *objects[k].simplex);
+    built[k] = 1;
+    return grids[k];
+  };
   std::vector<OverlapPair<T>> pairs;
-  std::map<std::array<std::int64_t, 3>, std::uint32_t> row_of;
+  std::map<std::array<std::int64_t, D + 1>, std::uint32_t> row_of;
   for (std::size_t a = 0; a < count; ++a)
     for (std::size_t b = a + 1; b < count; ++b) {
-      const auto &ga = grids[a], &gb = grids[b];
-      if ((ga.hi().array() < gb.lo().array()).any() || (gb.hi().array() < ga.lo().array()).any())
+      if ((box[a].second.array() < box[b].first.array()).any() ||
+          (box[b].second.array() < box[a].first.array()).any())
         continue;
       OverlapPair<T> pair;
       pair.a = int(a);
@@ -310,8 +333,8 @@ std::vector<OverlapPair<T>> assemble_object_rows(const std::vector<ContactObject
       pair.first_row = std::uint32_t(rows.rows());
       const std::int64_t key = -1 - std::int64_t(a * count + b);
       row_of.clear();
-      append_side_rows(objects[a], x[a], gb, true, key, cell, row_of, rows, pair.volume);
-      append_side_rows(objects[b], x[b], ga, false, key, cell, row_of, rows, pair.volume);
+      append_side_rows(objects[a], x[a], grid(b), true, key, cell, row_of, rows, pair.volume);
+      append_side_rows(objects[b], x[b], grid(a), false, key, cell, row_of, rows, pair.volume);
       pair.rows = std::uint32_t(rows.rows()) - pair.first_row;
       if (pair.rows > 0) pairs.push_back(pair);
     }
