@@ -354,13 +354,14 @@ TEST(Simulation, TurningBoxCarriesTheParticlesItHolds) {
   double worst = 0;
   std::size_t held = 0;
   for (int step = 0; step < 5; ++step) {
-    const auto x0 = MpmProbe(sim).particles().x;
     const double t1 = sim.time() + 0.001;
     const ColliderPose box = collider_pose(scene.colliders[0], 2, t1);
     sim.step_fixed(0.001);
+    // The step sorts the particles: x_p^n = x_p^{n+1} − Δt v_p^{n+1} (eq 39 moves x by v_p).
+    const auto& x = MpmProbe(sim).particles().x;
     const auto& v = MpmProbe(sim).particles().v;
-    for (std::size_t p = 0; p < x0.size(); ++p) {
-      const Vec3d at{x0[p][0], x0[p][1], 0};
+    for (std::size_t p = 0; p < x.size(); ++p) {
+      const Vec3d at{x[p][0] - 0.001 * v[p][0], x[p][1] - 0.001 * v[p][1], 0};
       if (box.distance(at).phi > -2.2 * dx) continue;  // the stencil reaches outside
       const Vec3d vb = box.velocity_at(at);
       worst = std::max(worst, std::hypot(v[p][0] - vb[0], v[p][1] - vb[1]));

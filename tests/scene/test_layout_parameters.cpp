@@ -40,7 +40,8 @@ const std::vector<std::string> kLayoutScenes = {
                        "angular_velocity": 0.5}]})",
     R"({"dim": 2, "domain": {"min": [0, 0], "max": [1, 1], "dx": 0.05},
         "materials": [{"E": 1000, "nu": 0.3, "rho": 2}],
-        "objects": [{"shape": {"type": "ball", "center": [0.5, 0.5], "radius": 0.2}}],
+        "objects": [{"shape": {"type": "ball", "center": [0.5, 0.5], "radius": 0.2},
+                     "material": 0}],
         "colliders": [{"type": "rod", "center": [0.5, 0.1], "radius": 0.02, "length": 0.3,
                        "path": [[0, 0.5, 0.1], [1, 0.6, 0.2, 30]]}]})",
     R"({"dim": 2, "domain": {"min": [0, 0], "max": [1, 1], "dx": 0.05},
@@ -221,7 +222,8 @@ TEST(LayoutParameters, EveryKeyIsReadListedDefaultedAndRefusedAlike) {
 std::string collider_scene(const std::string& collider) {
   return R"({"dim": 2, "domain": {"min": [0, 0], "max": [1, 1], "dx": 0.05},
              "materials": [{"E": 1000, "nu": 0.3, "rho": 2}],
-             "objects": [{"shape": {"type": "ball", "center": [0.5, 0.5], "radius": 0.2}}],
+             "objects": [{"shape": {"type": "ball", "center": [0.5, 0.5], "radius": 0.2},
+                          "material": 0}],
              "colliders": [)" +
          collider + "]}";
 }

@@ -5,8 +5,11 @@
 // from the surface by h²/(8r) over a simplex of size h), and its rows are those of eq 28 with
 // that plane's normal N: j_s = ∫_{Γ∩Ω} Φ_s (n·N) N dΓ. The body's velocity differs from point to
 // point, v_body(x) = ν + ω × (x − c), so each quadrature point adds its own share to eq 29's
-// right-hand side: the row's rate jᵀv_body = Σ w Φ_s (n·N) N·v_body(x_q). Rows are grouped by
-// the world cell (of the collision grid's size) a quadrature point falls in.
+// right-hand side: the row's rate jᵀv_body = Σ w Φ_s (n·N) N·v_body(x_q). Rows are grouped as a
+// plane's are, by collision cells along the surface: N rounded in the body's frame to a lattice
+// of directions (a box's face normals exactly), then the cell of the quadrature point along
+// that direction's tangents, measured from the body's center. Cells of the world grid would
+// cut a face at every grid line it crosses and leave slivers of rows.
 #pragma once
 #include <cmath>
 #include <vector>
@@ -127,6 +130,22 @@ void assemble_body_rows(const EulerianGrid<T, D>& g, const std::vector<Vec<T, D>
       n = R * n.normalized();
       n = n.dot(N) * N;
       const auto tangents = plane_tangents<T, D>(N);
+      // The row group's direction: N in the body's frame rounded to eighths, back in world.
+      std::int64_t direction = 0;
+      Vec3d rounded{0, 0, 0};
+      for (int a = 0; a < 3; ++a) {
+        const double nb = near.normal[0] * body.axes[std::size_t(a)][0] +
+                          near.normal[1] * body.axes[std::size_t(a)][1] +
+                          near.normal[2] * body.axes[std::size_t(a)][2];
+        const double q8 = std::round(8 * nb);
+        direction = direction * 17 + std::int64_t(q8) + 8;
+        for (int b = 0; b < 3; ++b)
+          rounded[std::size_t(b)] += q8 * body.axes[std::size_t(a)][std::size_t(b)];
+      }
+      Vec<T, D> group = from_vec3d<T, D>(rounded);
+      group = group.norm() > T(0) ? Vec<T, D>(group.normalized()) : N;
+      const auto along = plane_tangents<T, D>(group);
+      const Vec<T, D> center = from_vec3d<T, D>(body.center);
       Piece<T, D> back;
       contact_detail::clip(s, ny, c, back);
       if (back.n == 0) continue;
@@ -135,8 +154,10 @@ void assemble_body_rows(const EulerianGrid<T, D>& g, const std::vector<Vec<T, D>
           const Vec<T, D> x = R * at + p;
           const Vec<T, D> vb = from_vec3d<T, D>(body.velocity_at(to_vec3d(x)));
           std::array<std::int64_t, D + 1> key;
-          for (int a = 0; a < D; ++a)
-            key[std::size_t(a + 1)] = std::int64_t(std::floor(x[a] / cell));
+          for (int a = 0; a + 1 < D; ++a)
+            key[std::size_t(a + 1)] =
+                std::int64_t(std::floor((x - center).dot(along[std::size_t(a)]) / cell));
+          key[D] = direction;
           const auto cw = g.cell_weights(at);
           for (int kind = 0; kind < (sticky ? D : 1); ++kind) {
             key[0] = -1 - std::int64_t(k) * 8 - kind;
