@@ -220,7 +220,8 @@ void Renderer::draw_scene(const Snapshot& s, const Camera& camera, Rect rect,
   if (style.surface && !s.surfaces.empty()) add_surface_layers(s, camera, style.line_px);
   if (style.box) add_box(box, s.dim, style.line_px);
   if (style.colliders)
-    for (const ColliderDesc& c : s.colliders) add_collider(c, box, s.dim, style.line_px, ppu);
+    for (const ColliderDesc& c : s.colliders)
+      add_collider(c, s.time, box, s.dim, style.line_px, ppu);
   draw_fills(scene_fills_, view_projection);
   draw_segments(scene_lines_, camera.view, camera.projection, viewport);
   if ((style.vectors || style.surface_vectors) && style.vector_scale > 0)
@@ -256,9 +257,11 @@ void Renderer::add_box(const Box3& box, int dim, float line_px) {
         scene_lines_.push_back({corner(i), corner(i | (1 << axis)), kBox, line_px, 0, 0});
 }
 
-void Renderer::add_collider(const ColliderDesc& c, const Box3& box, int dim, float line_px,
-                            float pixels_per_unit) {
-  Vec3 p = to_vec3(c.point), n = normalize(to_vec3(c.normal));
+void Renderer::add_collider(const ColliderDesc& c, double time, const Box3& box, int dim,
+                            float line_px, float pixels_per_unit) {
+  const ColliderPose pose = collider_pose(c, dim, time);
+  if (pose.type != ColliderType::plane) return add_body(pose, dim, line_px);
+  Vec3 p = to_vec3(pose.center), n = normalize(to_vec3(pose.normal));
   if (dim == 2) p.z = 0, n.z = 0;
   const std::vector<Vec3> poly = plane_in_box(p, n, box, dim);
   if (poly.size() < 2) return;
@@ -292,6 +295,69 @@ void Renderer::add_collider(const ColliderDesc& c, const Box3& box, int dim, flo
     scene_fills_.insert(scene_fills_.end(), {{centre, fill}, {a, fill}, {b, fill}});
     scene_lines_.push_back({a, b, kCollider, 1.2f * line_px, 0, 0});
   }
+}
+
+// A box or rod: its outline (2D, filled translucent) or its edges and rings (3D).
+void Renderer::add_body(const ColliderPose& body, int dim, float line_px) {
+  const Vec3 c = to_vec3(body.center);
+  const Vec3 e[3] = {to_vec3(body.axes[0]), to_vec3(body.axes[1]), to_vec3(body.axes[2])};
+  const float h[3] = {float(body.half[0]), float(body.half[1]), float(body.half[2])};
+  const Rgba8 fill{90, 90, 90, 90};
+  auto outline = [&](const std::vector<Vec3>& poly, bool filled) {
+    for (std::size_t k = 0; k < poly.size(); ++k) {
+      const Vec3 &a = poly[k], &b = poly[(k + 1) % poly.size()];
+      if (filled) scene_fills_.insert(scene_fills_.end(), {{c, fill}, {a, fill}, {b, fill}});
+      scene_lines_.push_back({a, b, kCollider, 1.6f * line_px, 0, 0});
+    }
+  };
+  constexpr int kArc = 16;  // segments per half circle
+  constexpr float kPi = 3.14159265f;
+  if (body.type == ColliderType::box) {
+    if (dim == 2) {
+      outline({c - e[0] * h[0] - e[1] * h[1], c + e[0] * h[0] - e[1] * h[1],
+               c + e[0] * h[0] + e[1] * h[1], c - e[0] * h[0] + e[1] * h[1]},
+              true);
+      return;
+    }
+    for (int i = 0; i < 8; ++i)
+      for (int a = 0; a < 3; ++a) {
+        if (i & (1 << a)) continue;
+        Vec3 p = c;
+        for (int b = 0; b < 3; ++b) p = p + e[b] * (h[b] * ((i & (1 << b)) ? 1.0f : -1.0f));
+        scene_lines_.push_back({p, p + e[a] * (2 * h[a]), kCollider, 1.2f * line_px, 0, 0});
+      }
+    return;
+  }
+  // A rod: half circles of radius r about the segment's ends, joined by its sides.
+  const float half = h[0], r = h[1];
+  auto ring = [&](Vec3 at, Vec3 u, Vec3 v, float from, float turn) {
+    std::vector<Vec3> pts;
+    for (int k = 0; k <= kArc; ++k) {
+      const float t = from + turn * float(k) / kArc;
+      pts.push_back(at + u * (r * std::cos(t)) + v * (r * std::sin(t)));
+    }
+    return pts;
+  };
+  if (dim == 2) {
+    std::vector<Vec3> poly = ring(c + e[0] * half, e[0], e[1], -kPi / 2, kPi);
+    for (const Vec3& q : ring(c - e[0] * half, e[0], e[1], kPi / 2, kPi)) poly.push_back(q);
+    outline(poly, true);
+    return;
+  }
+  for (float end : {-1.0f, 1.0f}) {
+    const Vec3 at = c + e[0] * (end * half);
+    const std::vector<Vec3> circle = ring(at, e[1], e[2], 0, 2 * kPi);
+    for (std::size_t k = 0; k + 1 < circle.size(); ++k)
+      scene_lines_.push_back({circle[k], circle[k + 1], kCollider, 1.2f * line_px, 0, 0});
+    for (const Vec3& side : {e[1], e[2]}) {
+      const std::vector<Vec3> cap = ring(at, side, e[0] * end, 0, kPi);
+      for (std::size_t k = 0; k + 1 < cap.size(); ++k)
+        scene_lines_.push_back({cap[k], cap[k + 1], kCollider, 1.2f * line_px, 0, 0});
+    }
+  }
+  for (const Vec3& side : {e[1], e[2], e[1] * -1.0f, e[2] * -1.0f})
+    scene_lines_.push_back(
+        {c - e[0] * half + side * r, c + e[0] * half + side * r, kCollider, 1.2f * line_px, 0, 0});
 }
 
 void Renderer::draw_arrows(const Snapshot& s, const Camera& camera, Vec2 viewport,

@@ -14,6 +14,7 @@
 #include "render/math.hpp"
 #include "render/snapshot_stats.hpp"
 #include "render/text.hpp"
+#include "sim/geometry/collider_body.hpp"
 #include "sim/snapshot.hpp"
 
 namespace apiclab::render {
@@ -100,8 +101,10 @@ class Renderer {
   // Scene geometry into scene_lines_ / scene_fills_.
   void add_grid(const Box3& box, float dx, int axis_a, int axis_b, float line_px);
   void add_box(const Box3& box, int dim, float line_px);
-  void add_collider(const ColliderDesc& c, const Box3& box, int dim, float line_px,
+  // A collider where it is at `time` (sim/geometry/collider_body.hpp).
+  void add_collider(const ColliderDesc& c, double time, const Box3& box, int dim, float line_px,
                     float pixels_per_unit);
+  void add_body(const ColliderPose& body, int dim, float line_px);
   // The snapshot's grid layers into scene_lines_ / scene_fills_ (render/grid_layers.cpp).
   void add_grid_layers(const Snapshot& s, const Camera& camera, float line_px,
                        float pixels_per_unit, const std::string& field);

@@ -67,8 +67,7 @@ std::shared_ptr<Snapshot> Simulation::scene_snapshot() const {
   s->domain_min = sc.domain.min;
   s->domain_max = sc.domain.max;
   s->dx = sc.domain.dx;
-  s->colliders = sc.colliders;
-  for (ColliderDesc& c : s->colliders) c.point = c.point_at(time_);  // where it is now
+  s->colliders = sc.colliders;  // as the scene gives them: the renderer places them at `time`
   for (const auto& m : sc.materials) s->material_names.push_back(m.name);
   s->failure = failure_;
   return s;

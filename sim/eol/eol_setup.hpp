@@ -16,6 +16,8 @@ EolSimulation<T, D>::EolSimulation(const SceneDesc& scene, bool lagrangian)
   if (scene.dim != D) throw SceneError(scene.source + ": key 'dim': internal dimension mismatch");
   add_materials();
   planes_ = scene_planes<T, D>(scene);
+  bodies_ = scene_bodies(scene);
+  place_bodies(bodies_, D, 0, body_poses_);
   const EolSolverDesc& e = scene.solver.eol;
   const double cell = lagrangian && e.cell > 0 ? e.cell : scene.domain.dx;
   for (int o = 0; o < int(scene.objects.size()); ++o)

@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "sim/eol/contact/body_contact.hpp"
 #include "sim/eol/contact/contact_qp.hpp"
 #include "sim/eol/contact/global_contact.hpp"
 #include "sim/eol/contact/impulse_solve.hpp"
@@ -172,7 +173,7 @@ class EolSimulation final : public Simulation {
   void split(EolObject<T, D>& o, const SplitSums<D, 1>& sums, T dt);
   void advect(EolObject<T, D>& o, T dt);
   void impulse_surface_contact(EolObject<T, D>& o, T dt);
-  bool may_touch_planes(const EolObject<T, D>& o) const;
+  bool may_touch_planes(const EolObject<T, D>& o) const;  // or a body
   std::vector<Vec<T, D>> placed_surface(const EolObject<T, D>& o) const;
   bool parallel() const { return parallel_; }
   // The energy ledger's terms (eol_ledger.hpp).
@@ -208,6 +209,8 @@ class EolSimulation final : public Simulation {
   std::vector<ElasticMaterial<T>> materials_;
   std::vector<T> density_;  // ρ₀ per material
   std::vector<PlaneConstraint<T, D>> planes_;
+  std::vector<ColliderDesc> bodies_;      // boxes, rods, turning planes (body_contact.hpp)
+  std::vector<ColliderPose> body_poses_;  // where they are at the step's start
   ContactRows<T, D> contact_rows_;
   ContactSolver<T, D> contact_solver_;
   ContactSolveStats contact_stats_;

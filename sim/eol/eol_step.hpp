@@ -29,6 +29,7 @@ void EolSimulation<T, D>::finish_step(double dt) {
   ledger.steps = 1;
   object_pairs_.clear();
   move_planes(planes_, time_);  // moving colliders where they are at the step's start
+  if (!bodies_.empty()) place_bodies(bodies_, D, time_, body_poses_);
   const std::vector<char> meeting = meeting_objects();
   for (std::size_t k = 0; k < objects_.size(); ++k)
     if (meeting.empty() || !meeting[k]) finish_object(objects_[k], dt, ledger);
@@ -63,7 +64,8 @@ template <class T, int D>
 SplitSums<D, 1> EolSimulation<T, D>::impulse(EolObject<T, D>& o, T dt) {
   StageTimer timer{stages_.assembly};
   const bool surface = scene_.solver.eol.contact == EolSolverDesc::Contact::surface;
-  const bool surface_rows = surface && !planes_.empty() && may_touch_planes(o);
+  const bool surface_rows =
+      surface && (!planes_.empty() || !body_poses_.empty()) && may_touch_planes(o);
   if (surface_rows) impulse_surface_contact(o, dt);
   return impulse_pass(o, dt, surface_rows);
 }
@@ -77,8 +79,10 @@ SplitSums<D, 1> EolSimulation<T, D>::impulse_pass(EolObject<T, D>& o, T dt, bool
                          [&](SplitSums<D, 1>& acc, std::size_t i) {
                            const T m = o.grid.mass[i];
                            if (!(m > T(0))) return;
-                           if (!impulse_done)
+                           if (!impulse_done) {
                              impulse_update(o.u[i], o.force[i], m, o.x[i], node_planes, dt);
+                             if (!surface) apply_bodies(o.u[i], o.x[i], body_poses_);
+                           }
                            if (lagrangian_) acc.template add<T>(o.r[i], {o.u[i]});
                          });
 }

@@ -1,24 +1,27 @@
 // The scene's boundary conditions on grid nodes: domain walls (nodes on or beyond a non-periodic
-// face) and collider planes (nodes behind the plane). Evaluated for the stored region only, each
-// time the active box moves (and every step while a collider moves), so a large domain costs
-// nothing for the nodes no particle reaches.
+// face) and colliders (nodes behind a plane, inside a box or rod; sim/geometry/collider_body.hpp).
+// Evaluated for the stored region only, each time the active box moves (and every step while a
+// collider moves), so a large domain costs nothing for the nodes no particle reaches.
 #pragma once
+#include <algorithm>
 #include <array>
 #include <vector>
 
+#include "sim/geometry/collider_body.hpp"
 #include "sim/mpm/grid.hpp"
 #include "sim/scene/scene.hpp"
 
 namespace apiclab {
 
-// A grid node with a boundary condition: a domain wall or a collider plane. The condition holds
-// on the node's velocity relative to the body's (zero for walls and fixed planes).
+// A grid node with a boundary condition: a domain wall or a collider. The condition holds on the
+// node's velocity relative to the body's velocity at the node, ν + ω × (x − c) (zero for walls
+// and fixed colliders), along the body's outward normal there.
 template <class T, int D>
 struct ConstrainedNode {
   std::size_t node;  // index into the stored region
   Vec<T, D> normal;  // into the free side
   BoundaryCondition condition;
-  Vec<T, D> body = Vec<T, D>::Zero();  // the wall's or plane's velocity
+  Vec<T, D> body = Vec<T, D>::Zero();  // the wall's or body's velocity at the node
 };
 
 template <class T, int D>
@@ -32,25 +35,18 @@ class BoundaryNodes {
       walls_[2 * a] = scene.domain.walls[2 * a];
       walls_[2 * a + 1] = scene.domain.walls[2 * a + 1];
     }
-    planes_.clear();
-    moving_ = false;
-    for (const auto& c : scene.colliders) {
-      Plane p;
-      for (int a = 0; a < D; ++a) {
-        p.normal[a] = T(c.normal[a]);
-        p.point[a] = T(c.point[a]);
-        p.velocity[a] = T(c.velocity[a]);
-      }
-      p.condition = c.condition;
-      moving_ = moving_ || !p.velocity.isZero(T(0));
-      planes_.push_back(p);
-    }
+    colliders_ = scene.colliders;
+    moving_ = std::any_of(colliders_.begin(), colliders_.end(), collider_moves);
+    move_to(0);
   }
 
   // Whether a collider moves: then its nodes change with time and are collected every step.
   bool moving() const { return moving_; }
-  // The time at which collect() places the moving planes (point + t velocity).
-  void move_to(double t) { time_ = t; }
+  // Places the colliders at time t for collect().
+  void move_to(double t) {
+    poses_.clear();
+    for (const ColliderDesc& c : colliders_) poses_.push_back(collider_pose(c, D, t));
+  }
 
   // The constraints of every stored node of g, in node order; per node the walls axis by axis
   // (low face, high face), then the colliders in scene order.
@@ -68,9 +64,18 @@ class BoundaryNodes {
         if (x[a] <= min_[a] + eps) out.push_back({i, axis_normal(a, T(1)), walls_[2 * a]});
         if (x[a] >= max_[a] - eps) out.push_back({i, axis_normal(a, T(-1)), walls_[2 * a + 1]});
       }
-      for (const Plane& p : planes_) {
-        const Vec<T, D> at = moving_ ? Vec<T, D>(p.point + T(time_) * p.velocity) : p.point;
-        if ((x - at).dot(p.normal) <= eps) out.push_back({i, p.normal, p.condition, p.velocity});
+      for (const ColliderPose& p : poses_) {
+        Vec3d at{0, 0, 0};
+        for (int a = 0; a < D; ++a) at[std::size_t(a)] = double(x[a]);
+        const ColliderPose::Distance d = p.distance(at);
+        if (d.phi > double(eps)) continue;
+        ConstrainedNode<T, D> node{i, Vec<T, D>::Zero(), p.condition};
+        const Vec3d v = p.velocity_at(at);
+        for (int a = 0; a < D; ++a) {
+          node.normal[a] = T(d.normal[std::size_t(a)]);
+          node.body[a] = T(v[std::size_t(a)]);
+        }
+        out.push_back(node);
       }
     }
   }
@@ -81,16 +86,12 @@ class BoundaryNodes {
     n[a] = sign;
     return n;
   }
-  struct Plane {
-    Vec<T, D> normal, point, velocity;
-    BoundaryCondition condition;
-  };
   bool moving_ = false;
-  double time_ = 0;
+  std::vector<ColliderDesc> colliders_;
+  std::vector<ColliderPose> poses_;  // at the time of move_to
   std::array<bool, D> periodic_{};
   Vec<T, D> min_ = Vec<T, D>::Zero(), max_ = Vec<T, D>::Zero();
   std::array<BoundaryCondition, 2 * D> walls_{};
-  std::vector<Plane> planes_;
 };
 
 }  // namespace apiclab

@@ -22,6 +22,8 @@ Setup<T, D> setup_of(const SceneDesc& s) {
   r.dx = T(s.domain.dx);
   for (int k = 0; k < 2 * D; ++k) r.walls[std::size_t(k)] = s.domain.walls[std::size_t(k)];
   for (const ColliderDesc& c : s.colliders) {
+    if (c.type != ColliderType::plane)
+      throw SceneError(s.source + ": the reference step takes collider planes only");
     Plane<T, D> plane;
     for (int a = 0; a < D; ++a) plane.point[a] = T(c.point[a]), plane.normal[a] = T(c.normal[a]);
     plane.condition = c.condition;

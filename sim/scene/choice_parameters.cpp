@@ -31,10 +31,14 @@ std::vector<ChoiceOption> switch_options(std::string_view on, std::string_view o
   return {{"true", std::string(on)}, {"false", std::string(off)}};
 }
 
-// A collider's kind: a plane is the one there is.
-const std::vector<Choice<int>>& collider_type_choices() {
-  static const std::vector<Choice<int>> c = {
-      {"plane", 0, "grid nodes behind the plane through point with normal get the condition"}};
+// A collider's shape (sim/geometry/collider_body.hpp).
+const std::vector<Choice<ColliderType>>& collider_type_choices() {
+  static const std::vector<Choice<ColliderType>> c = {
+      {"plane", ColliderType::plane,
+       "grid nodes behind the plane through point with normal get the condition"},
+      {"box", ColliderType::box, "a box of size around center, turned by degrees"},
+      {"rod", ColliderType::rod,
+       "a capsule: every point within radius of a segment of length along its x axis"}};
   return c;
 }
 
@@ -186,12 +190,15 @@ std::vector<ChoiceParameter> make_table() {
        },
        true},
       {"colliders.*.type", "the collider's kind", "plane", "", options_of(collider_type_choices()),
-       [](S&, int, std::string_view w) {
-         parse_choice(collider_type_choices(), w, "collider type");
+       [](S& s, int i, std::string_view w) {
+         s.colliders[size_t(i)].type = parse_choice(collider_type_choices(), w, "collider type");
        },
-       [](const S&, int) { return std::string("plane"); }},
+       [](const S& s, int i) {
+         return std::string(choice_key(collider_type_choices(), s.colliders[size_t(i)].type));
+       }},
       // Periodic is parsed (the reader refuses it on a collider by name) but not offered.
-      {"colliders.*.condition", "the plane's condition", "slip", "", collider_options(),
+      {"colliders.*.condition", "the condition on the body's surface", "slip", "",
+       collider_options(),
        [](S& s, int i, std::string_view w) {
          s.colliders[size_t(i)].condition =
              parse_choice(boundary_choices(), w, "boundary condition");

@@ -18,6 +18,8 @@ constexpr Range kSeed{0, 9223372036854775807.0, false, false};
 ObjectDesc& object(S& s, int i) { return s.objects[size_t(i)]; }
 const ObjectDesc& object(const S& s, int i) { return s.objects[size_t(i)]; }
 V scalar(double x) { return {{x, 0, 0}}; }
+ColliderDesc& collider(S& s, int i) { return s.colliders[size_t(i)]; }
+const ColliderDesc& collider(const S& s, int i) { return s.colliders[size_t(i)]; }
 
 double norm(const Vec3d& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
 
@@ -246,39 +248,124 @@ std::vector<LayoutParameter> declare() {
        .help = "c of the zero-length springs f = -c (x - x0) on the anchored rows (Sec 6.7)",
        .set = [](S& s, int i, const V& v) { object(s, i).anchor_stiffness = v.x[0]; },
        .get = [](const S& s, int i) { return scalar(object(s, i).anchor_stiffness); }},
-      // Colliders.
+      // Colliders (sim/geometry/collider_body.hpp).
       {.key = "colliders.*.point",
        .label = "collider point",
        .unit = "m",
        .form = F::point,
        .range = kAnyReal,
        .required = true,
-       .help = "a point on the plane",
-       .set = [](S& s, int i, const V& v) { s.colliders[size_t(i)].point = v.x; },
-       .get = [](const S& s, int i) { return V{s.colliders[size_t(i)].point}; }},
+       .types = "plane",
+       .unless = "path",
+       .help = "a point on the plane (its start, which velocity and angular_velocity move)",
+       .set = [](S& s, int i, const V& v) { collider(s, i).point = v.x; },
+       .get = [](const S& s, int i) { return V{collider(s, i).point}; }},
+      {.key = "colliders.*.center",
+       .label = "collider center",
+       .unit = "m",
+       .form = F::point,
+       .range = kAnyReal,
+       .required = true,
+       .types = "box rod",
+       .unless = "path",
+       .help = "the body's center at t = 0, which it turns about",
+       .set = [](S& s, int i, const V& v) { collider(s, i).point = v.x; },
+       .get = [](const S& s, int i) { return V{collider(s, i).point}; }},
       {.key = "colliders.*.normal",
        .label = "collider normal",
        .unit = "1",
        .form = F::point,
        .range = kAnyReal,
        .required = true,
+       .types = "plane",
        .direction = true,
        .help = "the plane's normal, pointing into the free side; normalised",
        .set =
            [](S& s, int i, const V& v) {
              const double n = norm(v.x);
-             for (int a = 0; a < 3; ++a) s.colliders[size_t(i)].normal[size_t(a)] = v.x[a] / n;
+             for (int a = 0; a < 3; ++a) collider(s, i).normal[size_t(a)] = v.x[a] / n;
            },
-       .get = [](const S& s, int i) { return V{s.colliders[size_t(i)].normal}; }},
+       .get = [](const S& s, int i) { return V{collider(s, i).normal}; }},
+      {.key = "colliders.*.size",
+       .label = "collider box size",
+       .unit = "m",
+       .form = F::point,
+       .range = kPositive,
+       .default_value = {0.2, 0.2, 0.2},
+       .types = "box",
+       .help = "the box's edge lengths along its own axes",
+       .set = [](S& s, int i, const V& v) { collider(s, i).size = v.x; },
+       .get = [](const S& s, int i) { return V{collider(s, i).size}; }},
+      {.key = "colliders.*.radius",
+       .label = "rod radius",
+       .unit = "m",
+       .range = kPositive,
+       .default_value = {0.05, 0, 0},
+       .types = "rod",
+       .help = "the rod's radius: it is every point within radius of its segment (a capsule)",
+       .set = [](S& s, int i, const V& v) { collider(s, i).radius = v.x[0]; },
+       .get = [](const S& s, int i) { return scalar(collider(s, i).radius); }},
+      {.key = "colliders.*.length",
+       .label = "rod length",
+       .unit = "m",
+       .range = Range{0, kInf, false, true},
+       .default_value = {0.4, 0, 0},
+       .types = "rod",
+       .help = "the length of the rod's segment, along its own x axis (0: a ball)",
+       .set = [](S& s, int i, const V& v) { collider(s, i).length = v.x[0]; },
+       .get = [](const S& s, int i) { return scalar(collider(s, i).length); }},
+      {.key = "colliders.*.degrees",
+       .label = "collider turn",
+       .unit = "deg",
+       .range = kAnyReal,
+       .types = "box rod",
+       .help = "the body's turn at t = 0 from the world axes, about z (2D) or axis (3D)",
+       .set = [](S& s, int i, const V& v) { collider(s, i).degrees = v.x[0]; },
+       .get = [](const S& s, int i) { return scalar(collider(s, i).degrees); }},
+      {.key = "colliders.*.axis",
+       .label = "collider axis",
+       .unit = "1",
+       .form = F::axis,
+       .range = kAnyReal,
+       .default_value = {0, 0, 1},
+       .only_3d = true,
+       .direction = true,
+       .help = "the axis that degrees and the path's turns are about; normalised",
+       .set =
+           [](S& s, int i, const V& v) {
+             const double n = norm(v.x);
+             for (int a = 0; a < 3; ++a) collider(s, i).axis[size_t(a)] = v.x[a] / n;
+           },
+       .get = [](const S& s, int i) { return V{collider(s, i).axis}; }},
       {.key = "colliders.*.velocity",
        .label = "collider velocity",
        .unit = "m/s",
        .form = F::point,
        .range = kAnyReal,
-       .help = "constant velocity of the plane: its point at time t is point + t velocity; the "
-               "condition holds on the velocity relative to it",
-       .set = [](S& s, int i, const V& v) { s.colliders[size_t(i)].velocity = v.x; },
-       .get = [](const S& s, int i) { return V{s.colliders[size_t(i)].velocity}; }},
+       .help = "constant velocity: the body's point at time t is point + t velocity; the "
+               "condition holds on the velocity relative to the body's",
+       .set = [](S& s, int i, const V& v) { collider(s, i).velocity = v.x; },
+       .get = [](const S& s, int i) { return V{collider(s, i).velocity}; }},
+      {.key = "colliders.*.angular_velocity",
+       .label = "collider angular velocity",
+       .unit = "rad/s",
+       .form = F::spin,
+       .range = kAnyReal,
+       .help = "constant spin about the body's point (a number about z in 2D, a vector in 3D); "
+               "the body's velocity at x is velocity + omega x (x - point)",
+       .set = [](S& s, int i, const V& v) { collider(s, i).angular_velocity = v.x; },
+       .get = [](const S& s, int i) { return V{collider(s, i).angular_velocity}; }},
+      {.key = "colliders.*.path",
+       .label = "collider path",
+       .unit = "s, m, deg",
+       .form = F::keys,
+       .range = kAnyReal,
+       .unset_default = "none",
+       .help = "keys [t, x, y(, z)(, degrees)], times increasing: the body's point and turn "
+               "from its start at each t, linear between keys, held before the first and after "
+               "the last; replaces point, velocity and angular_velocity",
+       .set = [](S& s, int i, const V& v) { collider(s, i).path = v.keys; },
+       .get = [](const S& s, int i) { return V{.keys = collider(s, i).path}; }},
   };
 }
 
@@ -294,6 +381,21 @@ int components(LayoutForm f, int dim) {
     default:
       return 1;
   }
+}
+
+// A path's keys: finite, at increasing times.
+std::optional<std::string> keys_problem(const std::vector<ColliderKey>& keys) {
+  for (std::size_t k = 0; k < keys.size(); ++k) {
+    const ColliderKey& key = keys[k];
+    const bool finite = std::isfinite(key.t) && std::isfinite(key.degrees) &&
+                        std::isfinite(key.point[0]) && std::isfinite(key.point[1]) &&
+                        std::isfinite(key.point[2]);
+    if (!finite) return "path key " + std::to_string(k) + " has a number that is not finite";
+    if (k > 0 && !(key.t > keys[k - 1].t))
+      return "path key " + std::to_string(k) + " is at t = " + format_value(key.t) +
+             ", not after the key before it (t = " + format_value(keys[k - 1].t) + ")";
+  }
+  return std::nullopt;
 }
 
 }  // namespace
@@ -325,6 +427,8 @@ std::string LayoutParameter::form_text() const {
       return "a number (2D), 3 numbers (3D)";
     case LayoutForm::material:
       return "a name or an index";
+    case LayoutForm::keys:
+      return "a list of [t, x, y(, z)(, degrees)]";
   }
   return "";
 }
@@ -344,6 +448,7 @@ std::string LayoutParameter::allowed_text() const {
   if (direction) return "not all zero";
   if (form == LayoutForm::seed) return "[0, 2^63)";
   if (form == LayoutForm::material) return "a material of the scene";
+  if (form == LayoutForm::keys) return "finite numbers, times strictly increasing";
   return range.text() + (form == LayoutForm::count ? ", integer" : "");
 }
 
@@ -373,6 +478,7 @@ std::optional<std::string> layout_problem(const LayoutParameter& p, const Layout
     return std::string(p.label) + " " + std::to_string(v.seed) + " is outside the allowed range " +
            p.range.text();
   }
+  if (p.form == LayoutForm::keys) return keys_problem(v.keys);
   for (int a = first; a < first + n; ++a) {
     const double x = v.x[size_t(a)];
     const bool whole = p.form != LayoutForm::count || x == std::floor(x);

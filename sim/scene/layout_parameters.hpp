@@ -1,9 +1,9 @@
 // The numbers that lay a scene out: its dimension, each object's material, shape, sampling,
-// motion and anchors, each collider's plane. Each key is declared once with its label, form, range,
-// default, help and the types that read it; the scene reader walks this table as it walks the
-// numeric registry (sim/scene/parameters.hpp), and `run --help` and docs/scene-keys.md print it.
-// They build the scene's bodies once: `--set` reaches them through the file, but they are no viewer
-// widget, sweep axis or run setting.
+// motion and anchors, each collider's shape and motion. Each key is declared once with its label,
+// form, range, default, help and the types that read it; the scene reader walks this table as it
+// walks the numeric registry (sim/scene/parameters.hpp), and `run --help` and docs/scene-keys.md
+// print it. They build the scene's bodies once: `--set` reaches them through the file, but they are
+// no viewer widget, sweep axis or run setting.
 #pragma once
 #include <cstdint>
 #include <optional>
@@ -24,12 +24,14 @@ enum class LayoutForm {
   axis,      // three numbers (2D scenes too: a rotation is about any axis)
   spin,      // 2D: one number, the rate about z; 3D: three numbers
   material,  // a material's name or index, kept as the index
+  keys,      // a list of keys [t, x, y(, z)(, degrees)] (a collider's path)
 };
 
 // A value as read: its numbers (a scalar in x[0]) and a seed's exact integer.
 struct LayoutValue {
   Vec3d x{};
   std::int64_t seed = 0;
+  std::vector<ColliderKey> keys = {};  // form keys
 };
 
 struct LayoutParameter {

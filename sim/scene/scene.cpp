@@ -1,5 +1,6 @@
 #include "sim/scene/scene.hpp"
 
+#include <algorithm>
 #include <climits>
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -249,6 +250,29 @@ int material_index(Reader& r, const std::string& key, const SceneDesc& s) {
   r.fail(key, "no material named " + shown(m.dump()));
 }
 
+// A path: an array of keys [t, x, y(, z)(, degrees)], each with dim + 1 or dim + 2 numbers.
+std::vector<ColliderKey> read_keys(Reader& r, const std::string& key, int dim) {
+  const json& j = r.raw(key);
+  const std::string shape =
+      dim == 2 ? "[t, x, y] or [t, x, y, degrees]" : "[t, x, y, z] or [t, x, y, z, degrees]";
+  if (!j.is_array()) r.fail(key, "expected an array of keys " + shape);
+  std::vector<ColliderKey> keys;
+  for (std::size_t k = 0; k < j.size(); ++k) {
+    const json& row = j[k];
+    const bool numbers = row.is_array() && std::all_of(row.begin(), row.end(),
+                                                       [](const json& x) { return x.is_number(); });
+    if (!numbers || (row.size() != std::size_t(dim + 1) && row.size() != std::size_t(dim + 2)))
+      r.fail(key,
+             "key " + std::to_string(k) + ": expected " + shape + ", got " + shown(row.dump()));
+    ColliderKey c;
+    c.t = row[0].get<double>();
+    for (int a = 0; a < dim; ++a) c.point[size_t(a)] = row[size_t(a + 1)].get<double>();
+    if (row.size() == std::size_t(dim + 2)) c.degrees = row[size_t(dim + 1)].get<double>();
+    keys.push_back(c);
+  }
+  return keys;
+}
+
 // One value of the layout table's form: numbers (of the scene's dimension, or three for an axis;
 // a 2D spin is one number about z) or a seed kept exactly.
 LayoutValue read_layout_value(Reader& r, const std::string& key, const LayoutParameter& p,
@@ -281,6 +305,9 @@ LayoutValue read_layout_value(Reader& r, const std::string& key, const LayoutPar
       break;
     case LayoutForm::material:
       v.x[0] = material_index(r, key, s);
+      break;
+    case LayoutForm::keys:
+      v.keys = read_keys(r, key, dim);
       break;
   }
   return v;
@@ -389,13 +416,18 @@ void read_object(Reader r, SceneDesc& s, int index) {
         r.fail("shape", "object lies outside the domain on axis " + std::string(1, "xyz"[a]));
 }
 
-// Collider `index`, added to the scene before it is read.
+// Collider `index`, added to the scene before it is read: its type and condition through the
+// choice registry, its numbers through the layout table (those its type reads).
 void read_collider(Reader r, SceneDesc& s, int index) {
-  s.colliders.emplace_back();
+  ColliderDesc& c = s.colliders.emplace_back();
   read_choices(r, s, "colliders.*.", index);
-  read_layout(r, s, "colliders.*.", index);
-  if (s.colliders.back().condition == BoundaryCondition::periodic)
+  constexpr std::string_view kTypes[] = {"plane", "box", "rod"};
+  read_layout(r, s, "colliders.*.", index, kTypes[int(c.type)]);
+  if (c.condition == BoundaryCondition::periodic)
     r.fail("condition", "a collider cannot be periodic");
+  if (r.has("path") && (r.has("velocity") || r.has("angular_velocity")))
+    r.fail("path", "give a path or velocity and angular_velocity, not both");
+  if (r.has("path") && c.path.empty()) r.fail("path", "expected at least one key");
 }
 
 SceneDesc parse_json(const json& j, const std::string& file,

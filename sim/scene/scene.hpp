@@ -152,15 +152,32 @@ struct ObjectDesc {
   double anchor_stiffness = 1e5;
 };
 
-struct ColliderDesc {
+enum class ColliderType { plane, box, rod };
+
+// One key of a collider's path: at time t the body's reference point is `point` and it has
+// turned by `degrees` from its start (about z in 2D, about the collider's axis in 3D).
+struct ColliderKey {
+  double t = 0;
   Vec3d point{0, 0, 0};
+  double degrees = 0;
+};
+
+// A prescribed rigid body (sim/geometry/collider_body.hpp places it at a time): a plane through
+// `point`, or a box or rod (capsule) around `point`; it moves with a constant velocity and
+// angular velocity, or along `path`, linearly between its keys.
+struct ColliderDesc {
+  Vec3d point{0, 0, 0};   // a plane's point; a box's or rod's center
   Vec3d normal{0, 1, 0};  // points into the free side
   BoundaryCondition condition = BoundaryCondition::slip;
-  Vec3d velocity{0, 0, 0};  // constant: the plane moves rigidly with it
-  // The plane's point at time t: point + t velocity.
-  Vec3d point_at(double t) const {
-    return {point[0] + t * velocity[0], point[1] + t * velocity[1], point[2] + t * velocity[2]};
-  }
+  Vec3d velocity{0, 0, 0};  // constant, with angular_velocity, unless a path is given
+  ColliderType type = ColliderType::plane;
+  Vec3d size{0.2, 0.2, 0.2};        // box: edge lengths along its own axes
+  double radius = 0.05;             // rod
+  double length = 0.4;              // rod: its segment's length, along its own x axis
+  double degrees = 0;               // box, rod: the start's turn about z (2D) or `axis` (3D)
+  Vec3d axis{0, 0, 1};              // 3D: the axis of `degrees` and of the path's turns
+  Vec3d angular_velocity{0, 0, 0};  // about `point`; 2D uses z
+  std::vector<ColliderKey> path;    // times strictly increasing; empty: constant motion
 };
 
 struct SceneDesc {

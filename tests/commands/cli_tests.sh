@@ -532,4 +532,19 @@ if [ $RC -eq 0 ] && ! grep -q 'G modes' "$ERR"; then ok "polypic with 4 modes: n
   nok "polypic with 4 modes (rc $RC)" "$(cat "$ERR")"
 fi
 
+# Colliders that move: a bad shape, motion or path is one line naming the key (exit 2); the
+# shipped paddle runs under eol and mpm.
+expect_error "collider of an unknown type" "'colliders.0.type'" "cone" -- run eol-paddle --set colliders.0.type=cone
+expect_error "rod of negative radius" "'colliders.0.radius'" "outside the allowed range" -- run eol-paddle --set colliders.0.radius=-1
+expect_error "box of zero size" "'colliders.0.size'" "outside the allowed range" -- run eol-paddle --set colliders.0.type=box --set 'colliders.0.size=[0.1,0]'
+expect_error "path with times out of order" "'colliders.0.path'" "not after the key before it" -- run eol-paddle --set colliders.0.angular_velocity=0 --set 'colliders.0.path=[[0,0.5,0.4],[0,0.5,0.5]]'
+expect_error "path key of the wrong length" "'colliders.0.path'" "[t, x, y] or [t, x, y, degrees]" -- run eol-paddle --set 'colliders.0.path=[[0,0.5]]'
+expect_error "path with a spin" "'colliders.0.path'" "not both" -- run eol-paddle --set 'colliders.0.path=[[0,0.5,0.4]]'
+for method in eol mpm; do
+  run_cli run eol-paddle --set solver.method=$method --t-end 0.05 --csv "$TMP/paddle-$method.csv" --quiet
+  if [ $RC -eq 0 ] && [ -s "$TMP/paddle-$method.csv" ]; then ok "eol-paddle runs under $method"; else
+    nok "eol-paddle under $method (rc $RC)" "$(head -c 400 "$ERR")"
+  fi
+done
+
 finish cli_tests

@@ -257,7 +257,8 @@ TEST(EolSurfaceContact, QPSolutionSatisfiesKKT3D) {
 // 0.1 of a cell below the floor, and on a rising floor the rows' approach rate relative to it
 // stays at round-off (1e-10 m/s) once the ball sits on it (after 0.2 s).
 template <int D>
-void check_rest(const std::string& method, double lift = 0) {
+void check_rest(const std::string& method, double lift = 0,
+                const nlohmann::json& colliders = nullptr) {
   test::EolSceneSpec spec;
   spec.dim = D;
   spec.method = method;
@@ -266,7 +267,7 @@ void check_rest(const std::string& method, double lift = 0) {
   spec.center = {0.5, 0.25, 0.5};
   spec.gravity = {0, -9.8, 0};
   spec.velocity = {0, lift, 0};
-  spec.colliders = floor_plane<D>(0.1, "separate", lift);
+  spec.colliders = colliders.is_null() ? floor_plane<D>(0.1, "separate", lift) : colliders;
   spec.contact = "surface";
   spec.end = 1.0;
   spec.fps = 20;
@@ -326,6 +327,17 @@ TEST(EolSurfaceContact, BallRestingOnTheFloorStaysAtRest3D) { check_rest<3>("eol
 // The same rest on a floor rising at 0.5 m/s: EoL's numbers are those of the fixed floor (its
 // grid rides with the ball). Without the right-hand side the floor passes into the ball.
 TEST(EolSurfaceContact, BallOnARisingPlateRisesWithIt2D) { check_rest<2>("eol", 0.5); }
+
+// The same rest on a box whose top face is the floor, rising at 0.5 m/s (a body's rows,
+// body_contact.hpp: the tangent plane of its top face, the rate jᵀv_body per quadrature point).
+TEST(EolSurfaceContact, BallOnARisingBoxRisesWithIt2D) {
+  const nlohmann::json box = {{"type", "box"},
+                              {"center", {0.5, 0.0}},
+                              {"size", {0.8, 0.2}},
+                              {"velocity", {0.0, 0.5}},
+                              {"condition", "separate"}};
+  check_rest<2>("eol", 0.5, nlohmann::json::array({box}));
+}
 
 // Two separate plates close on a ball at 0.05 m/s each under gravity (2D, dx 1/40, r 0.15 m,
 // the gap from 0.3 m to 0.26 m in 0.4 s): at every frame no surface vertex lies deeper behind

@@ -10,8 +10,25 @@
 
 namespace apiclab::eol {
 
-// Whether any corner of the object's grid box is on or behind a plane (the surface lies inside
-// the box, so otherwise no row can exist). The eulerian grid spans the domain: always.
+// The world box of an object's grid (its 2^D corners through the frame).
+template <class T, int D>
+std::pair<Vec<T, D>, Vec<T, D>> grid_world_box(const EolObject<T, D>& o) {
+  const Mat<T, D> R = o.frame.rotation();
+  Vec<T, D> lo = Vec<T, D>::Constant(T(INFINITY)), hi = -lo;
+  for (int corner = 0; corner < (1 << D); ++corner) {
+    Vec<T, D> y = o.grid.origin;
+    for (int a = 0; a < D; ++a)
+      if (corner & (1 << a)) y[a] += o.grid.dx * T(o.grid.n[std::size_t(a)] - 1);
+    const Vec<T, D> x = R * y + o.frame.p;
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
+  }
+  return {lo, hi};
+}
+
+// Whether any corner of the object's grid box is on or behind a plane, or the box comes within a
+// body's reach (the surface lies inside the box, so otherwise no row can exist). The eulerian
+// grid spans the domain: always for a plane.
 template <class T, int D>
 bool EolSimulation<T, D>::may_touch_planes(const EolObject<T, D>& o) const {
   const Mat<T, D> R = o.frame.rotation();
@@ -23,7 +40,9 @@ bool EolSimulation<T, D>::may_touch_planes(const EolObject<T, D>& o) const {
     for (const auto& c : planes_)
       if ((x - c.point).dot(c.normal) <= T(0)) return true;
   }
-  return false;
+  if (body_poses_.empty()) return false;
+  const auto [lo, hi] = grid_world_box(o);
+  return box_may_touch<T, D>(lo, hi, body_poses_);
 }
 
 template <class T, int D>
@@ -47,6 +66,8 @@ void EolSimulation<T, D>::impulse_surface_contact(EolObject<T, D>& o, T dt) {
   contact_rows_.clear();
   assemble_surface_rows(o.grid, o.surface_y, o.surface.simplex, o.frame.rotation(), o.frame.p,
                         planes_, cell, contact_rows_);
+  assemble_body_rows(o.grid, o.surface_y, o.surface.simplex, o.frame.rotation(), o.frame.p,
+                     body_poses_, cell, 0, contact_rows_);
   contact_stats_ = contact_solver_.solve(contact_rows_, o.grid.mass, o.u);
 }
 
@@ -118,8 +139,11 @@ void EolSimulation<T, D>::object_contact(const std::vector<char>& meeting) {
   std::size_t b = 0;
   for (std::size_t k = 0; k < objects_.size(); ++k) {
     if (!meeting[k]) continue;
-    if (!planes_.empty() && may_touch_planes(objects_[k]))
+    if ((!planes_.empty() || !body_poses_.empty()) && may_touch_planes(objects_[k])) {
       append_plane_rows(bodies[b], planes_, cell, plane_scratch_, contact_rows_);
+      assemble_body_rows(*bodies[b].grid, *bodies[b].y, *bodies[b].simplex, bodies[b].R,
+                         bodies[b].p, body_poses_, cell, bodies[b].node_offset, contact_rows_);
+    }
     ++b;
   }
   const auto start = std::chrono::steady_clock::now();

@@ -31,7 +31,13 @@ void move_planes(std::vector<PlaneConstraint<T, D>>& planes, double t) {
     if (!c.velocity.isZero(T(0))) c.point = c.start + T(t) * c.velocity;
 }
 
-// The domain's walls (non-periodic faces) and the scene's colliders.
+// A collider that the plane rows take: a plane that does not turn (its velocity constant); the
+// others are bodies (body_contact.hpp).
+inline bool plane_row_collider(const ColliderDesc& c) {
+  return c.type == ColliderType::plane && c.path.empty() && c.angular_velocity == Vec3d{0, 0, 0};
+}
+
+// The domain's walls (non-periodic faces) and the scene's plane colliders.
 template <class T, int D>
 std::vector<PlaneConstraint<T, D>> scene_planes(const SceneDesc& s) {
   std::vector<PlaneConstraint<T, D>> planes;
@@ -48,6 +54,7 @@ std::vector<PlaneConstraint<T, D>> scene_planes(const SceneDesc& s) {
     }
   }
   for (const ColliderDesc& col : s.colliders) {
+    if (!plane_row_collider(col)) continue;
     PlaneConstraint<T, D> c;
     for (int a = 0; a < D; ++a) {
       c.point[a] = T(col.point[a]);
