@@ -3,6 +3,7 @@
 // frame time is Simulation::step's.
 #pragma once
 #include <algorithm>
+#include <limits>
 
 #include "sim/eol/eol_simulation.hpp"
 
@@ -85,7 +86,10 @@ double EolSimulation<T, D>::object_dt(const EolObject<T, D>& o, double dt, DtLim
       lagrangian_ ? split_rates(o, sums)
                   : std::array<double, 3>{sums.gamma0, sums.gamma1, sums.umax};
   const double advection = advection_limit(rates[0], rates[1], scene_.solver.eol.alpha);
-  const double elastic = elastic_nu(scene_.time) * double(o.grid.dx) / (max_wave_speed_ + rates[2]);
+  // Backward Euler's elasticity has no stability cap: only eq 33 and 1/fps bind.
+  const double elastic = implicit_elasticity() ? std::numeric_limits<double>::infinity()
+                                               : elastic_nu(scene_.time) * double(o.grid.dx) /
+                                                     (max_wave_speed_ + rates[2]);
   if (advection < dt) {
     dt = advection;
     limit = DtLimit::advection;
