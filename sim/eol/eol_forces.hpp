@@ -45,6 +45,11 @@ void EolSimulation<T, D>::implicit_forces(double dt) {
                                   sv.cg_max_iterations, max_wave_speed_,          0.0};
   implicit_report_ = NewtonCgReport{};
   for (auto& o : objects_) {
+    std::vector<Vec<T, D>>& rigid = o.implicit.frame_velocity();
+    rigid.assign(o.grid.size(), Vec<T, D>::Zero());
+    if (lagrangian_)
+      for (std::size_t i = 0; i < o.grid.size(); ++i)
+        rigid[i] = o.frame.nu + spin_cross<T, D>(o.frame.omega, o.r[i]);
     const NewtonCgReport r =
         o.implicit.solve(o.grid, materials_, o.frame.rotation(), o.u, o.force, T(dt), settings);
     implicit_report_.newton_iterations += r.newton_iterations;

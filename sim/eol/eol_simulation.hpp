@@ -247,6 +247,7 @@ class EolSimulation final : public Simulation {
   // Eq 33's γ₀, γ₁ and max|v₀*|: the rates of v* = v₀* + Δt v₁* through the object's grid.
   std::array<double, 3> split_rates(const EolObject<T, D>& o, const DtSums& sums) const;
   double object_dt(const EolObject<T, D>& o, double dt, DtLimit& limit);
+  double approach_limit(const EolObject<T, D>& o) const;
   std::vector<SplitSums<D, 1>> split_partial_;  // the same for finish_step's split
 };
 
