@@ -249,7 +249,8 @@ const std::vector<Choice<EolSolverDesc::Elasticity>>& eol_elasticity_choices() {
       {"explicit", EolSolverDesc::Elasticity::explicit_euler,
        "the paper's: forces of the state now, the step capped by the elastic limit"},
       {"implicit", EolSolverDesc::Elasticity::backward_euler,
-       "backward Euler on each object's grid: only advection (eq 33) and 1/fps bound the step"}};
+       "backward Euler on each object's grid: advection (eq 33), contact and 1/fps bound the "
+       "step"}};
   return c;
 }
 
