@@ -33,7 +33,8 @@ nlohmann::json solver_settings(const SceneDesc& scene) {
   if (v.method != "mpm")
     return {{"method", v.method},
             {"label", run_label(scene)},
-            {"contact", choice_key(eol_contact_choices(), v.eol.contact)}};
+            {"contact", choice_key(eol_contact_choices(), v.eol.contact)},
+            {"elasticity", choice_key(eol_elasticity_choices(), v.eol.elasticity)}};
   return {{"method", v.method},
           {"scheme", key_of(v.scheme)},
           {"label", run_label(scene)},  // the scheme with its parameter: "xpic(3)"

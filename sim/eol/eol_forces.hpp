@@ -35,4 +35,32 @@ void EolSimulation<T, D>::forces_ahead() {
   forces_ready_ = true;
 }
 
+// Backward Euler's forces for the step (implicit_elasticity.hpp), each object's solve from the
+// forces of the state now; the tolerances are the MPM family's solver keys.
+template <class T, int D>
+void EolSimulation<T, D>::implicit_forces(double dt) {
+  StageTimer timer{stages_.forces};
+  const SolverDesc& sv = scene_.solver;
+  const ImplicitSettings settings{sv.newton_tolerance,  sv.newton_max_iterations, sv.cg_tolerance,
+                                  sv.cg_max_iterations, max_wave_speed_,          0.0};
+  implicit_report_ = NewtonCgReport{};
+  for (auto& o : objects_) {
+    std::vector<Vec<T, D>>& rigid = o.implicit.frame_velocity();
+    rigid.assign(o.grid.size(), Vec<T, D>::Zero());
+    if (lagrangian_)
+      for (std::size_t i = 0; i < o.grid.size(); ++i)
+        rigid[i] = o.frame.nu + spin_cross<T, D>(o.frame.omega, o.r[i]);
+    const NewtonCgReport r =
+        o.implicit.solve(o.grid, materials_, o.frame.rotation(), o.u, o.force, T(dt), settings);
+    implicit_report_.newton_iterations += r.newton_iterations;
+    implicit_report_.cg_iterations += r.cg_iterations;
+    implicit_report_.converged = implicit_report_.converged && r.converged;
+    if (r.residual / r.tolerance >=
+        implicit_report_.residual / std::max(implicit_report_.tolerance, 1e-300)) {
+      implicit_report_.residual = r.residual;
+      implicit_report_.tolerance = r.tolerance;
+    }
+  }
+}
+
 }  // namespace apiclab::eol

@@ -61,6 +61,11 @@ DiagnosticsRow EolSimulation<T, D>::measure() const {
   r.p = {p[0], p[1], p[2]};
   r.L = {L[0], L[1], L[2]};
   r.dt_limit = dt_limit_name(last_limit_);
+  if (implicit_elasticity()) {
+    r.newton_iters = implicit_report_.newton_iterations;
+    r.cg_iters = implicit_report_.cg_iterations;
+    r.residual = implicit_report_.residual;
+  }
   for (const auto& o : objects_) {
     r.grid_nodes += double(o.grid.size());
     r.grid_bytes += double(o.grid_bytes());

@@ -23,6 +23,7 @@
 #include "sim/eol/grid/eulerian_grid.hpp"
 #include "sim/eol/grid/extrapolation.hpp"
 #include "sim/eol/grid/forces.hpp"
+#include "sim/eol/grid/implicit_elasticity.hpp"
 #include "sim/eol/least_squares_split.hpp"
 #include "sim/eol/surface/rest_surface.hpp"
 #include "sim/eol/time_step.hpp"
@@ -39,6 +40,7 @@ struct EolObject {
   // Per node, world axes: offset r = R y from the frame origin, position x, velocity u, force.
   std::vector<Vec<T, D>> r, x, u, force, scratch, vstar;
   ElasticForces<T, D> elastic;
+  ImplicitElasticity<T, D> implicit;  // solver.elasticity implicit: the backward Euler solve
   Extrapolation<T, D> extrapolation;
   // The surface (Sec 3.8): built once in material space; Algorithm 2 places it at frame times
   // (EolSimulation::place_surfaces) at intermediate positions surface_y (world: R y + p), each
@@ -51,7 +53,8 @@ struct EolObject {
   double rest_mass = 0;
   // Grid storage held (Fig 6): every per-node and per-cell array of this object's grid.
   std::size_t grid_bytes() const {
-    std::size_t b = grid.bytes() + elastic.bytes() + extrapolation.bytes() + held_bytes(owner);
+    std::size_t b = grid.bytes() + elastic.bytes() + implicit.bytes() + extrapolation.bytes() +
+                    held_bytes(owner);
     for (const auto* f : {&r, &x, &u, &force, &scratch, &vstar}) b += held_bytes(*f);
     return b;
   }
@@ -109,6 +112,12 @@ class EolSimulation final : public Simulation {
   // Area (2D) or volume (3D) the material occupies: Σ H Δx^d over the nodes.
   double occupied_volume() const;
   DtLimit last_limit() const { return last_limit_; }
+  // solver.elasticity implicit: the last step's backward Euler solves, summed over the objects
+  // (the residual and tolerance of the one furthest from its tolerance).
+  const NewtonCgReport& last_implicit_solve() const { return implicit_report_; }
+  bool implicit_elasticity() const {
+    return scene_.solver.eol.elasticity == EolSolverDesc::Elasticity::backward_euler;
+  }
   // The blow-up check's energy scale, again from the current state (tests that set a state).
   void reset_energy_reference() { energy_ref_ = energy_reference(); }
   // Time spent in each phase (seconds, summed over steps): forces, assembly (impulse and planes,
@@ -152,6 +161,8 @@ class EolSimulation final : public Simulation {
   void drop_sliver_masses(EolObject<T, D>& o) const;
   void forces(EolObject<T, D>& o);
   void forces_ahead();  // every object's, for the state now (forces_ready_)
+  // solver.elasticity implicit: each object's forces replaced by backward Euler's for the step.
+  void implicit_forces(double dt);
   // step()'s hooks (Simulation::step; eol_time_step.hpp, eol_step.hpp).
   double choose_dt() override;
   void dt_set_by_frame() override { last_limit_ = DtLimit::frame; }
@@ -219,6 +230,7 @@ class EolSimulation final : public Simulation {
   std::vector<OverlapPair<T>> object_pairs_;
   double energy_ref_ = 0, max_wave_speed_ = 0;
   DtLimit last_limit_ = DtLimit::fixed;
+  NewtonCgReport implicit_report_;
   StageSeconds stages_;
   bool ledger_on_ = false;
   EnergyLedger ledger_, last_ledger_;
@@ -239,6 +251,7 @@ class EolSimulation final : public Simulation {
   // Eq 33's γ₀, γ₁ and max|v₀*|: the rates of v* = v₀* + Δt v₁* through the object's grid.
   std::array<double, 3> split_rates(const EolObject<T, D>& o, const DtSums& sums) const;
   double object_dt(const EolObject<T, D>& o, double dt, DtLimit& limit);
+  double approach_limit(const EolObject<T, D>& o) const;
   std::vector<SplitSums<D, 1>> split_partial_;  // the same for finish_step's split
 };
 

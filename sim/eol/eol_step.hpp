@@ -16,6 +16,7 @@ namespace apiclab::eol {
 template <class T, int D>
 void EolSimulation<T, D>::step_fixed(double dt) {
   if (!forces_ready_) forces_ahead();
+  if (implicit_elasticity()) implicit_forces(dt);
   finish_step(dt);
   // The next step's forces now, from the state they would see then; their Ψ gives the
   // diagnostics' elastic energy without another pass over the cells.
@@ -151,7 +152,7 @@ std::optional<Failure> EolSimulation<T, D>::check_step(const DiagnosticsRow& r) 
                                             scene_.solver.blowup_energy_factor, energy_ref_);
   // Elasticity is explicit: a ν above the shipped scenes' names the key that sets the cap.
   const TimeDesc& tm = scene_.time;
-  if (f && tm.rule == DtRule::elastic && tm.nu > kElasticNu)
+  if (f && !implicit_elasticity() && tm.rule == DtRule::elastic && tm.nu > kElasticNu)
     f->message += " (time.dt.nu = " + format_value(tm.nu) +
                   " sets the explicit elastic cap; the shipped EoL scenes are stable at " +
                   format_value(kElasticNu) + ")";

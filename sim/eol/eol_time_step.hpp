@@ -3,6 +3,7 @@
 // frame time is Simulation::step's.
 #pragma once
 #include <algorithm>
+#include <limits>
 
 #include "sim/eol/eol_simulation.hpp"
 
@@ -85,7 +86,10 @@ double EolSimulation<T, D>::object_dt(const EolObject<T, D>& o, double dt, DtLim
       lagrangian_ ? split_rates(o, sums)
                   : std::array<double, 3>{sums.gamma0, sums.gamma1, sums.umax};
   const double advection = advection_limit(rates[0], rates[1], scene_.solver.eol.alpha);
-  const double elastic = elastic_nu(scene_.time) * double(o.grid.dx) / (max_wave_speed_ + rates[2]);
+  // Backward Euler's elasticity has no stability cap: only eq 33 and 1/fps bind.
+  const double elastic = implicit_elasticity() ? std::numeric_limits<double>::infinity()
+                                               : elastic_nu(scene_.time) * double(o.grid.dx) /
+                                                     (max_wave_speed_ + rates[2]);
   if (advection < dt) {
     dt = advection;
     limit = DtLimit::advection;
@@ -93,6 +97,35 @@ double EolSimulation<T, D>::object_dt(const EolObject<T, D>& o, double dt, DtLim
   if (elastic < dt) {
     dt = elastic;
     limit = DtLimit::elastic;
+  }
+  if (implicit_elasticity()) {
+    const double approach = approach_limit(o);
+    if (approach < dt) {
+      dt = approach;
+      limit = DtLimit::contact;
+    }
+  }
+  return dt;
+}
+
+// Under implicit elasticity: the step that carries no node with mass more than α Δx into a wall
+// or collider at its velocity now. Eq 33 reads v before the contact solve, so it cannot see a
+// contact coming: eol-drop's frame-long steps in free fall (v* = 0) met the floor 6 cells deep
+// and blew up in the next step.
+template <class T, int D>
+double EolSimulation<T, D>::approach_limit(const EolObject<T, D>& o) const {
+  double dt = std::numeric_limits<double>::infinity();
+  const double reach = scene_.solver.eol.alpha * double(o.grid.dx);
+  for (const auto& pl : planes_) {
+    const Vec<T, D> point = pl.start + T(time_) * pl.velocity;
+    const Vec<T, D>& at = pl.velocity.isZero(T(0)) ? pl.point : point;
+    for (std::size_t i = 0; i < o.grid.size(); ++i) {
+      if (!(o.grid.mass[i] > T(0))) continue;
+      const double speed = -double((o.u[i] - pl.velocity).dot(pl.normal));
+      if (!(speed > 0)) continue;
+      const double gap = std::max(double((o.x[i] - at).dot(pl.normal)), 0.0);
+      dt = std::min(dt, (gap + reach) / speed);
+    }
   }
   return dt;
 }

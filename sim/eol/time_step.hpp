@@ -31,7 +31,7 @@ inline double advection_limit(double gamma0, double gamma1, double alpha) {
 inline constexpr double kElasticNu = 0.3;
 
 // Which bound set a step's Δt (the diagnostics' dt_limit column).
-enum class DtLimit { advection, elastic, max, frame, fixed };
+enum class DtLimit { advection, elastic, contact, max, frame, fixed };
 
 inline const char* dt_limit_name(DtLimit l) {
   switch (l) {
@@ -39,6 +39,8 @@ inline const char* dt_limit_name(DtLimit l) {
       return "advection";
     case DtLimit::elastic:
       return "elastic";
+    case DtLimit::contact:
+      return "contact";
     case DtLimit::max:
       return "max";
     case DtLimit::frame:

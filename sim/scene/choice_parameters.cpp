@@ -157,6 +157,14 @@ std::vector<ChoiceParameter> make_table() {
        [](const S& s, int) {
          return std::string(choice_key(eol_contact_choices(), s.solver.eol.contact));
        }},
+      {"solver.elasticity", "the elastic forces' time integration", "explicit", "eol eulerian",
+       options_of(eol_elasticity_choices()),
+       [](S& s, int, std::string_view w) {
+         s.solver.eol.elasticity = parse_choice(eol_elasticity_choices(), w, "elasticity");
+       },
+       [](const S& s, int) {
+         return std::string(choice_key(eol_elasticity_choices(), s.solver.eol.elasticity));
+       }},
       {"materials.*.model", "constitutive model", "neo-hookean", "", options_of(material_choices()),
        [](S& s, int i, std::string_view w) {
          s.materials[size_t(i)].model = parse_choice(material_choices(), w, "material model");
@@ -240,6 +248,16 @@ const std::vector<Choice<EolSolverDesc::Contact>>& eol_contact_choices() {
       {"surface", EolSolverDesc::Contact::surface,
        "rows of the object's surface behind a plane, eqs 27-29"},
       {"nodes", EolSolverDesc::Contact::nodes, "one row per node on or behind a plane"}};
+  return c;
+}
+
+const std::vector<Choice<EolSolverDesc::Elasticity>>& eol_elasticity_choices() {
+  static const std::vector<Choice<EolSolverDesc::Elasticity>> c = {
+      {"explicit", EolSolverDesc::Elasticity::explicit_euler,
+       "the paper's: forces of the state now, the step capped by the elastic limit"},
+      {"implicit", EolSolverDesc::Elasticity::backward_euler,
+       "backward Euler on each object's grid: advection (eq 33), contact and 1/fps bound the "
+       "step"}};
   return c;
 }
 

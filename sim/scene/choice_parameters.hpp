@@ -46,4 +46,8 @@ const ChoiceParameter* find_choice(std::string_view key, int* index = nullptr);
 // (sim/eol/contact/surface_contact.hpp).
 const std::vector<Choice<EolSolverDesc::Contact>>& eol_contact_choices();
 
+// The Eulerian-on-Lagrangian elastic integrations of `solver.elasticity`
+// (sim/eol/grid/implicit_elasticity.hpp).
+const std::vector<Choice<EolSolverDesc::Elasticity>>& eol_elasticity_choices();
+
 }  // namespace apiclab

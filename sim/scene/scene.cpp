@@ -35,7 +35,18 @@ class Reader {
   ~Reader() noexcept(false) {
     if (std::uncaught_exceptions()) return;
     for (auto it = j_.begin(); it != j_.end(); ++it)
-      if (!used_.count(it.key())) fail(it.key(), "unknown key");
+      if (!used_.count(it.key())) fail(it.key(), unknown_key(join(it.key())));
+  }
+  // A key of another solver family names the families that read it.
+  static std::string unknown_key(const std::string& key) {
+    std::string_view methods;
+    if (const ChoiceParameter* c = find_choice(key)) methods = c->method;
+    if (const NumericParameter* p = find_parameter(key)) methods = p->method;
+    if (methods.empty()) return "unknown key";
+    std::string words(methods);
+    for (std::size_t s = words.find(' '); s != std::string::npos; s = words.find(' ', s + 5))
+      words.replace(s, 1, " or ");
+    return "unknown key for this solver.method (read by solver.method " + words + " only)";
   }
   [[noreturn]] void fail(const std::string& key, const std::string& what) const {
     throw SceneError(file_ + ": key '" + shown(join(key)) + "': " + what);

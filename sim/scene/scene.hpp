@@ -59,6 +59,10 @@ struct EolSolverDesc {
   enum class Contact { surface, nodes };
   Contact contact{};
   double contact_cell{};
+  // The elastic forces on each object's grid: explicit (the paper's, Sec 5) or backward Euler
+  // (sim/eol/grid/implicit_elasticity.hpp), which lifts the elastic cap on the step.
+  enum class Elasticity { explicit_euler, backward_euler };
+  Elasticity elasticity{};
 };
 
 struct SolverDesc {

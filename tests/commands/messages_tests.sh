@@ -154,7 +154,8 @@ side = json.load(open(sys.argv[1]))
 s = side["settings"]
 assert "apiclab_version" in side, "no version"
 assert s["precision"] == "double", s["precision"]
-assert set(s["solver"]) == {"method", "label", "contact"}, s["solver"]
+assert set(s["solver"]) == {"method", "label", "contact", "elasticity"}, s["solver"]
+assert s["solver"]["elasticity"] == "explicit", s["solver"]
 p = s["parameters"]
 assert "solver.flip_alpha" not in p, "an MPM key in an EoL run"
 assert isinstance(p["solver.padding"], int), p["solver.padding"]
