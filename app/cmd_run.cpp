@@ -135,7 +135,8 @@ int run(const RunCommandOptions& given, const CLI::App& cmd) {
   std::optional<CheckpointFile> resumed;
   if (!command.resume.empty()) resumed = prepare_resume(command, cmd);
   const RunOptions& o = command.run;
-  if (o.scene.empty()) throw UsageError("scene is required (see apiclab run --help)");
+  if (o.scene.empty() && cmd.get_option("scene")->count() == 0)  // "" goes on to its own message
+    throw UsageError("scene is required (see apiclab run --help)");
   const std::string run_cwd = std::filesystem::current_path().string();
   SceneDesc scene = load_scene_with_options(o);
   check_flip_alpha(o, {scene.solver.scheme});
@@ -407,7 +408,7 @@ void register_run(CLI::App& root, CommandTable& table) {
                        throw UsageError(
                            "--record runs take no --checkpoint-every, "
                            "--checkpoint-seconds or --resume");
-                     if (!record->empty() && opts->run.scene.empty())
+                     if (!record->empty() && cmd->get_option("scene")->count() == 0)
                        throw UsageError("scene is required (see apiclab run --help)");
                      return record->empty() ? run(*opts, *cmd)
                                             : sweep::record_run(opts->run, *record);

@@ -141,7 +141,7 @@ void EolSimulation<T, D>::advect(EolObject<T, D>& o, T dt) {
   advect_pair(o.grid, o.vstar, dt, o.grid.X, o.scratch, o.vstar, o.grid.v, parallel_);
   std::swap(o.grid.X, o.scratch);
   update_mass(o, false);
-  o.extrapolation.apply(o.grid, !lagrangian_);
+  o.extrapolation.apply(o.grid);
   update_mass(o, true);
   update_spatial(o);
 }

@@ -56,7 +56,11 @@ SceneDesc scene_for(int dim, const Case& c) {
     s.domain.walls = {BC::sticky, BC::slip, BC::separate, BC::slip, BC::slip, BC::sticky};
   if (!c.periodic) {
     const double n = -1 / std::sqrt(2.0);
-    s.colliders.push_back({{0.5, 0.5, 0.5}, {n, n, 0}, BC::slip});
+    ColliderDesc plane;
+    plane.point = {0.5, 0.5, 0.5};
+    plane.normal = {n, n, 0};
+    plane.condition = BC::slip;
+    s.colliders.push_back(plane);
   }
   s.gravity = {0.5, -9.8, 0};
   s.solver.scheme = c.scheme;

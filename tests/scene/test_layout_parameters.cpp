@@ -306,8 +306,9 @@ TEST(ColliderBody, BadPathsAreRefused) {
             "(0, inf)");
   EXPECT_EQ(message(R"({"type": "box", "size": [0.1, 0.1]})"),
             "good.json: key 'colliders.0.center': required key is missing");
-  EXPECT_EQ(message(R"({"type": "cone", "center": [0.5, 0.5]})"),
-            "good.json: key 'colliders.0.type': unknown collider type 'cone' (expected plane|box|rod)");
+  EXPECT_EQ(
+      message(R"({"type": "cone", "center": [0.5, 0.5]})"),
+      "good.json: key 'colliders.0.type': unknown collider type 'cone' (expected plane|box|rod)");
 }
 
 }  // namespace

@@ -7,9 +7,6 @@
 // placement stays exact), averaged over the directions; farther out, and for v everywhere, by
 // the mean of the known neighbours (constant: a linear continuation over many fronts would
 // carry any curvature of X far out and could map distant empty nodes back into the rest shape).
-// With linear_velocity v is continued as X is: the Eulerian baseline's v holds the whole motion,
-// and a constant continuation of a spinning body's v damped its spin (eol's v* is the remainder
-// after the frame's motion, small and left constant).
 #pragma once
 #include <vector>
 
@@ -24,7 +21,7 @@ class Extrapolation {
     return held_bytes(state_) + held_bytes(front_) + held_bytes(next_) + held_bytes(newX_) +
            held_bytes(newv_);
   }
-  void apply(EulerianGrid<T, D>& g, bool linear_velocity) {
+  void apply(EulerianGrid<T, D>& g) {
     state_.assign(g.size(), kUnknown);
     front_.clear();
     for (std::size_t i = 0; i < g.size(); ++i)
@@ -38,7 +35,7 @@ class Extrapolation {
       newX_.resize(front_.size());
       newv_.resize(front_.size());
       for (std::size_t k = 0; k < front_.size(); ++k)
-        continue_into(g, front_[k], fronts < kLinearFronts, linear_velocity, newX_[k], newv_[k]);
+        continue_into(g, front_[k], fronts < kLinearFronts, newX_[k], newv_[k]);
       next_.clear();
       for (std::size_t k = 0; k < front_.size(); ++k) {
         const std::size_t i = front_[k];
@@ -76,11 +73,10 @@ class Extrapolation {
     for_each_neighbour(g, i, [&](std::size_t j, int, int) { any = any || state_[j] == kKnown; });
     return any;
   }
-  void continue_into(const EulerianGrid<T, D>& g, std::size_t i, bool linear, bool linear_velocity,
-                     Vec<T, D>& X, Vec<T, D>& v) {
+  void continue_into(const EulerianGrid<T, D>& g, std::size_t i, bool linear, Vec<T, D>& X,
+                     Vec<T, D>& v) {
     const auto c = g.coords(i);
-    Vec<T, D> X_lin = Vec<T, D>::Zero(), X_near = Vec<T, D>::Zero();
-    Vec<T, D> v_lin = Vec<T, D>::Zero(), v_near = Vec<T, D>::Zero();
+    Vec<T, D> X_lin = Vec<T, D>::Zero(), X_near = Vec<T, D>::Zero(), v_near = Vec<T, D>::Zero();
     int lin = 0, near = 0;
     for_each_neighbour(g, i, [&](std::size_t j, int a, int dir) {
       if (state_[j] != kKnown) return;
@@ -92,12 +88,10 @@ class Extrapolation {
       const std::size_t j2 = dir > 0 ? j + g.stride(a) : j - g.stride(a);
       if (state_[j2] != kKnown) return;
       X_lin += T(2) * g.X[j] - g.X[j2];
-      v_lin += T(2) * g.v[j] - g.v[j2];
       ++lin;
     });
     X = linear && lin > 0 ? Vec<T, D>(X_lin / T(lin)) : Vec<T, D>(X_near / T(near));
-    const bool v_linear = linear && linear_velocity && lin > 0;
-    v = v_linear ? Vec<T, D>(v_lin / T(lin)) : Vec<T, D>(v_near / T(near));
+    v = v_near / T(near);
   }
 
   std::vector<char> state_;
