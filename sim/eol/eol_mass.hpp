@@ -58,11 +58,9 @@ void EolSimulation<T, D>::update_mass(EolObject<T, D>& o, bool after_extrapolati
 
 // Multilinear ∇N stays finite where N → 0, so a node holding a sliver of a cell's mass gets a
 // stiffness to mass ratio without bound, and no explicit Δt is stable for every place a surface
-// can cut a cell. A body carried across the baseline's world grid sweeps every cut: its velocity
-// error grew 10-fold every 1,000 steps from round-off. Nodes under this share of a full node's
-// mass count as empty (their X and v extrapolated). At ν = 0.3, the largest the elastic cap
-// takes, the error still grew with 0.001 and not with 0.003; 0.01 blew up the 3D drop at the
-// floor and gained energy in contact. (eol's grid rides with the body: its cuts stay.)
+// can cut a cell; a body carried across the baseline's world grid sweeps every cut. Nodes under
+// this share of a full node's mass count as empty (their X and v extrapolated); the share is
+// chosen in docs/eol.md's departures. (eol's grid rides with the body: its cuts stay.)
 constexpr double kSliverMassShare = 0.003;
 
 template <class T, int D>
