@@ -12,12 +12,13 @@ mkdir -p "$TMP/cwd"
 source "$(dirname "${BASH_SOURCE[0]}")/../check_lib.sh"
 export OMP_NUM_THREADS=1
 
-# Two runs of a rotating disk, 18 frames each.
+# Two runs of a rotating disk, 24 frames of about 70 steps each.
 cat >"$TMP/spec.json" <<'EOF'
 {
   "name": "ck",
   "scene": "rotating-disk",
-  "set": {"time.end": 0.75, "solver.integrator": "symplectic"},
+  "set": {"time.end": 1, "solver.integrator": "symplectic", "time.dt.rule": "elastic",
+          "time.dt.nu": 0.5},
   "axes": {"solver.scheme": ["pic", "apic"]}
 }
 EOF
