@@ -13,6 +13,7 @@
 #include "app/output_file.hpp"
 #include "app/output_owner.hpp"
 #include "app/run_outputs.hpp"
+#include "sim/scene/choice_parameters.hpp"
 #include "sim/scene/parameters.hpp"
 #include "sim/state_io.hpp"
 
@@ -22,31 +23,47 @@ namespace {
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 
-// The `run` options that load the pane's scene: its scene file, the solver choices and every
-// numeric parameter that differs from the file's, as --set overrides.
+// How many entries a word key with '*' has in the scene (materials, objects, colliders).
+int choice_count(const ChoiceParameter& c, const SceneDesc& s) {
+  const std::string_view k = c.key;
+  if (k.find('*') == std::string_view::npos) return 1;
+  if (k.starts_with("materials.")) return int(s.materials.size());
+  if (k.starts_with("objects.")) return int(s.objects.size());
+  if (k.starts_with("colliders.")) return int(s.colliders.size());
+  return 0;
+}
+
+// The --set overrides that take `base` to `pane`: every word key, then every number, that
+// differs (solver.method first, so that the rest read with that method's defaults).
+std::vector<std::string> overrides_between(const SceneDesc& base, const SceneDesc& pane) {
+  std::vector<std::string> sets;
+  const std::string& method = pane.solver.method;
+  for (const ChoiceParameter& c : choice_parameters()) {
+    if (!c.read_by(method) || c.list || (c.only_3d && pane.dim != 3) ||
+        choice_count(c, base) != choice_count(c, pane))
+      continue;
+    for (int i = 0; i < choice_count(c, pane); ++i)
+      if (c.get(base, i) != c.get(pane, i)) sets.push_back(c.key_at(i) + "=" + c.get(pane, i));
+  }
+  for (const NumericParameter& p : numeric_parameters()) {
+    if (!p.read_by(method) || (p.count && p.count(base) != p.count(pane))) continue;
+    for (int i = 0; i < (p.count ? p.count(pane) : 1); ++i)
+      if ((!p.is_set || p.is_set(pane, i)) && p.get(base, i) != p.get(pane, i))
+        sets.push_back(p.key_at(i) + "=" + format_value(p.get(pane, i)));
+  }
+  return sets;
+}
+
+// The `run` options that load the pane's scene: its scene file and the overrides that make it.
 cli::RunOptions run_options_of(const SceneDesc& pane, Precision precision) {
   cli::RunOptions o;
   o.scene = pane.source;
   o.precision = std::string(key_of(precision));
   o.quiet = true;
   SceneDesc base = load_scene(pane.source, {});
-  if (base.solver.method != pane.solver.method) {
-    o.sets.push_back("solver.method=" + pane.solver.method);
-    base = load_scene(pane.source, o.sets);
-  }
-  if (pane.solver.method == "mpm") {
-    const SolverDesc &a = base.solver, &b = pane.solver;
-    if (a.scheme != b.scheme) o.scheme = std::string(key_of(b.scheme));
-    if (a.kernel != b.kernel) o.kernel = std::string(key_of(b.kernel));
-    if (a.integrator != b.integrator) o.integrator = std::string(key_of(b.integrator));
-  }
-  for (const NumericParameter& p : numeric_parameters()) {
-    if (!p.read_by(pane.solver.method) || (p.count && p.count(base) != p.count(pane))) continue;
-    const int n = p.count ? p.count(pane) : 1;
-    for (int i = 0; i < n; ++i)
-      if ((!p.is_set || p.is_set(pane, i)) && p.get(base, i) != p.get(pane, i))
-        o.sets.push_back(p.key_at(i) + "=" + format_value(p.get(pane, i)));
-  }
+  if (base.solver.method != pane.solver.method)
+    base = load_scene(pane.source, {"solver.method=" + pane.solver.method});
+  o.sets = overrides_between(base, pane);
   return o;
 }
 

@@ -233,6 +233,9 @@ int run_viewer(const ViewerOptions& opt) {
       }
     };
     long frame = 0;
+    // Screenshots: the frames the worker had done before the first drawn one (a checkpoint's).
+    long first_frame = 0;
+    if (!opt.screenshot.empty()) worker.sync(), first_frame = worker.latest()->frame;
     double last = now_seconds(), last_drawn = 0;
     int redraws_owed = 0;  // ImGui settles hover and layout over a frame or two after input
     std::shared_ptr<const Published> shown;
@@ -243,7 +246,7 @@ int run_viewer(const ViewerOptions& opt) {
       // Screenshots are deterministic: each displayed frame is one more simulated frame.
       if (!opt.screenshot.empty()) {
         worker.step_frame();
-        worker.sync(frame + 1);
+        worker.sync(first_frame + frame + 1);
       }
       const auto pub = worker.latest();
       // Draw only what changed: a new published state, input, or 4 times a second (the
