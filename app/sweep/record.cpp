@@ -32,7 +32,7 @@ namespace {
 namespace fs = std::filesystem;
 using json = nlohmann::json;
 // ASF1: positions as 32-bit floats (older records); ASF2: at the run's precision.
-constexpr char kMagic[4] = {'A', 'S', 'F', '2'};
+constexpr char kFramesMagic[4] = {'A', 'S', 'F', '2'};
 constexpr char kFloatMagic[4] = {'A', 'S', 'F', '1'};
 
 double json_number(const json& j, const char* key) {
@@ -58,7 +58,7 @@ class FrameWriter {
     if (!header_written_) {
       const std::int32_t dim = s.dim;
       const std::uint64_t n = s.count();
-      out_.write(kMagic, 4);
+      out_.write(kFramesMagic, 4);
       out_.write(reinterpret_cast<const char*>(&dim), sizeof dim);
       out_.write(reinterpret_cast<const char*>(&bytes_), sizeof bytes_);
       out_.write(reinterpret_cast<const char*>(&n), sizeof n);
@@ -485,7 +485,7 @@ metrics::RunFrames read_frames(const std::string& dir) {
     throw OldFramesError(path.string() +
                          ": recorded by an older apiclab with positions as 32-bit floats, which "
                          "would put a floor of about 1e-7 under its errors");
-  if (std::string(magic, 4) != std::string(kMagic, 4))
+  if (std::string(magic, 4) != std::string(kFramesMagic, 4))
     throw std::runtime_error(path.string() + ": not a frames file");
   in.read(reinterpret_cast<char*>(&dim), sizeof dim);
   in.read(reinterpret_cast<char*>(&bytes), sizeof bytes);
