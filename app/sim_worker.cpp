@@ -156,6 +156,7 @@ void SimWorker::rewind_panes() {
   pending_frames_ = 0;
   target_ = 0;
   frame_ = 0;
+  notice_.clear();  // a checkpoint's line belongs to the run before
   // The throughput window restarts with the time: left running, it measured t = 0 against the
   // time before the reset (the GUI soak saw -0.169 sim s / wall s).
   rate_wall0_ = 0, rate_work_ = 0, sim_rate_ = 0, pstep_rate_ = 0;
