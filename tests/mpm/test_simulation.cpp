@@ -335,14 +335,16 @@ void eol_state_continues(const std::string& scene_file, const std::vector<std::s
 }
 
 TEST(Simulation, SavedEolStateContinuesBitForBit) {
+  // The disks meet at t = 0.05 s, the disk lowered onto the turning rod at 0.06 s.
   const std::vector<std::string> head_on = {"objects.0.velocity=[3,0]",
                                             "objects.1.velocity=[-3,0]"};
-  eol_state_continues("eol-two-disks.json", head_on, 3.0 / 24, 4.0 / 24);  // the disks in contact
+  eol_state_continues("eol-two-disks.json", head_on, 1.5 / 24, 2.0 / 24);
   std::vector<std::string> eulerian = head_on;
   eulerian.push_back("solver.method=eulerian");
-  eol_state_continues("eol-two-disks.json", eulerian, 1.0 / 24, 2.0 / 24);
-  eol_state_continues("eol-paddle.json", {}, 5.0 / 24, 6.0 / 24);  // on the turning rod
-  eol_state_continues("eol-drop-3d.json", {}, 1.0 / 24, 1.5 / 24);
+  eol_state_continues("eol-two-disks.json", eulerian, 1.25 / 24, 1.5 / 24);
+  eol_state_continues("eol-paddle.json", {"objects.0.shape.center=[0.32,0.62]"}, 1.5 / 24,
+                      2.5 / 24);
+  eol_state_continues("eol-drop-3d.json", {}, 0.5 / 24, 1.0 / 24);
 }
 
 // The coloured P2G's invariant for every kernel, walls and periodic axes whose length is not a
