@@ -1,6 +1,8 @@
 #include "app/checkpoint.hpp"
 
+#include <csignal>
 #include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -71,6 +73,19 @@ void flatten(const nlohmann::json& j, const std::string& key, nlohmann::json& ou
   }
 }
 
+// A test hook (tests/commands/checkpoint_tests.sh): APICLAB_TEST_KILL_CHECKPOINT=N kills the
+// process by SIGKILL in its N-th checkpoint write, once half the bytes are in the temporary file,
+// where a kill during write_file_whole would leave it.
+void killed_mid_write_for_test(const std::string& path, const std::string& bytes) {
+  static int writes = 0;
+  const char* at = std::getenv("APICLAB_TEST_KILL_CHECKPOINT");
+  if (at == nullptr || std::atoi(at) != ++writes) return;
+  std::ofstream part(temporary_name_of(path), std::ios::binary | std::ios::trunc);
+  part.write(bytes.data(), std::streamsize(bytes.size() / 2));
+  part.flush();
+  std::raise(SIGKILL);
+}
+
 }  // namespace
 
 std::string checkpoint_path(const std::string& dir) {
@@ -97,6 +112,7 @@ void write_checkpoint(const std::string& dir, nlohmann::json header, const std::
   out += head;
   out += state;
   put(out, checksum(out.data() + kPrefix, head.size() + state.size()));
+  killed_mid_write_for_test(checkpoint_path(dir), out);
   write_file_whole(checkpoint_path(dir), out);
 }
 

@@ -169,7 +169,7 @@ int run(const RunCommandOptions& given, const CLI::App& cmd) {
                      dump_without_particles);
   if ((command.checkpoint.on() || resumed) && !sim->checkpoints())
     throw UsageError("solver method '" + scene.solver.method +
-                     "' has no checkpoints yet (--checkpoint-every, --resume: mpm)");
+                     "' has no checkpoints (--checkpoint-every, --resume)");
   if (!checkpoint_dir.empty()) {
     ensure_writable_dir(checkpoint_dir);
     // A fresh run's checkpoint replaces an earlier one at once: none may outlive its outputs.

@@ -87,6 +87,7 @@ class EolSimulation final : public Simulation {
   double total_mass() const override;
   bool steps_in_parallel() const override { return parallel_; }
   std::shared_ptr<Snapshot> snapshot() const override;
+  bool checkpoints() const override { return true; }
 
   // The phases, public for tests.
   void update_mass(EolObject<T, D>& o);     // fill, owner, material, mass from X
@@ -168,6 +169,8 @@ class EolSimulation final : public Simulation {
   void dt_set_by_frame() override { last_limit_ = DtLimit::frame; }
   void reached_frame_time() override { place_surfaces(); }
   std::optional<Failure> check_step(const DiagnosticsRow& r) const override;
+  void save_family_state(StateWriter& w) const override;  // sim/eol/eol_checkpoint.hpp
+  void load_family_state(StateReader& r) override;
   // finish_step's stages for one object (eol_step.hpp, eol_contact.hpp).
   void finish_object(EolObject<T, D>& o, double dt, EnergyLedger& ledger);
   SplitSums<D, 1> impulse(EolObject<T, D>& o, T dt);
