@@ -246,6 +246,7 @@ int run(const RunCommandOptions& given, const CLI::App& cmd) {
     write_csv_sidecar((std::filesystem::path(o.dump) / "frames.csv").string(), settings);
   }
   double start = now_seconds(), last_checkpoint = start, checkpoint_wall = 0;
+  const long long steps_at_start = sim->steps();  // a resumed run's rates count its own steps
   int checkpoints = 0;
   // The run's state after its last whole row: output indexes, running diagnostics, the solver.
   const auto save_checkpoint = [&] {
@@ -323,7 +324,8 @@ int run(const RunCommandOptions& given, const CLI::App& cmd) {
   }
   double wall = now_seconds() - start;
   if (!command.summary.empty()) {
-    const RunCosts costs{wall, cpu_seconds() - cpu_start, particle_count(*sim)};
+    const RunCosts costs{wall, cpu_seconds() - cpu_start, particle_count(*sim),
+                         sim->steps() - steps_at_start};
     nlohmann::json j =
         run_summary_json(scene, settings, summary, sim->time(), costs, sim->failure());
     j["outputs"] = {{"csv", csv},
@@ -340,10 +342,11 @@ int run(const RunCommandOptions& given, const CLI::App& cmd) {
     << dt_stats_text(summary.dt()) << "), " << wall << " s wall, ";
   // A grid method (eol, eulerian) has no particles: its rate is steps per second.
   const double particles = double(particle_count(*sim)), per_second = 1 / std::max(wall, 1e-9);
+  const double steps_timed = double(sim->steps() - steps_at_start);
   if (particles > 0)
-    s << particles * double(sim->steps()) * per_second << " particle-steps/s";
+    s << particles * steps_timed * per_second << " particle-steps/s";
   else
-    s << double(sim->steps()) * per_second << " steps/s";
+    s << steps_timed * per_second << " steps/s";
   s << "; dE/E = " << summary.energy_drift();
   if (summary.angular_momentum_relative())
     s << ", |dL|/|L0| = " << summary.angular_momentum_drift();

@@ -58,6 +58,7 @@ std::string dt_stats_text(const RunSummary::DtStats& dt);
 struct RunCosts {
   double wall_seconds = 0, cpu_seconds = 0;
   std::size_t particles = 0;
+  long long steps_timed = 0;  // the steps this process took in wall_seconds (a resume's own)
 };
 
 // The JSON of `run --summary`: settings, steps, final time, dt statistics, costs, drifts

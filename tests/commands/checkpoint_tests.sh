@@ -119,11 +119,21 @@ else
   nok "--checkpoint-seconds writes a checkpoint" "exit $RC" "$(ls "$c")" "$(head -c 300 "$ERR")"
 fi
 cp "$c/run.csv" "$c/whole.csv"
-run_cli run rotating-disk --t-end 0.25 --csv "$c/run.csv" --resume "$c/run.checkpoint"
+run_cli run rotating-disk --t-end 0.25 --csv "$c/run.csv" --resume "$c/run.checkpoint" \
+  --summary "$c/summary.json"
 if [ "$RC" -eq 0 ] && cmp -s <(cut -d, -f1-16,18 "$c/whole.csv") <(cut -d, -f1-16,18 "$c/run.csv"); then
   ok "resume with SCENE and the same options: the same CSV"
 else
   nok "resume with SCENE and the same options" "exit $RC" "$(head -c 300 "$ERR")"
+fi
+# The resumed process's rates count its own steps, not the run's from t = 0.
+rates=$(python3 -c 'import json,sys; j=json.load(open(sys.argv[1]))
+timed=j["steps_per_second"]*j["wall_seconds"]
+print("%d %.1f %d" % (j["steps"], timed, 0 < timed < j["steps"] - 0.5))' "$c/summary.json" 2>&1)
+if [ "${rates##* }" = 1 ]; then
+  ok "a resumed run's steps/s counts the steps after its checkpoint (steps, steps timed: ${rates% *})"
+else
+  nok "a resumed run's rates count its own steps" "$rates"
 fi
 
 # ---- refusals: one line, exit 2 --------------------------------------------------------------------
