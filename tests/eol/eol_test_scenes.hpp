@@ -1,11 +1,19 @@
 // Small Eulerian-on-Lagrangian scenes for the tests (sim/eol/): one object in an otherwise empty
-// world, given as JSON so every test goes through the scene reader and the method registry.
+// world, given as JSON so every test goes through the scene reader and the method registry; and
+// placed balls without a scene for the contact rows' tests.
 #pragma once
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "sim/eol/eol_simulation.hpp"
+#include "sim/eol/surface/rest_surface.hpp"
+#include "sim/eol/surface/surface_placement.hpp"
 #include "sim/scene/scene.hpp"
 #include "sim/simulation.hpp"
 
@@ -70,6 +78,58 @@ std::unique_ptr<eol::EolSimulation<double, D>> make_eol(const EolSceneSpec& spec
   if (!eol) return nullptr;
   sim.release();
   return std::unique_ptr<eol::EolSimulation<double, D>>(eol);
+}
+
+// An object built without a scene, for the contact rows' tests: a grid (cell dx) whose
+// reference map is a fixed affine X = G y, a ball's rest surface placed on it (Algorithm 2),
+// and a rigid frame x = R y + p.
+template <int D>
+struct PlacedBall {
+  eol::EulerianGrid<double, D> grid;
+  eol::RestSurface<D> surface;
+  std::vector<Vec<double, D>> y;
+  Mat<double, D> R = Mat<double, D>::Identity();
+  Vec<double, D> p = Vec<double, D>::Zero();
+  eol::ContactObject<double, D> object(std::uint32_t offset) const {
+    eol::ContactObject<double, D> o;
+    o.grid = &grid;
+    o.y = &y;
+    o.simplex = &surface.simplex;
+    o.R = R;
+    o.p = p;
+    o.node_offset = offset;
+    return o;
+  }
+  Vec<double, D> world(std::size_t k) const { return R * y[k] + p; }
+};
+
+// A ball of radius r (material centre 0, its surface's cell `surface_h`) on a grid of cell dx
+// reaching 1.2 r + 2 dx each side, every node of mass 1, placed at world `centre` turned by R.
+template <int D>
+std::unique_ptr<PlacedBall<D>> make_placed_ball(double r, double dx, double surface_h,
+                                                const Vec<double, D>& centre,
+                                                const Mat<double, D>& R, const Mat<double, D>& G) {
+  auto b = std::make_unique<PlacedBall<D>>();
+  ShapeDesc shape;
+  shape.type = ShapeType::ball;
+  shape.radius = r;
+  eol::append_rest_surface<D>(shape, 0, surface_h, b->surface);
+  const double half = 1.2 * r + 2 * dx;
+  const int n = int(std::ceil(2 * half / dx)) + 1;
+  b->grid.dx = dx;
+  b->grid.origin = Vec<double, D>::Constant(-half);
+  std::array<int, D> size;
+  size.fill(n);
+  b->grid.resize(size);
+  for (std::size_t i = 0; i < b->grid.size(); ++i) {
+    b->grid.X[i] = G * b->grid.y(i);
+    b->grid.mass[i] = 1.0;
+  }
+  b->y = b->surface.X;  // the first guess of Algorithm 2
+  EXPECT_EQ(eol::place_surface(b->grid, b->surface.X, b->y, false), 0);
+  b->R = R;
+  b->p = centre;
+  return b;
 }
 
 }  // namespace apiclab::test

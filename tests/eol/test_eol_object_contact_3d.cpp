@@ -28,45 +28,10 @@ M3 turn(const V3& axis, double angle) {
 
 // A ball of radius r (material centre 0) on a grid (cell dx) carrying X = G y, its surface placed
 // by Algorithm 2, the frame turned by R and centred at p.
-struct Ball {
-  EulerianGrid<double, 3> grid;
-  RestSurface<3> surface;
-  std::vector<V3> y;
-  M3 R = M3::Identity();
-  V3 p = V3::Zero();
-  ContactObject<double, 3> object(std::uint32_t offset) const {
-    ContactObject<double, 3> o;
-    o.grid = &grid;
-    o.y = &y;
-    o.simplex = &surface.simplex;
-    o.R = R;
-    o.p = p;
-    o.node_offset = offset;
-    return o;
-  }
-  V3 world(std::size_t k) const { return R * y[k] + p; }
-};
+using Ball = test::PlacedBall<3>;
 
 std::unique_ptr<Ball> make_ball(double r, double dx, const V3& centre, const M3& R, const M3& G) {
-  auto b = std::make_unique<Ball>();
-  ShapeDesc shape;
-  shape.type = ShapeType::ball;
-  shape.radius = r;
-  append_rest_surface<3>(shape, 0, 0.5 * dx, b->surface);
-  const double half = 1.2 * r + 2 * dx;
-  const int n = int(std::ceil(2 * half / dx)) + 1;
-  b->grid.dx = dx;
-  b->grid.origin = V3::Constant(-half);
-  b->grid.resize({n, n, n});
-  for (std::size_t i = 0; i < b->grid.size(); ++i) {
-    b->grid.X[i] = G * b->grid.y(i);
-    b->grid.mass[i] = 1.0;
-  }
-  b->y = b->surface.X;
-  EXPECT_EQ(place_surface(b->grid, b->surface.X, b->y, false), 0);
-  b->R = R;
-  b->p = centre;
-  return b;
+  return test::make_placed_ball<3>(r, dx, 0.5 * dx, centre, R, G);
 }
 
 // ---- The exact overlap volume of two star-shaped closed meshes, by convex clipping: each mesh

@@ -7,11 +7,13 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <utility>
 
 #include "sim/eol/contact/global_contact.hpp"
 #include "sim/eol/contact/object_contact.hpp"
 #include "sim/eol/surface/rest_surface.hpp"
 #include "sim/eol/surface/surface_placement.hpp"
+#include "sim/geometry/collider_body.hpp"
 #include "tests/eol/eol_test_scenes.hpp"
 
 namespace apiclab {
@@ -258,7 +260,7 @@ TEST(EolSurfaceContact, QPSolutionSatisfiesKKT3D) {
 // stays at round-off (1e-10 m/s) once the ball sits on it (after 0.2 s).
 template <int D>
 void check_rest(const std::string& method, double lift = 0,
-                const nlohmann::json& colliders = nullptr) {
+                const nlohmann::json& colliders = nullptr, double end = 1.0) {
   test::EolSceneSpec spec;
   spec.dim = D;
   spec.method = method;
@@ -269,7 +271,7 @@ void check_rest(const std::string& method, double lift = 0,
   spec.velocity = {0, lift, 0};
   spec.colliders = colliders.is_null() ? floor_plane<D>(0.1, "separate", lift) : colliders;
   spec.contact = "surface";
-  spec.end = 1.0;
+  spec.end = end;
   spec.fps = 20;
   auto sim = test::make_eol<D>(spec);
   auto centre = [&]() {
@@ -300,18 +302,19 @@ void check_rest(const std::string& method, double lift = 0,
   });
   ASSERT_FALSE(failure) << failure->message;
   std::printf(
-      "[eol contact] %s %dD ball at rest on the floor rising at %g m/s, 1 s: centre moved %.2e m "
+      "[eol contact] %s %dD ball at rest on the floor rising at %g m/s, %g s: centre moved %.2e m "
       "sideways, %.2e m vertically (relative to the floor); max (E - E0) %+.2e J of |E0| %.3e J; "
       "deepest surface vertex %.2e m below the floor (dx %.4f); approach rate %.2e m/s\n",
-      method.c_str(), D, lift, sideways, vertical, gain, std::abs(e0), depth, spec.dx, approach);
+      method.c_str(), D, lift, end, sideways, vertical, gain, std::abs(e0), depth, spec.dx,
+      approach);
   EXPECT_LT(sideways, 0.01 * spec.dx) << method;
   EXPECT_LT(vertical, 0.15 * spec.dx) << method;
   if (lift == 0) {  // a rising floor does work
     EXPECT_LE(gain, 1e-9 * std::abs(e0)) << method;
   }
   EXPECT_LT(depth, 0.1 * spec.dx) << method;
-  // The bound divides by the smallest row: a moving floor's rows in 2D (3D's clipped slivers of
-  // triangles make that bound 1e-4 m/s on a fixed floor).
+  // The bound divides by the smallest row; in 3D a clipped sliver of a triangle later in a 1 s
+  // run makes it 1.4e-4 m/s on the fixed floor and the rising one alike, so 3D runs 0.35 s.
   if (lift != 0) {
     EXPECT_LE(approach, 1e-10) << method;
   }
@@ -327,6 +330,9 @@ TEST(EolSurfaceContact, BallRestingOnTheFloorStaysAtRest3D) { check_rest<3>("eol
 // The same rest on a floor rising at 0.5 m/s: EoL's numbers are those of the fixed floor (its
 // grid rides with the ball). Without the right-hand side the floor passes into the ball.
 TEST(EolSurfaceContact, BallOnARisingPlateRisesWithIt2D) { check_rest<2>("eol", 0.5); }
+TEST(EolSurfaceContact, BallOnARisingPlateRisesWithIt3D) {
+  check_rest<3>("eol", 0.5, nullptr, 0.35);
+}
 
 // The same rest on a box whose top face is the floor, rising at 0.5 m/s (a body's rows,
 // body_contact.hpp: the tangent plane of its top face, the rate jᵀv_body per quadrature point).
@@ -339,38 +345,134 @@ TEST(EolSurfaceContact, BallOnARisingBoxRisesWithIt2D) {
   check_rest<2>("eol", 0.5, nlohmann::json::array({box}));
 }
 
-// Two separate plates close on a ball at 0.05 m/s each under gravity (2D, dx 1/40, r 0.15 m,
-// the gap from 0.3 m to 0.26 m in 0.4 s): at every frame no surface vertex lies deeper behind
-// either plate than 0.5 Δx. Without eq 29's right-hand side the plates sweep through the
-// surface at 0.05 m/s (0.8 Δx by the end).
-TEST(EolSurfaceContact, PlatesClosingOnABallDoNotPassIntoIt2D) {
-  test::EolSceneSpec spec;
-  spec.dim = 2;
-  spec.dx = 1.0 / 40;
-  spec.radius = 0.15;
-  spec.center = {0.5, 0.25, 0};
-  spec.colliders = nlohmann::json::array(
-      {plane_y<2>(0.1, "separate", 0.05), plane_y<2>(0.4, "separate", -0.05, false)});
-  spec.gravity = {0, -9.8, 0};
-  spec.end = 0.4;
-  spec.fps = 50;
-  auto sim = test::make_eol<2>(spec);
+// The deepest any surface vertex lies inside a collider, each placed at the sim's time.
+template <int D>
+double deepest_in_colliders(EolSimulation<double, D>& sim) {
+  sim.place_surfaces();
   double depth = 0;
+  for (const ColliderDesc& c : sim.scene().colliders) {
+    const ColliderPose pose = collider_pose(c, D, sim.time());
+    for (const auto& o : std::as_const(sim).objects())
+      for (std::size_t k = 0; k < o.surface_y.size(); ++k)
+        depth = std::max(depth, -pose.distance(to_vec3d(o.surface_world(k))).phi);
+  }
+  return depth;
+}
+
+// Two separate plates close on a ball at 0.05 m/s each under gravity (r 0.15 m, the gap from
+// 0.3 m to 0.26 m in 0.4 s): after every step no surface vertex lies deeper inside either plate
+// than 0.5 Δx. Without eq 29's right-hand side the plates sweep through the surface at 0.05 m/s
+// (0.8 Δx by the end in 2D).
+template <int D>
+void check_plates_closing(const nlohmann::json& plates, const char* what, double end = 0.4) {
+  test::EolSceneSpec spec;
+  spec.dim = D;
+  spec.dx = D == 2 ? 1.0 / 40 : 1.0 / 16;
+  spec.radius = 0.15;
+  spec.center = {0.5, 0.25, 0.5};
+  spec.colliders = plates;
+  spec.gravity = {0, -9.8, 0};
+  spec.end = end;
+  spec.fps = 50;
+  auto sim = test::make_eol<D>(spec);
+  double depth = 0;
+  long steps = 0;
   const auto failure = sim->advance_to(spec.end, [&](const DiagnosticsRow&) {
-    const double t = sim->time(), low = 0.1 + 0.05 * t, high = 0.4 - 0.05 * t;
-    const auto& o = sim->objects()[0];
-    sim->place_surface(sim->objects()[0]);
-    for (std::size_t k = 0; k < o.surface_y.size(); ++k) {
-      const double y = o.surface_world(k)[1];
-      depth = std::max({depth, low - y, y - high});
-    }
+    depth = std::max(depth, deepest_in_colliders(*sim));
+    ++steps;
   });
   ASSERT_FALSE(failure) << failure->message;
   std::printf(
-      "[eol contact] 2D ball squeezed by two plates, 0.4 s: deepest surface vertex %.2e m "
-      "behind a plate (%.2f dx)\n",
-      depth, depth / spec.dx);
-  EXPECT_LT(depth, 0.5 * spec.dx);
+      "[eol contact] %dD ball squeezed by two %s, %g s (%ld steps): deepest surface vertex "
+      "%.2e m inside a plate (%.2f dx)\n",
+      D, what, end, steps, depth, depth / spec.dx);
+  EXPECT_LT(depth, 0.5 * spec.dx) << what;
+}
+
+TEST(EolSurfaceContact, PlatesClosingOnABallDoNotPassIntoIt2D) {
+  check_plates_closing<2>(nlohmann::json::array({plane_y<2>(0.1, "separate", 0.05),
+                                                 plane_y<2>(0.4, "separate", -0.05, false)}),
+                          "planes");
+}
+
+// Two boxes whose faces are those planes (body rows, body_contact.hpp: each quadrature point's
+// rate jᵀv_body); in 3D (Δx 1/16) at 0.25 m/s each for 0.16 s, 0.64 Δx each.
+template <int D>
+nlohmann::json closing_boxes(double speed) {
+  auto box = [](double y, double speed) {
+    nlohmann::json center = {0.5, y}, size = {0.8, 0.1}, velocity = {0.0, speed};
+    if (D == 3) {
+      center.push_back(0.5);
+      size.push_back(0.8);
+      velocity.push_back(0.0);
+    }
+    return nlohmann::json{{"type", "box"},
+                          {"center", center},
+                          {"size", size},
+                          {"velocity", velocity},
+                          {"condition", "separate"}};
+  };
+  return nlohmann::json::array({box(0.05, speed), box(0.45, -speed)});
+}
+
+TEST(EolSurfaceContact, BoxesClosingOnABallDoNotPassIntoThem2D) {
+  check_plates_closing<2>(closing_boxes<2>(0.05), "boxes");
+}
+
+TEST(EolSurfaceContact, BoxesClosingOnABallDoNotPassIntoThem3D) {
+  check_plates_closing<3>(closing_boxes<3>(0.25), "boxes", 0.16);
+}
+
+// A rod turning at 2 rad/s about its centre lifts a disk that falls onto its rising left arm
+// (eol-paddle's rod and disk, the disk 5 mm above the arm): the arm's velocity ω × r differs
+// along it, so each quadrature point carries its own rate. Under `separate` and `slip` no
+// surface vertex lies deeper inside the rod than 0.5 Δx after any step, and the arm lifts the
+// disk.
+void check_turning_rod(const char* condition) {
+  test::EolSceneSpec spec;
+  spec.dx = 1.0 / 40;
+  spec.radius = 0.12;
+  spec.center = {0.36, 0.605, 0};
+  spec.E = 2000;
+  spec.gravity = {0, -9.8, 0};
+  spec.colliders = nlohmann::json::array({{{"type", "rod"},
+                                           {"center", {0.5, 0.45}},
+                                           {"length", 0.4},
+                                           {"radius", 0.03},
+                                           {"angular_velocity", -2},
+                                           {"condition", condition}}});
+  spec.end = 0.25;
+  spec.fps = 40;
+  auto sim = test::make_eol<2>(spec);
+  auto centre_y = [&]() {
+    double y = 0, m = 0;
+    for (const auto& o : std::as_const(*sim).objects())
+      for (std::size_t i = 0; i < o.grid.size(); ++i) {
+        y += o.grid.mass[i] * o.x[i][1];
+        m += o.grid.mass[i];
+      }
+    return y / m;
+  };
+  const double y0 = centre_y();
+  double depth = 0;
+  long steps = 0;
+  const auto failure = sim->advance_to(spec.end, [&](const DiagnosticsRow&) {
+    depth = std::max(depth, deepest_in_colliders(*sim));
+    ++steps;
+  });
+  ASSERT_FALSE(failure) << failure->message;
+  const double rise = centre_y() - y0;
+  std::printf(
+      "[eol contact] 2D disk lifted by a rod turning at 2 rad/s (%s), 0.25 s (%ld steps): "
+      "deepest surface vertex %.2e m inside the rod (%.2f dx); centre risen %.4f m\n",
+      condition, steps, depth, depth / spec.dx, rise);
+  EXPECT_LT(depth, 0.5 * spec.dx) << condition;
+  EXPECT_GT(rise, 0.02) << condition;
+}
+
+TEST(EolSurfaceContact, TurningRodLiftsADiskWithoutPassingIntoIt2D) {
+  check_turning_rod("separate");
+  check_turning_rod("slip");
 }
 
 // Penetration at impact (eol-drop's ball and grid: r = 0.2 m from 0.5 m above a separate floor,
@@ -427,49 +529,15 @@ M2 rotation2(double angle) {
   return R;
 }
 
-struct Disk {
-  EulerianGrid<double, 2> grid;
-  RestSurface<2> surface;
-  std::vector<V2> y;
-  M2 R = M2::Identity();
-  V2 p = V2::Zero();
-  ContactObject<double, 2> object(std::uint32_t offset) const {
-    ContactObject<double, 2> o;
-    o.grid = &grid;
-    o.y = &y;
-    o.simplex = &surface.simplex;
-    o.R = R;
-    o.p = p;
-    o.node_offset = offset;
-    return o;
-  }
-  V2 world(std::size_t k) const { return R * y[k] + p; }
-};
+using Disk = test::PlacedBall<2>;
 
 // A disk of radius r (material centre 0) whose grid (cell dx) carries X = G y, placed at world
 // centre `centre` with its frame turned by `angle`; G a small stretch and shear.
 std::unique_ptr<Disk> make_disk(double r, double dx, const V2& centre, double angle, const M2& G) {
-  auto d = std::make_unique<Disk>();
-  ShapeDesc shape;
-  shape.type = ShapeType::ball;
-  shape.radius = r;
-  append_rest_surface<2>(shape, 0, dx, d->surface);
-  const double half = 1.2 * r + 2 * dx;
-  const int n = int(std::ceil(2 * half / dx)) + 1;
-  d->grid.dx = dx;
-  d->grid.origin = V2::Constant(-half);
-  d->grid.resize({n, n});
+  auto d = test::make_placed_ball<2>(r, dx, dx, centre, rotation2(angle), G);
   const M2 Ginv = G.inverse();
-  for (std::size_t i = 0; i < d->grid.size(); ++i) {
-    d->grid.X[i] = G * d->grid.y(i);
-    d->grid.mass[i] = 1.0;
-  }
-  d->y = d->surface.X;  // the first guess of Algorithm 2
-  EXPECT_EQ(place_surface(d->grid, d->surface.X, d->y, false), 0);
   for (std::size_t k = 0; k < d->y.size(); ++k)
     EXPECT_LT((d->y[k] - Ginv * d->surface.X[k]).norm(), 1e-13);
-  d->R = rotation2(angle);
-  d->p = centre;
   return d;
 }
 
@@ -840,6 +908,46 @@ TEST(EolObjectContact, GlobalQPSatisfiesKKTFromAnInfeasibleStart) {
     }
   std::printf("[eol global qp] %d instances: worst KKT residual %.1e, %d polished, max %d sweeps\n",
               trials, worst, polished, sweeps);
+}
+
+// A degenerate QP: random instances whose rows 0-2 appear twice and row 3 again at twice its
+// size (A = J M⁻¹ Jᵀ singular, λ not unique): u is the solution of the instance without the
+// copies to 1e-12 relative, and the KKT conditions hold to 1e-12.
+TEST(EolObjectContact, GlobalQPWithDependentRowsKeepsTheSolution) {
+  std::mt19937 rng(5);
+  double worst_u = 0, worst_kkt = 0;
+  for (int trial = 0; trial < 8; ++trial) {
+    QpInstance plain = random_qp(rng, 2, 20, 10, trial % 2 == 1);
+    QpInstance copies = plain;
+    const std::size_t entries = plain.rows.row.size();
+    for (std::uint32_t k = 0; k < 4; ++k) {
+      const auto row = std::uint32_t(copies.rows.rows());
+      for (std::size_t e = 0; e < entries; ++e) {
+        if (plain.rows.row[e] != k) continue;
+        copies.rows.row.push_back(row);
+        copies.rows.node.push_back(plain.rows.node[e]);
+        copies.rows.coeff.push_back((k == 3 ? 2.0 : 1.0) * plain.rows.coeff[e]);
+      }
+      copies.rows.bilateral.push_back(0);
+      copies.rows.key.push_back({-2, std::int64_t(k), 0});
+    }
+    const QpInstance before = copies;
+    GlobalContactSolver<double, 2> a, b;
+    a.solve(plain.rows, plain.views());
+    b.solve(copies.rows, copies.views());
+    double scale = 0, diff = 0;
+    for (std::size_t o = 0; o < plain.u.size(); ++o)
+      for (std::size_t i = 0; i < plain.u[o].size(); ++i) {
+        scale = std::max(scale, before.u[o][i].norm());
+        diff = std::max(diff, (plain.u[o][i] - copies.u[o][i]).norm());
+      }
+    worst_u = std::max(worst_u, diff / scale);
+    worst_kkt = std::max(worst_kkt, kkt_residual(before, copies, b.multipliers()));
+  }
+  std::printf("[eol global qp] dependent rows: u off by %.1e, KKT residual %.1e\n", worst_u,
+              worst_kkt);
+  EXPECT_LE(worst_u, 1e-12);
+  EXPECT_LE(worst_kkt, 1e-12);
 }
 
 // Up to 8 rows: the solve's u equals the one an enumeration of every active set finds (the

@@ -149,37 +149,19 @@ void assemble_body_rows(const EulerianGrid<T, D>& g, const std::vector<Vec<T, D>
       Piece<T, D> back;
       contact_detail::clip(s, ny, c, back);
       if (back.n == 0) continue;
+      const PointRows<T, D> rows_at{first_row,   -1, sticky ? D : 1, bilateral,
+                                    node_offset, n,  tangents};
       split_by_cells(g, back, 0, [&](const Piece<T, D>& piece) {
         integrate_piece(piece, [&](const Vec<T, D>& at, T w) {
           const Vec<T, D> x = R * at + p;
           const Vec<T, D> vb = from_vec3d<T, D>(body.velocity_at(to_vec3d(x)));
           std::array<std::int64_t, D + 1> key;
+          key[0] = -1 - std::int64_t(k) * 8;
           for (int a = 0; a + 1 < D; ++a)
             key[std::size_t(a + 1)] =
                 std::int64_t(std::floor((x - center).dot(along[std::size_t(a)]) / cell));
           key[D] = direction;
-          const auto cw = g.cell_weights(at);
-          for (int kind = 0; kind < (sticky ? D : 1); ++kind) {
-            key[0] = -1 - std::int64_t(k) * 8 - kind;
-            std::uint32_t r = std::uint32_t(first_row);
-            while (r < rows.key.size() && rows.key[r] != key) ++r;
-            if (r == rows.key.size()) {
-              rows.key.push_back(key);
-              rows.bilateral.push_back(kind > 0 || bilateral);
-            }
-            const Vec<T, D> dir = kind == 0 ? n : tangents[std::size_t(kind - 1)];
-            for (int corner = 0; corner < (1 << D); ++corner) {
-              const T phi = cw.weight[std::size_t(corner)];
-              if (phi == T(0)) continue;
-              rows.row.push_back(r);
-              rows.node.push_back(node_offset + std::uint32_t(cw.index[std::size_t(corner)]));
-              rows.coeff.push_back((w * phi) * dir);
-              if (body.moving) {
-                if (rows.rate.size() < rows.rows()) rows.rate.resize(rows.rows(), T(0));
-                rows.rate[r] += rows.coeff.back().dot(vb);
-              }
-            }
-          }
+          add_point_rows(rows_at, key, g.cell_weights(at), w, body.moving ? &vb : nullptr, rows);
         });
       });
     }

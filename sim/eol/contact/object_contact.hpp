@@ -17,9 +17,7 @@
 // same way (coincident surfaces) only the first object's side does, so |Ω| counts it once. The kept
 // parts are cut at A's grid lines and integrated exactly as surface_contact.hpp does (Φ_s is
 // quadratic along a segment in one cell: 2-point Gauss). Detection: B's segments in a uniform grid
-// over B's box (hand-written: a 40-line bucket grid over tens to thousands of segments; a BVH or
-// CGAL's box intersection would add a dependency for no gain at this size). Triangle meshes (3D):
-// object_contact_3d.hpp.
+// over B's box (simplex_buckets.hpp). Triangle meshes (3D): object_contact_3d.hpp.
 #pragma once
 #include <algorithm>
 #include <array>
@@ -28,6 +26,7 @@
 #include <map>
 #include <vector>
 
+#include "sim/eol/contact/simplex_buckets.hpp"
 #include "sim/eol/contact/surface_contact.hpp"
 
 namespace apiclab::eol {
@@ -55,66 +54,22 @@ struct OverlapPair {
   std::uint32_t first_row = 0, rows = 0;
 };
 
-// The segments of one object's world surface bucketed in a uniform grid over their box.
+// The segments of one object's world surface bucketed (simplex_buckets.hpp), and whether a point
+// lies inside the closed polyline.
 template <class T>
-class SegmentGrid {
+class SegmentGrid : public SimplexBuckets<T, 2> {
  public:
   using V = Vec<T, 2>;
-  void build(const std::vector<V>& x, const std::vector<std::uint32_t>& simplex) {
-    x_ = &x;
-    simplex_ = &simplex;
-    const std::size_t count = simplex.size() / 2;
-    lo_ = V::Constant(T(INFINITY));
-    hi_ = -lo_;
-    T length = T(0);
-    for (std::size_t s = 0; s < count; ++s) {
-      const V& a = x[simplex[2 * s]];
-      const V& b = x[simplex[2 * s + 1]];
-      lo_ = lo_.cwiseMin(a.cwiseMin(b));
-      hi_ = hi_.cwiseMax(a.cwiseMax(b));
-      length += (b - a).norm();
-    }
-    // Cells about two segments long: a few segments per bucket.
-    h_ = count > 0 ? T(2) * length / T(count) : T(1);
-    if (!(h_ > T(0))) h_ = T(1);
-    for (int a = 0; a < 2; ++a)
-      n_[std::size_t(a)] = count > 0 ? int(std::floor((hi_[a] - lo_[a]) / h_)) + 1 : 0;
-    start_.assign(std::size_t(n_[0]) * std::size_t(n_[1]) + 1, 0);
-    for (int pass = 0; pass < 2; ++pass) {
-      if (pass == 1) {
-        for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
-        item_.assign(start_.back(), 0);
-      }
-      std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
-      for (std::size_t s = 0; s < count; ++s)
-        visit(box_lo(s), box_hi(s), [&](std::size_t c) {
-          if (pass == 0)
-            ++start_[c + 1];
-          else
-            item_[fill[c]++] = std::uint32_t(s);
-        });
-    }
-  }
-  const V& lo() const { return lo_; }
-  const V& hi() const { return hi_; }
-  // The segments in the buckets meeting [lo, hi], each once, into `out`.
-  void candidates(const V& lo, const V& hi, std::vector<std::uint32_t>& out) const {
-    out.clear();
-    visit(lo, hi, [&](std::size_t c) {
-      for (std::uint32_t k = start_[c]; k < start_[c + 1]; ++k) out.push_back(item_[k]);
-    });
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
-  }
   // Inside the closed polyline: crossings of the ray from q along +x (half-open in y, so a ray
   // through a vertex counts it once).
   bool inside(const V& q, std::vector<std::uint32_t>& scratch) const {
-    if ((q.array() < lo_.array()).any() || (q.array() > hi_.array()).any()) return false;
-    candidates(q, V(hi_[0], q[1]), scratch);
+    if ((q.array() < this->lo().array()).any() || (q.array() > this->hi().array()).any())
+      return false;
+    this->candidates(q, V(this->hi()[0], q[1]), scratch);
     bool in = false;
     for (std::uint32_t s : scratch) {
-      const V& a = (*x_)[(*simplex_)[2 * s]];
-      const V& b = (*x_)[(*simplex_)[2 * s + 1]];
+      const V& a = this->vertex(s, 0);
+      const V& b = this->vertex(s, 1);
       if ((a[1] > q[1]) == (b[1] > q[1])) continue;
       const T xc = a[0] + (q[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]);
       if (xc > q[0]) in = !in;
@@ -122,34 +77,8 @@ class SegmentGrid {
     return in;
   }
   std::pair<V, V> segment(std::uint32_t s) const {
-    return {(*x_)[(*simplex_)[2 * s]], (*x_)[(*simplex_)[2 * s + 1]]};
+    return {this->vertex(s, 0), this->vertex(s, 1)};
   }
-
- private:
-  V box_lo(std::size_t s) const {
-    return (*x_)[(*simplex_)[2 * s]].cwiseMin((*x_)[(*simplex_)[2 * s + 1]]);
-  }
-  V box_hi(std::size_t s) const {
-    return (*x_)[(*simplex_)[2 * s]].cwiseMax((*x_)[(*simplex_)[2 * s + 1]]);
-  }
-  template <class F>
-  void visit(const V& lo, const V& hi, F&& f) const {
-    if (n_[0] == 0) return;
-    std::array<int, 2> c0, c1;
-    for (int a = 0; a < 2; ++a) {
-      const T top = T(n_[std::size_t(a)] - 1);
-      c0[std::size_t(a)] = int(std::clamp(std::floor((lo[a] - lo_[a]) / h_), T(0), top));
-      c1[std::size_t(a)] = int(std::clamp(std::floor((hi[a] - lo_[a]) / h_), T(0), top));
-    }
-    for (int j = c0[1]; j <= c1[1]; ++j)
-      for (int i = c0[0]; i <= c1[0]; ++i) f(std::size_t(j) * std::size_t(n_[0]) + std::size_t(i));
-  }
-  const std::vector<V>* x_ = nullptr;
-  const std::vector<std::uint32_t>* simplex_ = nullptr;
-  V lo_, hi_;
-  T h_ = T(1);
-  std::array<int, 2> n_{};
-  std::vector<std::uint32_t> start_, item_;
 };
 
 // The bucket grid over one object's world surface: SegmentGrid (2D), TriangleGrid (3D,

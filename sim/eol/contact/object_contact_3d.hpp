@@ -22,71 +22,21 @@
 
 namespace apiclab::eol {
 
-// The triangles of one object's world surface bucketed in a uniform grid over their box, and
-// whether a point lies inside the closed surface.
+// The triangles of one object's world surface bucketed (simplex_buckets.hpp), and whether a
+// point lies inside the closed surface.
 template <class T>
-class TriangleGrid {
+class TriangleGrid : public SimplexBuckets<T, 3> {
  public:
   using V = Vec<T, 3>;
-  void build(const std::vector<V>& x, const std::vector<std::uint32_t>& simplex) {
-    x_ = &x;
-    simplex_ = &simplex;
-    const std::size_t count = simplex.size() / 3;
-    lo_ = V::Constant(T(INFINITY));
-    hi_ = -lo_;
-    T edge = T(0);
-    for (std::size_t s = 0; s < count; ++s) {
-      lo_ = lo_.cwiseMin(box_lo(s));
-      hi_ = hi_.cwiseMax(box_hi(s));
-      edge += (vertex(std::uint32_t(s), 1) - vertex(std::uint32_t(s), 0)).norm();
-    }
-    // Cells about two edges wide, at most a few per triangle.
-    h_ = count > 0 ? T(2) * edge / T(count) : T(1);
-    if (!(h_ > T(0))) h_ = T(1);
-    for (;;) {
-      std::size_t cells = 1;
-      for (int a = 0; a < 3; ++a) {
-        n_[std::size_t(a)] = count > 0 ? int(std::floor((hi_[a] - lo_[a]) / h_)) + 1 : 0;
-        cells *= std::size_t(n_[std::size_t(a)]);
-      }
-      if (cells <= 4 * count + 64) break;
-      h_ *= T(1.5);
-    }
-    start_.assign(std::size_t(n_[0]) * std::size_t(n_[1]) * std::size_t(n_[2]) + 1, 0);
-    for (int pass = 0; pass < 2; ++pass) {
-      if (pass == 1) {
-        for (std::size_t c = 1; c < start_.size(); ++c) start_[c] += start_[c - 1];
-        item_.assign(start_.back(), 0);
-      }
-      std::vector<std::uint32_t> fill(start_.begin(), start_.end() - 1);
-      for (std::size_t s = 0; s < count; ++s)
-        visit(box_lo(s), box_hi(s), [&](std::size_t c) {
-          if (pass == 0)
-            ++start_[c + 1];
-          else
-            item_[fill[c]++] = std::uint32_t(s);
-        });
-    }
-  }
-  const V& lo() const { return lo_; }
-  const V& hi() const { return hi_; }
-  const V& vertex(std::uint32_t s, int k) const { return (*x_)[index(s, k)]; }
-  std::uint32_t index(std::uint32_t s, int k) const { return (*simplex_)[3 * s + std::size_t(k)]; }
-  // The triangles in the buckets meeting [lo, hi], each once, into `out`.
-  void candidates(const V& lo, const V& hi, std::vector<std::uint32_t>& out) const {
-    out.clear();
-    visit(lo, hi, [&](std::size_t c) {
-      for (std::uint32_t k = start_[c]; k < start_[c + 1]; ++k) out.push_back(item_[k]);
-    });
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
-  }
+  using SimplexBuckets<T, 3>::vertex;
+  using SimplexBuckets<T, 3>::index;
   // Inside the closed surface: crossings of the ray from q along +x. The ray's (y, z) is taken
   // as (q_y + ε, q_z + ε²) (simulation of simplicity), each edge's sign computed from its
   // lower-numbered vertex, so a ray through an edge or vertex counts one of its triangles.
   bool inside(const V& q, std::vector<std::uint32_t>& scratch) const {
-    if ((q.array() < lo_.array()).any() || (q.array() > hi_.array()).any()) return false;
-    candidates(q, V(hi_[0], q[1], q[2]), scratch);
+    if ((q.array() < this->lo().array()).any() || (q.array() > this->hi().array()).any())
+      return false;
+    this->candidates(q, V(this->hi()[0], q[1], q[2]), scratch);
     bool in = false;
     for (std::uint32_t s : scratch) {
       const V &a = vertex(s, 0), &b = vertex(s, 1), &c = vertex(s, 2);
@@ -109,8 +59,8 @@ class TriangleGrid {
   // unperturbed value (twice the signed area of i, j, q there).
   int edge_sign(std::uint32_t i, std::uint32_t j, const V& q, T& raw) const {
     const bool swap = j < i;
-    const V& p0 = (*x_)[swap ? j : i];
-    const V& p1 = (*x_)[swap ? i : j];
+    const V& p0 = this->x()[swap ? j : i];
+    const V& p1 = this->x()[swap ? i : j];
     T e = (p1[1] - p0[1]) * (q[2] - p0[2]) - (p1[2] - p0[2]) * (q[1] - p0[1]);
     raw = swap ? -e : e;
     if (e == T(0)) e = -(p1[2] - p0[2]);
@@ -118,37 +68,6 @@ class TriangleGrid {
     const int sg = e > T(0) ? 1 : -1;
     return swap ? -sg : sg;
   }
-  V box_lo(std::size_t s) const {
-    return vertex(std::uint32_t(s), 0)
-        .cwiseMin(vertex(std::uint32_t(s), 1))
-        .cwiseMin(vertex(std::uint32_t(s), 2));
-  }
-  V box_hi(std::size_t s) const {
-    return vertex(std::uint32_t(s), 0)
-        .cwiseMax(vertex(std::uint32_t(s), 1))
-        .cwiseMax(vertex(std::uint32_t(s), 2));
-  }
-  template <class F>
-  void visit(const V& lo, const V& hi, F&& f) const {
-    if (n_[0] == 0) return;
-    std::array<int, 3> c0, c1;
-    for (int a = 0; a < 3; ++a) {
-      const T top = T(n_[std::size_t(a)] - 1);
-      c0[std::size_t(a)] = int(std::clamp(std::floor((lo[a] - lo_[a]) / h_), T(0), top));
-      c1[std::size_t(a)] = int(std::clamp(std::floor((hi[a] - lo_[a]) / h_), T(0), top));
-    }
-    for (int k = c0[2]; k <= c1[2]; ++k)
-      for (int j = c0[1]; j <= c1[1]; ++j)
-        for (int i = c0[0]; i <= c1[0]; ++i)
-          f((std::size_t(k) * std::size_t(n_[1]) + std::size_t(j)) * std::size_t(n_[0]) +
-            std::size_t(i));
-  }
-  const std::vector<V>* x_ = nullptr;
-  const std::vector<std::uint32_t>* simplex_ = nullptr;
-  V lo_, hi_;
-  T h_ = T(1);
-  std::array<int, 3> n_{};
-  std::vector<std::uint32_t> start_, item_;
 };
 
 template <class T>

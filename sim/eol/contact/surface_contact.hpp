@@ -183,6 +183,50 @@ void split_by_cells(const EulerianGrid<T, D>& g, const contact_detail::Piece<T, 
   }
 }
 
+// Where one quadrature point's share of eq 28 goes: its normal row along n (the key's first
+// entry as given) and, for a sticky condition (kinds = D), its D − 1 tangent rows, whose key[0]
+// steps by `step` from the normal row's; rows are looked up from first_row on and appended when
+// new; node numbers shifted by node_offset.
+template <class T, int D>
+struct PointRows {
+  std::size_t first_row = 0;
+  std::int64_t step = 1;
+  int kinds = 1;
+  bool bilateral = false;
+  std::uint32_t node_offset = 0;
+  Vec<T, D> n;
+  std::array<Vec<T, D>, D - 1> tangents;
+};
+
+// Adds w Φ_s dir to each of the point's rows for the 2^D corners of its cell (cell weights cw),
+// and, on a moving boundary (velocity vb), the rows' rates jᵀv_b.
+template <class T, int D, class CellWeights>
+void add_point_rows(const PointRows<T, D>& group, std::array<std::int64_t, D + 1> key,
+                    const CellWeights& cw, T w, const Vec<T, D>* vb, ContactRows<T, D>& rows) {
+  const std::int64_t key0 = key[0];
+  for (int kind = 0; kind < group.kinds; ++kind) {
+    key[0] = key0 + group.step * kind;
+    std::uint32_t r = std::uint32_t(group.first_row);
+    while (r < rows.key.size() && rows.key[r] != key) ++r;
+    if (r == rows.key.size()) {
+      rows.key.push_back(key);
+      rows.bilateral.push_back(kind > 0 || group.bilateral);
+    }
+    const Vec<T, D> dir = kind == 0 ? group.n : group.tangents[std::size_t(kind - 1)];
+    for (int corner = 0; corner < (1 << D); ++corner) {
+      const T phi = cw.weight[std::size_t(corner)];
+      if (phi == T(0)) continue;
+      rows.row.push_back(r);
+      rows.node.push_back(group.node_offset + std::uint32_t(cw.index[std::size_t(corner)]));
+      rows.coeff.push_back((w * phi) * dir);
+      if (vb) {
+        if (rows.rate.size() < rows.rows()) rows.rate.resize(rows.rows(), T(0));
+        rows.rate[r] += rows.coeff.back().dot(*vb);
+      }
+    }
+  }
+}
+
 // Appends to `rows` the rows of eq 28 for one object against every plane. y: the surface's
 // intermediate positions (Algorithm 2), `simplex` its oriented segments or triangles, R and p the
 // frame (world x = R y + p), `cell` the collision grid's cell size. Plane k's rows carry k in
@@ -226,6 +270,7 @@ void assemble_surface_rows(const EulerianGrid<T, D>& g, const std::vector<Vec<T,
       Piece<T, D> back;
       contact_detail::clip(s, ny, c, back);
       if (back.n == 0) continue;
+      const PointRows<T, D> rows_at{0, 1, sticky ? D : 1, bilateral, 0, n, tangents};
       split_by_cells(g, back, 0, [&](const Piece<T, D>& piece) {
         integrate_piece(piece, [&](const Vec<T, D>& at, T w) {
           const Vec<T, D> x = R * at + p - plane.point;
@@ -235,28 +280,8 @@ void assemble_surface_rows(const EulerianGrid<T, D>& g, const std::vector<Vec<T,
             key[std::size_t(a + 1)] =
                 std::int64_t(std::floor(x.dot(tangents[std::size_t(a)]) / cell));
           key[D] = 0;
-          const auto cw = g.cell_weights(at);
-          for (int kind = 0; kind < (sticky ? D : 1); ++kind) {
-            key[0] = std::int64_t(k) * 8 + kind;
-            std::uint32_t r = 0;
-            while (r < rows.key.size() && rows.key[r] != key) ++r;
-            if (r == rows.key.size()) {
-              rows.key.push_back(key);
-              rows.bilateral.push_back(kind > 0 || bilateral);
-            }
-            const Vec<T, D> dir = kind == 0 ? n : tangents[std::size_t(kind - 1)];
-            for (int corner = 0; corner < (1 << D); ++corner) {
-              const T phi = cw.weight[std::size_t(corner)];
-              if (phi == T(0)) continue;
-              rows.row.push_back(r);
-              rows.node.push_back(std::uint32_t(cw.index[std::size_t(corner)]));
-              rows.coeff.push_back((w * phi) * dir);
-              if (moving) {
-                if (rows.rate.size() < rows.rows()) rows.rate.resize(rows.rows(), T(0));
-                rows.rate[r] += rows.coeff.back().dot(plane.velocity);
-              }
-            }
-          }
+          add_point_rows(rows_at, key, g.cell_weights(at), w, moving ? &plane.velocity : nullptr,
+                         rows);
         });
       });
     }
