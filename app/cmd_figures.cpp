@@ -73,6 +73,7 @@ int run_figures(const FiguresOptions& o) {
     for (const std::string& s : f.schemes) {
       jobs::Run r;
       r.scene = f.scene, r.scheme = s, r.t_end = t_end, r.cost = f.cost;
+      r.overrides = f.overrides;
       if (f.methods) r.scheme.clear(), r.method = s;
       if (ringing && frames) r.snapshot_times = frame_times;
       f.runs.push_back(std::move(r));
