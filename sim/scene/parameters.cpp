@@ -315,8 +315,8 @@ std::vector<NumericParameter> declare() {
        .unit = "Pa s",
        .range = Range{0, kInf, false, true},
        .default_value = 0,
-       .help = "eol: Kelvin-Voigt damping, a viscous stress eta (grad v + grad v^T) beside the "
-               "elastic one; damps deformation, not rigid motion",
+       .help = "eol, eulerian: Kelvin-Voigt damping, a viscous stress eta (grad v + grad v^T) "
+               "beside the elastic one; damps deformation, not rigid motion",
        .get = [](const S& s, int i) { return s.materials[size_t(i)].viscosity; },
        .set = [](S& s, int i, double v) { s.materials[size_t(i)].viscosity = v; },
        .count = material_count,
