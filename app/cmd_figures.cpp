@@ -98,7 +98,8 @@ int run_figures(const FiguresOptions& o) {
     for (const jobs::Run& r : f.runs)
       if (!r.failure.empty())
         std::fprintf(stderr, "apiclab figures: %s with %s failed: %s (charted up to there)\n",
-                     r.scene.c_str(), r.scheme.c_str(), r.failure.c_str());
+                     r.scene.c_str(), (r.method.empty() ? r.scheme : r.method).c_str(),
+                     r.failure.c_str());
 
   for (const figures::TimeFigure& f : chosen) {
     if (!wanted(o.only, f.id)) continue;
