@@ -62,7 +62,7 @@ target_link_libraries(apiclab_imgui_glfw PUBLIC PkgConfig::IMGUI glfw)
 target_compile_options(apiclab_imgui_glfw PRIVATE -w)
 
 target_sources(apiclab PRIVATE cmd_gui.cpp gui/viewer.cpp gui/controls.cpp gui/scene_view.cpp
-                               gui/plots_panel.cpp gui/sweep_panel.cpp)
+                               gui/plots_panel.cpp gui/sweep_panel.cpp gui/pane_checkpoint.cpp)
 # Its file-local colours share names with controls.cpp's: compiled apart in a unity build.
 set_source_files_properties(gui/sweep_panel.cpp PROPERTIES SKIP_UNITY_BUILD_INCLUSION ON)
 target_link_libraries(apiclab PRIVATE apiclab_imgui_glfw)

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "app/checkpoint.hpp"
 #include "app/cli_checks.hpp"
 #include "app/output_owner.hpp"
 #include "app/pane_spec.hpp"
@@ -89,6 +90,13 @@ void register_gui(CLI::App& root, CommandTable& table) {
   cmd->add_option("--sweep-run", *sweep_run,
                   "With --sweep: start with this run (its id, runs.csv's first column) beside "
                   "its reference [default: the first scene's reference run alone]");
+  cmd->add_option("--open-checkpoint", o->open_checkpoint,
+                  "Open a run's checkpoint folder (run --checkpoint-every, or the viewer's Save) "
+                  "as the pane, paused where the run stood [default: none]");
+  cmd->add_option("--save-checkpoint", o->save_checkpoint,
+                  "With --screenshot or --frames: at the end, save the pane as a run's "
+                  "checkpoint into this folder (several panes: DIR/pane-1, ...); apiclab run "
+                  "--resume DIR continues it [default: none]");
   cmd->add_option("--heartbeat", o->heartbeat,
                   "Rewrite FILE after every frame with 'FRAME SECONDS' (a watchdog's liveness "
                   "check, tests/gui/gui_soak.sh) [default: none]");
@@ -123,6 +131,21 @@ void register_gui(CLI::App& root, CommandTable& table) {
              throw UsageError(std::string("--heartbeat: ") + e.what());
            }
          if (!o->screenshot.empty() && o->frames <= 0) o->frames = 60;
+         if (!o->save_checkpoint.empty() && o->frames <= 0)
+           throw UsageError(
+               "--save-checkpoint DIR saves at the end of --screenshot or --frames N (in the "
+               "window: the Save button under Run)");
+         if (!o->open_checkpoint.empty()) {
+           if (!run->scene.empty() || !schemes->empty() || !o->overrides.empty() ||
+               !sweep_dir->empty())
+             throw UsageError(
+                 "--open-checkpoint DIR runs the checkpoint's own scene and options; give no "
+                 "SCENE, --schemes, --sweep, --set or solver options");
+           read_checkpoint(o->open_checkpoint);  // a bad folder: one line, exit 2
+           if (!o->screenshot.empty()) claim_screenshot(o->screenshot, *overwrite, nullptr);
+           apply_threads(run->threads);
+           return gui::run_viewer(*o);
+         }
          if (!sweep_run->empty() && sweep_dir->empty())
            throw UsageError("--sweep-run needs --sweep DIR");
          if (!sweep_dir->empty()) {

@@ -403,16 +403,19 @@ void register_run(CLI::App& root, CommandTable& table) {
                   "continue the run whose checkpoint folder DIR is: every output goes on where "
                   "the checkpoint left it; without SCENE the run's own options, with SCENE the "
                   "same ones (else refused) [default: none]");
-  table.push_back({cmd, [opts, record, cmd] {
-                     if (!record->empty() && (opts->checkpoint.on() || !opts->resume.empty()))
-                       throw UsageError(
-                           "--record runs take no --checkpoint-every, "
-                           "--checkpoint-seconds or --resume");
-                     if (!record->empty() && cmd->get_option("scene")->count() == 0)
-                       throw UsageError("scene is required (see apiclab run --help)");
-                     return record->empty() ? run(*opts, *cmd)
-                                            : sweep::record_run(opts->run, *record);
-                   }});
+  table.push_back(
+      {cmd, [opts, record, cmd] {
+         if (!record->empty() && !opts->resume.empty())
+           throw UsageError(
+               "--record runs take no --resume: the same command with "
+               "--checkpoint-every resumes from the record's checkpoint");
+         if (!record->empty() && !opts->checkpoint.dir.empty() && !opts->checkpoint.on())
+           throw UsageError("--checkpoint-dir needs --checkpoint-every or --checkpoint-seconds");
+         if (!record->empty() && cmd->get_option("scene")->count() == 0)
+           throw UsageError("scene is required (see apiclab run --help)");
+         return record->empty() ? run(*opts, *cmd)
+                                : sweep::record_run(opts->run, *record, opts->checkpoint);
+       }});
 }
 
 }  // namespace apiclab::cli

@@ -2,6 +2,7 @@
 // runs.csv, the charts and summary.md (docs/sweeps.md).
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <optional>
 
 #include "app/cli_checks.hpp"
@@ -42,6 +43,7 @@ struct SweepOptions {
   std::optional<double> target_error;
   bool quiet = false;
   bool overwrite = false;
+  sweep::SweepCheckpoints checkpoints;  // passed to every run
 };
 
 int sweep_command(const SweepOptions& o) {
@@ -66,6 +68,15 @@ int sweep_command(const SweepOptions& o) {
       throw UsageError(std::string("sweep: --dump-format: ") + e.what());
     }
     plan.dump_formats = o.dump_format;
+  }
+  if (!o.checkpoints.dir.empty() && !o.checkpoints.on())
+    throw UsageError("sweep: --checkpoint-dir needs --checkpoint-every or --checkpoint-seconds");
+  if (!o.collect.empty() && o.checkpoints.on())
+    throw UsageError("sweep: --collect DIR reads a finished sweep; it takes no checkpoint options");
+  plan.checkpoints = o.checkpoints;
+  if (!plan.checkpoints.dir.empty()) {
+    ensure_writable_dir(plan.checkpoints.dir);
+    plan.checkpoints.dir = std::filesystem::absolute(plan.checkpoints.dir).string();
   }
   if (!o.collect.empty() && (!o.out.empty() || !o.export_jobs.empty()))
     throw UsageError(
@@ -170,6 +181,18 @@ void register_sweep(CLI::App& root, CommandTable& table) {
                   "refuse a spec of more runs than this, before planning it [allowed: > 0; "
                   "default: 10000]")
       ->check(number_above(0));
+  cmd->add_option("--checkpoint-every", o->checkpoints.every_frames,
+                  "every run writes a checkpoint after every N-th frame; the same command run "
+                  "again resumes unfinished runs from their last checkpoint (docs/sweeps.md) "
+                  "[allowed: integer >= 1; default: none]")
+      ->check(whole_number(1, std::numeric_limits<int>::max()));
+  cmd->add_option("--checkpoint-seconds", o->checkpoints.every_seconds,
+                  "every run writes a checkpoint after the first step S wall seconds past its "
+                  "last one [allowed: > 0; default: none]")
+      ->check(number_above(0));
+  cmd->add_option("--checkpoint-dir", o->checkpoints.dir,
+                  "the runs' checkpoints go into DIR/ID [default: beside each unfinished "
+                  "record, runs/ID.partial/checkpoint]");
   cmd->add_flag("--quiet", o->quiet, "no progress on stderr");
   cmd->add_flag("--overwrite", o->overwrite,
                 "use a folder that holds another spec's sweep: its spec, runs.csv, summary and "

@@ -64,24 +64,49 @@ void SimWorker::enqueue(std::function<void()> command) {
 
 void SimWorker::load(SceneDesc scene, std::vector<PaneConfig> panes, Precision precision) {
   enqueue([this, scene = std::move(scene), panes = std::move(panes), precision]() mutable {
-    auto previous = std::move(panes_);
-    auto previous_scene = scene_;
-    scene_ = std::make_shared<const SceneDesc>(std::move(scene));
-    times_.emplace(*scene_);
-    precision_ = precision;
-    panes_.clear();
-    for (auto& c : panes) panes_.push_back(Pane{c, nullptr, nullptr, {}, nullptr});
-    try {
-      restart_panes();
-      error_.clear();
-    } catch (const std::exception& e) {  // keep showing what ran before
-      error_ = e.what();
-      panes_ = std::move(previous);
-      scene_ = previous_scene;
-      if (scene_) times_.emplace(*scene_);
-      link_lockstep();
-    }
+    install(std::move(scene), std::move(panes), precision, nullptr);
   });
+}
+
+void SimWorker::load_restored(SceneDesc scene, PaneConfig pane, Precision precision,
+                              std::function<Restored(Simulation&)> restore) {
+  enqueue([this, scene = std::move(scene), pane = std::move(pane), precision,
+           restore = std::move(restore)]() mutable {
+    install(std::move(scene), {std::move(pane)}, precision, restore);
+  });
+}
+
+void SimWorker::install(SceneDesc scene, std::vector<PaneConfig> panes, Precision precision,
+                        const std::function<Restored(Simulation&)>& restore) {
+  auto previous = std::move(panes_);
+  auto previous_scene = scene_;
+  const auto previous_precision = precision_;
+  scene_ = std::make_shared<const SceneDesc>(std::move(scene));
+  times_.emplace(*scene_);
+  precision_ = precision;
+  panes_.clear();
+  for (auto& c : panes) panes_.push_back(Pane{c, nullptr, nullptr, {}, nullptr, 0, nullptr});
+  try {
+    restart_panes();
+    if (restore) {
+      Pane& p = panes_.front();
+      Restored r = restore(*p.sim);
+      p.history = {};
+      p.history.push(r.last);
+      if (r.drift) p.drift = std::make_shared<const DriftRule>(*r.drift);
+      p.origin = std::move(r.origin);
+      frame_ = std::min<long>(r.frame, times_->frames);
+      target_ = times_->time_of(int(frame_));
+    }
+    error_.clear();
+  } catch (const std::exception& e) {  // keep showing what ran before
+    error_ = e.what();
+    panes_ = std::move(previous);
+    scene_ = previous_scene;
+    precision_ = previous_precision;
+    if (scene_) times_.emplace(*scene_);
+    link_lockstep();
+  }
 }
 
 void SimWorker::restart_panes() {
@@ -120,6 +145,7 @@ void SimWorker::rewind_panes() {
     p.sim = p.initial->clone();
     if (auto* t = p.sim->transfers()) t->set_scheme(p.config.scheme, p.config.flip_alpha);
     p.history = {};
+    p.origin = nullptr;
     p.history.push(p.sim->measure());
     p.total_mass = p.sim->total_mass();
     p.drift = std::make_shared<const DriftRule>(p.history[0], p.total_mass,
@@ -130,6 +156,7 @@ void SimWorker::rewind_panes() {
   pending_frames_ = 0;
   target_ = 0;
   frame_ = 0;
+  notice_.clear();  // a checkpoint's line belongs to the run before
   // The throughput window restarts with the time: left running, it measured t = 0 against the
   // time before the reset (the GUI soak saw -0.169 sim s / wall s).
   rate_wall0_ = 0, rate_work_ = 0, sim_rate_ = 0, pstep_rate_ = 0;
@@ -182,6 +209,20 @@ void SimWorker::set_scheme(std::size_t pane, Scheme scheme, double flip_alpha) {
     panes_[pane].config.scheme = scheme;
     panes_[pane].config.flip_alpha = flip_alpha;
     if (auto* t = panes_[pane].sim->transfers()) t->set_scheme(scheme, flip_alpha);
+  });
+}
+
+void SimWorker::with_pane(std::size_t pane, std::function<std::string(const PaneView&)> f) {
+  enqueue([this, pane, f = std::move(f)] {
+    if (pane >= panes_.size()) return;
+    const Pane& p = panes_[pane];
+    try {
+      notice_ = f(PaneView{*p.sim, p.history, frame_, p.origin});
+      error_.clear();
+    } catch (const std::exception& e) {
+      error_ = e.what();
+      notice_.clear();
+    }
   });
 }
 
@@ -317,6 +358,7 @@ void SimWorker::publish() {
   out->frame = frame_;
   out->generation = generation_;
   out->error = error_;
+  out->notice = notice_;
   last_publish_ = now_seconds();
   std::lock_guard lock(mutex_);
   published_ = std::move(out);

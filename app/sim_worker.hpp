@@ -21,6 +21,8 @@
 
 namespace apiclab::gui {
 
+struct PaneOrigin;  // app/gui/pane_checkpoint.hpp: the run a pane was opened from
+
 // What one pane runs: the scheme switches live; method, kernel and integrator need a restart.
 struct PaneConfig {
   Scheme scheme = Scheme::apic;  // MPM panes only
@@ -73,6 +75,23 @@ struct Published {
   long frame = 0;                // frames completed since the last reset
   std::uint64_t generation = 0;  // bumps on every load or reset (GUI re-frames cameras)
   std::string error;             // the last command that failed, one line
+  std::string notice;            // what the last with_pane command did, one line
+};
+
+// A pane as with_pane hands it over on the worker thread, between two steps.
+struct PaneView {
+  const Simulation& sim;
+  const History& history;                           // rows since the pane started (or was opened)
+  long frame;                                       // frames completed
+  const std::shared_ptr<const PaneOrigin>& origin;  // null unless opened from a checkpoint
+};
+
+// What a pane restored from a run's checkpoint starts from (load_restored).
+struct Restored {
+  long frame = 0;                  // frames the run had completed
+  std::optional<DriftRule> drift;  // the run's: from its first row
+  DiagnosticsRow last;             // the run's last row: the pane's history starts there
+  std::shared_ptr<const PaneOrigin> origin;
 };
 
 class SimWorker {
@@ -90,6 +109,13 @@ class SimWorker {
   void set_realtime(bool on);
   void set_scheme(std::size_t pane, Scheme scheme, double flip_alpha);
   void set_noise(bool on);  // snapshots carry FLIP's velocity noise (costs one P2G)
+  // Runs `f` on the worker thread with pane `pane` as it stands (a checkpoint of it); what it
+  // returns becomes Published::notice, the text of what it throws Published::error.
+  void with_pane(std::size_t pane, std::function<std::string(const PaneView&)> f);
+  // load() of one pane whose state `restore` then sets (a run's checkpoint), paused there; a
+  // throw leaves what ran before, as a failed load does.
+  void load_restored(SceneDesc scene, PaneConfig pane, Precision precision,
+                     std::function<Restored(Simulation&)> restore);
 
   std::shared_ptr<const Published> latest() const;
   // Blocks until every command queued so far has run and, when `frames_done` is given,
@@ -103,7 +129,10 @@ class SimWorker {
     History history;
     std::shared_ptr<const DriftRule> drift;
     double total_mass = 0;
+    std::shared_ptr<const PaneOrigin> origin;
   };
+  void install(SceneDesc scene, std::vector<PaneConfig> panes, Precision precision,
+               const std::function<Restored(Simulation&)>& restore);
   void enqueue(std::function<void()> command);
   void run();
   bool run_commands();  // returns whether any ran
@@ -132,7 +161,7 @@ class SimWorker {
   double target_ = 0;  // time of the frame being computed
   long frame_ = 0;
   std::uint64_t generation_ = 0;
-  std::string error_;
+  std::string error_, notice_;
   double rt_wall0_ = 0, rt_sim0_ = 0;                      // real-time schedule origin
   double rate_wall0_ = 0, rate_sim0_ = 0, rate_work_ = 0;  // throughput window
   double sim_rate_ = 0, pstep_rate_ = 0, last_publish_ = -1;

@@ -1,7 +1,6 @@
 #!/usr/bin/env bash
 # Every GoogleTest unit binary that needs no OpenGL (apiclab_tests with EolSlow.* aside, the
-# implicit, CG-preconditioner and paper-scene tests, the viewer worker, the app core, outputs,
-# particle export) under AddressSanitizer + UndefinedBehaviorSanitizer, to the end
+# viewer worker, the app core, outputs, particle export) under AddressSanitizer + UndefinedBehaviorSanitizer, to the end
 # (ctest asan.unit_tests, label slow; the render tests are left out because Mesa's driver is not
 # instrumented and its own allocations then read as leaks;
 # README "Fuzzing and sanitizers"). Builds SOURCE into BUILD (-O1, GUI off), then runs the
@@ -16,8 +15,7 @@ cmake -S "$src" -B "$build" -G Ninja "${compiler[@]}" -DCMAKE_BUILD_TYPE=Debug -
   cat "$build.configure.log"
   exit 1
 }
-binaries=(apiclab_tests apiclab_implicit_tests apiclab_cg_preconditioner_tests
-  apiclab_paper_scenes_tests test_gui_worker test_app_core test_outputs test_particle_export)
+binaries=(apiclab_tests test_gui_worker test_app_core test_outputs test_particle_export)
 cmake --build "$build" --target "${binaries[@]}" || exit 1
 export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1
 status=0

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <filesystem>
 
+#include "app/gui/pane_checkpoint.hpp"
 #include "app/gui/view_limits.hpp"
 #include "app/gui/viewer_state.hpp"
 #include "render/color.hpp"
@@ -238,6 +239,30 @@ void scene_section(ViewerState& st, SimWorker& worker) {
   if (st.scene_loaded && !st.scene.description.empty()) description_text(st);
 }
 
+// A folder for checkpoints: Save writes the panes as runs' checkpoints, Open reads one as a
+// pane (app/gui/pane_checkpoint.hpp).
+void checkpoint_row(ViewerState& st, SimWorker& worker) {
+  const float w = 48, gap = ImGui::GetStyle().ItemSpacing.x;
+  const std::string fallback = default_checkpoint_dir(st);
+  ImGui::SetNextItemWidth(-2 * (w + gap));
+  ImGui::InputTextWithHint("##checkpoint", fallback.c_str(), st.checkpoint_path,
+                           sizeof st.checkpoint_path);
+  if (ImGui::IsItemHovered()) ImGui::SetTooltip("checkpoint folder");
+  const std::string dir = st.checkpoint_path[0] ? std::string(st.checkpoint_path) : fallback;
+  ImGui::SameLine();
+  if (ImGui::Button("Save", ImVec2(w, 0))) save_pane_checkpoints(st, worker, dir);
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip(
+        "save the pane as a run's checkpoint into this folder (several panes: "
+        "FOLDER/pane-1, ...); apiclab run --resume FOLDER continues it");
+  ImGui::SameLine();
+  if (ImGui::Button("Load", ImVec2(w, 0))) open_checkpoint(st, worker, dir);
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip(
+        "open a run's checkpoint (run --checkpoint-every, or Save) as a pane, "
+        "paused where the run stood");
+}
+
 void playback_section(ViewerState& st, const Published& pub, SimWorker& worker) {
   section("Run");
   const float w = (ImGui::GetContentRegionAvail().x - 2 * ImGui::GetStyle().ItemSpacing.x) / 3;
@@ -265,9 +290,15 @@ void playback_section(ViewerState& st, const Published& pub, SimWorker& worker) 
   // Wrapped: a slow frame's long numbers must not run past a narrow panel.
   ImGui::TextWrapped("display %.0f fps (%.1f ms/frame, GUI CPU %.1f ms)",
                      st.frame_ms > 0 ? 1000 / st.frame_ms : 0, st.frame_ms, st.frame_cpu_ms);
+  checkpoint_row(st, worker);
   if (!pub.error.empty()) {
     ImGui::PushStyleColor(ImGuiCol_Text, kError);
     ImGui::TextWrapped("%s", pub.error.c_str());
+    ImGui::PopStyleColor();
+  }
+  if (!pub.notice.empty()) {
+    ImGui::PushStyleColor(ImGuiCol_Text, kNote);
+    ImGui::TextWrapped("%s", pub.notice.c_str());
     ImGui::PopStyleColor();
   }
   if (!st.notice.empty()) {

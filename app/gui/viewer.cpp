@@ -17,6 +17,7 @@
 #include "app/assets.hpp"
 #include "app/clock.hpp"
 #include "app/gui/heartbeat.hpp"
+#include "app/gui/pane_checkpoint.hpp"
 #include "app/gui/scene_view.hpp"
 #include "app/gui/viewer_state.hpp"
 #include "app/pane_spec.hpp"
@@ -210,13 +211,31 @@ int run_viewer(const ViewerOptions& opt) {
       show_sweep(st, worker, opt.sweep);
       if (opt.sweep_run >= 0) open_sweep_run(st, worker, std::size_t(opt.sweep_run));
       if (!st.sweep_error.empty()) st.load_error = st.sweep_error;
+    } else if (!opt.open_checkpoint.empty()) {
+      open_checkpoint(st, worker, opt.open_checkpoint);
     } else {
       load_scene_file(st, worker, opt.scene, opt.overrides);
     }
     if (!st.load_error.empty()) std::fprintf(stderr, "apiclab: %s\n", st.load_error.c_str());
     if (!opt.screenshot.empty() || opt.paused) worker.play(false);
 
+    // --save-checkpoint DIR at the end of --screenshot or --frames: the worker writes them.
+    const auto save_checkpoints = [&] {
+      if (opt.save_checkpoint.empty()) return;
+      save_pane_checkpoints(st, worker, opt.save_checkpoint);
+      worker.sync();
+      const auto saved = worker.latest();
+      if (!saved->error.empty()) {
+        std::fprintf(stderr, "apiclab: %s\n", saved->error.c_str());
+        status = 2;
+      } else {
+        std::printf("%s\n", saved->notice.c_str());
+      }
+    };
     long frame = 0;
+    // Screenshots: the frames the worker had done before the first drawn one (a checkpoint's).
+    long first_frame = 0;
+    if (!opt.screenshot.empty()) worker.sync(), first_frame = worker.latest()->frame;
     double last = now_seconds(), last_drawn = 0;
     int redraws_owed = 0;  // ImGui settles hover and layout over a frame or two after input
     std::shared_ptr<const Published> shown;
@@ -227,7 +246,7 @@ int run_viewer(const ViewerOptions& opt) {
       // Screenshots are deterministic: each displayed frame is one more simulated frame.
       if (!opt.screenshot.empty()) {
         worker.step_frame();
-        worker.sync(frame + 1);
+        worker.sync(first_frame + frame + 1);
       }
       const auto pub = worker.latest();
       // Draw only what changed: a new published state, input, or 4 times a second (the
@@ -292,6 +311,7 @@ int run_viewer(const ViewerOptions& opt) {
           status = 2;
         }
         if (!st.load_error.empty()) status = 2;  // scripts see that the scene did not load
+        save_checkpoints();
         glfwSetWindowShouldClose(window, 1);
       }
       if (opt.screenshot.empty() && opt.frames > 0 &&
@@ -301,6 +321,7 @@ int run_viewer(const ViewerOptions& opt) {
             "%.3g particle-steps/s\n",
             frame, 1000 / st.frame_ms, st.frame_ms, st.frame_cpu_ms,
             pub->sim_seconds_per_wall_second, pub->particle_steps_per_second);
+        save_checkpoints();
         glfwSetWindowShouldClose(window, 1);
       }
       const double t1 = now_seconds();

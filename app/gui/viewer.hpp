@@ -29,6 +29,9 @@ struct ViewerOptions {
   // Rewritten after every frame with "FRAME SECONDS" (app/gui/heartbeat.hpp); empty: none.
   std::string heartbeat;
   std::optional<double> max_memory_gb;  // --max-memory: the cap for every scene loaded
+  // gui --open-checkpoint DIR: a run's checkpoint as the pane, paused; --save-checkpoint DIR:
+  // the panes saved as runs' checkpoints after --screenshot or --frames (pane_checkpoint.hpp).
+  std::string open_checkpoint, save_checkpoint;
 };
 
 // Opens the window and runs until it closes. Returns the process exit code.

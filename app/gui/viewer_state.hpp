@@ -41,6 +41,7 @@ struct ViewerState {
 
   // Playback.
   bool realtime = true;
+  char checkpoint_path[512] = "";  // Save / Load: empty is apiclab-out/SCENE.checkpoint
 
   // View: one camera linked across panes.
   render::View view;

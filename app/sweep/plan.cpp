@@ -169,6 +169,12 @@ std::string run_dir(const std::string& out_dir, const PlannedRun& run) {
   return (std::filesystem::path(out_dir) / "runs" / run.id).string();
 }
 
+std::string run_checkpoint_dir(const std::string& out_dir, const PlannedRun& run,
+                               const SweepCheckpoints& checkpoints) {
+  if (!checkpoints.dir.empty()) return (std::filesystem::path(checkpoints.dir) / run.id).string();
+  return run_dir(out_dir, run) + ".partial/checkpoint";
+}
+
 cli::RunOptions PlannedRun::options() const {
   cli::RunOptions o;
   o.scene = scene_path;
@@ -180,7 +186,8 @@ cli::RunOptions PlannedRun::options() const {
 }
 
 std::vector<std::string> PlannedRun::command(const std::string& exe, const std::string& out_dir,
-                                             const std::string& dump_formats) const {
+                                             const std::string& dump_formats,
+                                             const SweepCheckpoints& checkpoints) const {
   const cli::RunOptions o = options();
   std::vector<std::string> args = {
       exe,           "run",       o.scene,     "--quiet",
@@ -192,6 +199,20 @@ std::vector<std::string> PlannedRun::command(const std::string& exe, const std::
   if (!dump_formats.empty())  // with --record, --dump names a folder inside the record
     for (const char* a : {"--dump", "dump", "--dump-format"}) args.push_back(a);
   if (!dump_formats.empty()) args.push_back(dump_formats);
+  if (checkpoints.every_frames > 0)
+    for (const std::string& a :
+         {std::string("--checkpoint-every"), std::to_string(checkpoints.every_frames)})
+      args.push_back(a);
+  if (checkpoints.every_seconds > 0) {
+    char seconds[32];
+    std::snprintf(seconds, sizeof seconds, "%.17g", checkpoints.every_seconds);
+    for (const std::string& a : {std::string("--checkpoint-seconds"), std::string(seconds)})
+      args.push_back(a);
+  }
+  if (checkpoints.on() && !checkpoints.dir.empty())
+    for (const std::string& a :
+         {std::string("--checkpoint-dir"), (std::filesystem::path(checkpoints.dir) / id).string()})
+      args.push_back(a);
   args.push_back("--record");
   args.push_back(run_dir(out_dir, *this));
   return args;

@@ -14,6 +14,15 @@
 
 namespace apiclab::sweep {
 
+// `sweep --checkpoint-every/--checkpoint-seconds/--checkpoint-dir`: passed to every run's
+// command, not part of its configuration (its id).
+struct SweepCheckpoints {
+  int every_frames = 0;
+  double every_seconds = 0;
+  std::string dir;  // a run's checkpoint goes into DIR/ID; empty: its record's DIR.partial
+  bool on() const { return every_frames > 0 || every_seconds > 0; }
+};
+
 struct PlannedRun {
   std::vector<std::pair<std::string, Value>> config;  // every axis key and its value
   std::string scene_path;                             // resolved base scene
@@ -33,9 +42,11 @@ struct PlannedRun {
   // cannot disagree.
   cli::RunOptions options() const;
   // The self-contained `apiclab run` command that records this run in DIR/runs/ID; with
-  // dump formats (csv,vtk,…), also its particle dumps in DIR/runs/ID/dump/.
+  // dump formats (csv,vtk,…), also its particle dumps in DIR/runs/ID/dump/; with checkpoints,
+  // the same options, so that the command run again resumes the run.
   std::vector<std::string> command(const std::string& exe, const std::string& out_dir,
-                                   const std::string& dump_formats = "") const;
+                                   const std::string& dump_formats = "",
+                                   const SweepCheckpoints& checkpoints = {}) const;
 };
 
 // The scene this run's `run --record` process simulates: options() through the same loader
@@ -45,6 +56,7 @@ SceneDesc scene_of(const PlannedRun& run);
 struct Plan {
   std::vector<PlannedRun> runs;
   std::string dump_formats;  // `sweep --dump-format`: not part of a run's configuration (its id)
+  SweepCheckpoints checkpoints;
 };
 
 // The number of runs: the configurations that no exclusion leaves out, counted without
@@ -58,6 +70,11 @@ Plan make_plan(const Spec& spec);
 
 // The folder of a run's record inside a sweep folder.
 std::string run_dir(const std::string& out_dir, const PlannedRun& run);
+
+// The folder of a run's checkpoint: DIR/ID under --checkpoint-dir DIR, else the unfinished
+// record's own (runs/ID.partial/checkpoint, app/sweep/record.hpp).
+std::string run_checkpoint_dir(const std::string& out_dir, const PlannedRun& run,
+                               const SweepCheckpoints& checkpoints);
 
 // A shell word (single-quoted where needed), for the exported command lines.
 std::string shell_quote(const std::string& word);

@@ -1,14 +1,18 @@
 // One sweep run, recorded by `apiclab run SCENE ... --record DIR` (a separate process, so timed
 // runs share no threads): DIR/diagnostics.csv, DIR/frames.bin (particle positions and energies
 // at frame times) and DIR/result.json (cost, outcome, conservation, velocity noise). Everything is
-// written under DIR.tmp-PID and renamed to DIR at the end, so a reader never sees a half-written
-// run and a killed run leaves no DIR.
+// written under DIR.tmp-PID (DIR.partial with checkpoints) and renamed to DIR at the end, so a
+// reader never sees a half-written run and a killed run leaves no DIR.
 #pragma once
 #include <stdexcept>
 #include <string>
 
 #include "app/cli.hpp"
 #include "sim/measure/metrics.hpp"
+
+namespace apiclab::cli {
+struct CheckpointOptions;  // app/checkpoint.hpp
+}
 
 namespace apiclab::sweep {
 
@@ -31,7 +35,10 @@ struct RunRecord {
 
 // `run --record DIR`: runs the scene of `o` and writes the record. Returns 0 whenever the run was
 // recorded (a blow-up is a result); a bad scene throws SceneError before anything is written.
-int record_run(const cli::RunOptions& o, const std::string& dir);
+// With checkpoints on, the unfinished record grows in DIR.partial/ with its checkpoint (in
+// DIR.partial/checkpoint/, or --checkpoint-dir): the same command run again resumes from it.
+int record_run(const cli::RunOptions& o, const std::string& dir,
+               const cli::CheckpointOptions& checkpoint);
 
 // Whether DIR holds a complete record.
 bool record_complete(const std::string& dir);

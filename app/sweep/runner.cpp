@@ -80,6 +80,16 @@ RunnerReport run_plan(const Plan& plan, const std::string& out_dir, int jobs, bo
   if (!quiet && report.skipped)
     std::fprintf(stderr, "apiclab: sweep: %zu of %zu runs already complete in %s, skipped\n",
                  report.skipped, plan.runs.size(), out_dir.c_str());
+  std::size_t resuming = 0;
+  if (plan.checkpoints.on())
+    for (const PlannedRun* r : todo)
+      resuming += fs::exists(fs::path(run_checkpoint_dir(out_dir, *r, plan.checkpoints)) /
+                             "checkpoint.bin");
+  if (!quiet && resuming)
+    std::fprintf(stderr,
+                 "apiclab: sweep: %zu unfinished runs resume from their checkpoints (logs/ID.log "
+                 "says where)\n",
+                 resuming);
   if (!quiet && old_frames)
     std::fprintf(stderr,
                  "apiclab: sweep: %zu runs recorded by an older apiclab (positions as 32-bit "
@@ -93,7 +103,7 @@ RunnerReport run_plan(const Plan& plan, const std::string& out_dir, int jobs, bo
   while (next < todo.size() || !running.empty()) {
     while (next < todo.size() && int(running.size()) < std::max(1, jobs)) {
       const PlannedRun* r = todo[next++];
-      running[spawn(r->command(exe, out_dir, plan.dump_formats),
+      running[spawn(r->command(exe, out_dir, plan.dump_formats, plan.checkpoints),
                     (logs / (r->id + ".log")).string())] = r;
     }
     int status = 0;
@@ -132,9 +142,11 @@ void export_jobs(const Plan& plan, const std::string& out_dir, const std::string
   std::ostringstream out;  // written whole (app/output_file.hpp)
   const std::string exe = self_executable();
   const std::string dir = fs::absolute(out_dir).string();
+  SweepCheckpoints checkpoints = plan.checkpoints;  // a line runs from any folder
+  if (!checkpoints.dir.empty()) checkpoints.dir = fs::absolute(checkpoints.dir).string();
   for (const PlannedRun& r : plan.runs) {
     std::string line;
-    for (const std::string& a : r.command(exe, dir, plan.dump_formats))
+    for (const std::string& a : r.command(exe, dir, plan.dump_formats, checkpoints))
       line += (line.empty() ? "" : " ") + shell_quote(a);
     out << line << '\n';
   }

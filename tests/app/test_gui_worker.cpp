@@ -14,6 +14,7 @@
 #include "sim/scene/memory_estimate.hpp"
 #include "sim/scene/registry.hpp"
 #include "sim/scene/scene.hpp"
+#include "sim/state_io.hpp"
 
 namespace apiclab::gui {
 namespace {
@@ -97,6 +98,45 @@ TEST(GuiWorker, ResetRestoresTheInitialStateExactly) {
   }
   EXPECT_EQ(again->panes[0].snapshot->scheme, "pic");
   EXPECT_EQ(again->panes[1].snapshot->scheme, "rpic");  // the chosen scheme survives reset
+}
+
+// A pane's state handed out by with_pane (a checkpoint's) and restored by load_restored in
+// another worker: paused at the same frame, it goes on exactly as the first.
+TEST(GuiWorker, RestoredPaneGoesOnAsTheSavedOne) {
+  SimWorker a, b;
+  loaded(a, {pane(Scheme::apic)}, {"time.end=0.5"});
+  run_frames(a, 3);
+  auto state = std::make_shared<std::string>();
+  long frame = -1;
+  DiagnosticsRow last;
+  a.with_pane(0, [&](const PaneView& v) {
+    StateWriter out(*state);
+    v.sim.save_state(out);
+    frame = v.frame, last = v.history.back();
+    return std::string("saved");
+  });
+  a.sync();
+  EXPECT_EQ(a.latest()->notice, "saved");
+  ASSERT_EQ(frame, 3);
+  b.load_restored(disk({"time.end=0.5"}), pane(Scheme::apic), Precision::dbl, [&](Simulation& sim) {
+    StateReader in(state->data(), state->size());
+    sim.load_state(in);
+    Restored r;
+    r.frame = frame, r.last = last;
+    return r;
+  });
+  b.sync();
+  const auto restored = b.latest();
+  ASSERT_TRUE(restored->error.empty()) << restored->error;
+  EXPECT_EQ(restored->frame, 3);
+  EXPECT_FALSE(restored->playing);
+  EXPECT_EQ(restored->panes[0].snapshot->positions, a.latest()->panes[0].snapshot->positions);
+  ASSERT_EQ(restored->panes[0].history.size(), 1u);
+  const auto x = run_frames(a, 2), y = run_frames(b, 2);
+  EXPECT_EQ(y->frame, 5);
+  EXPECT_EQ(y->panes[0].snapshot->time, x->panes[0].snapshot->time);
+  EXPECT_EQ(y->panes[0].snapshot->positions, x->panes[0].snapshot->positions);
+  EXPECT_EQ(y->panes[0].snapshot->velocities, x->panes[0].snapshot->velocities);
 }
 
 // Every pane at every frame time, the commands' frame times, each pane's snapshot from its

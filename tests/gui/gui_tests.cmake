@@ -83,6 +83,11 @@ add_test(NAME gui.sweep
                  ${CMAKE_CURRENT_BINARY_DIR}/gui-sweep)
 set_tests_properties(gui.sweep PROPERTIES LABELS "gui;default" TIMEOUT 120 SKIP_REGULAR_EXPRESSION "^SKIP:"
                                           FIXTURES_REQUIRED sweep_view)
+# Checkpoints in the viewer: a pane saved resumes with run --resume; a run's checkpoint opens.
+add_test(NAME gui.checkpoint
+         COMMAND ${CMAKE_COMMAND} -E env APICLAB=$<TARGET_FILE:apiclab> CHECK=$<TARGET_FILE:gui_screenshot_check>
+                 bash ${CMAKE_CURRENT_SOURCE_DIR}/gui/test_gui_checkpoint.sh ${CMAKE_CURRENT_BINARY_DIR}/gui-checkpoint)
+set_tests_properties(gui.checkpoint PROPERTIES LABELS "gui;default" TIMEOUT 120 SKIP_REGULAR_EXPRESSION "^SKIP:")
 
 if(NOT APICLAB_TSAN)
   add_test(NAME gui.tsan_handoff

@@ -10,14 +10,11 @@
 #include "sim/mpm/implicit/implicit_probe.hpp"
 #include "sim/mpm/probe.hpp"
 #include "sim/scene/scene.hpp"
+#include "tests/shipped_scenes.hpp"
 
 using namespace apiclab;
 
 namespace {
-
-std::string scene_path(const std::string& name) {
-  return std::string(APICLAB_SOURCE_DIR) + "/assets/scenes/" + name + ".json";
-}
 
 // A ball falling under gravity, far from the walls (no constraint acts on it).
 SceneDesc falling_ball(int dim, const std::string& preconditioner, int cg_max_iterations) {
@@ -127,8 +124,8 @@ TEST(CgPreconditioner, BothPreconditionersTakeTheSameStepsToTheNewtonTolerance) 
   long cg[2] = {0, 0};
   int k = 0;
   for (const char* pc : {"mass", "block-jacobi"}) {
-    SceneDesc s =
-        load_scene(scene_path("rotating-disk"), {std::string("solver.preconditioner=") + pc});
+    SceneDesc s = load_scene(apiclab::test::shipped_scene_path("rotating-disk"),
+                             {std::string("solver.preconditioner=") + pc});
     sims.push_back(std::make_unique<MpmSimulation<double, 2>>(s));
     ASSERT_FALSE(
         sims.back()->advance_to(1.0, [&](const DiagnosticsRow& r) { cg[k] += r.cg_iters; }));

@@ -13,14 +13,11 @@
 #include "sim/mpm/implicit/round_off_floor.hpp"
 #include "sim/mpm/probe.hpp"
 #include "sim/scene/scene.hpp"
+#include "tests/shipped_scenes.hpp"
 
 using namespace apiclab;
 
 namespace {
-
-std::string scene_path(const std::string& name) {
-  return std::string(APICLAB_SOURCE_DIR) + "/assets/scenes/" + name + ".json";
-}
 
 // A small disk (2D) or ball (3D) away from the walls, with a given material model.
 SceneDesc small_scene(int dim, const std::string& model) {
@@ -119,7 +116,7 @@ TEST(Implicit, GradientAndHessianMatchFiniteDifferences) {
 TEST(Implicit, MidpointConservesAngularMomentumOnRotatingDisk) {
   // Sec 5.3: exact for the exact solve, so |ΔL|/|L| is bounded by the Newton tolerance (1e-6,
   // a velocity-relative residual); measured 2e-9 over the paper's 2 s at CFL ν = 1.
-  SceneDesc s = load_scene(scene_path("rotating-disk"),
+  SceneDesc s = load_scene(apiclab::test::shipped_scene_path("rotating-disk"),
                            {"solver.integrator=midpoint", R"(time.dt={"rule":"cfl","nu":1})"});
   auto sim = make_simulation(s);
   DiagnosticsRow first = sim->measure();
@@ -164,7 +161,7 @@ TEST(Implicit, LinearMomentumExactEvenWithTwoCgIterations) {
   // tests/mpm/test_cg_preconditioner.cpp). The disk gets a net velocity first.
   for (const char* preconditioner : {"mass", "block-jacobi"}) {
     SceneDesc s =
-        load_scene(scene_path("rotating-disk"),
+        load_scene(apiclab::test::shipped_scene_path("rotating-disk"),
                    {"solver.integrator=midpoint", "solver.cg_max_iterations=2",
                     std::string("solver.preconditioner=") + preconditioner,
                     "objects.0.velocity=[0.05,-0.03]", R"(time.dt={"rule":"cfl","nu":1})"});
@@ -180,8 +177,9 @@ TEST(Implicit, LinearMomentumExactEvenWithTwoCgIterations) {
 
 TEST(Implicit, BackwardEulerVisiblyLosesEnergy) {
   auto run = [](const std::string& integrator) {
-    SceneDesc s = load_scene(scene_path("rotating-disk"), {"solver.integrator=" + integrator,
-                                                           R"(time.dt={"rule":"cfl","nu":1})"});
+    SceneDesc s =
+        load_scene(apiclab::test::shipped_scene_path("rotating-disk"),
+                   {"solver.integrator=" + integrator, R"(time.dt={"rule":"cfl","nu":1})"});
     auto sim = make_simulation(s);
     double e0 = sim->measure().total;
     EXPECT_FALSE(sim->advance_to(2.0));
@@ -195,9 +193,9 @@ TEST(Implicit, BackwardEulerVisiblyLosesEnergy) {
 TEST(Implicit, LargeStepBlowsUpExplicitButNotImplicit) {
   // dt = 0.01 s is 8x the explicit elastic limit Δx / c ≈ 1.2e-3 s of the disk.
   auto run = [](const std::string& integrator, DiagnosticsRow* first, DiagnosticsRow* last) {
-    SceneDesc s =
-        load_scene(scene_path("rotating-disk"), {"solver.integrator=" + integrator, "time.end=1.0",
-                                                 R"(time.dt={"rule":"fixed","value":0.01})"});
+    SceneDesc s = load_scene(apiclab::test::shipped_scene_path("rotating-disk"),
+                             {"solver.integrator=" + integrator, "time.end=1.0",
+                              R"(time.dt={"rule":"fixed","value":0.01})"});
     auto sim = make_simulation(s);
     *first = sim->measure();
     *last = *first;
@@ -302,13 +300,14 @@ TEST(Implicit, RingingFlipKeepsNoiseApicAndPicDoNot) {
   struct Result {
     double target_v_rms, target_strain_rms;
   };
-  SceneDesc scene = load_scene(scene_path("ringing"));
+  SceneDesc scene = load_scene(apiclab::test::shipped_scene_path("ringing"));
   const ObjectDesc& target = scene.objects[1];
   const double h = target.sampling.spacing;
   const int nx = int(std::lround((target.shape.max[0] - target.shape.min[0]) / h));
   const int ny = int(std::lround((target.shape.max[1] - target.shape.min[1]) / h));
   auto run = [&](const std::string& scheme) {
-    SceneDesc s = load_scene(scene_path("ringing"), {"solver.scheme=" + scheme});
+    SceneDesc s =
+        load_scene(apiclab::test::shipped_scene_path("ringing"), {"solver.scheme=" + scheme});
     auto sim = make_simulation(s);
     auto start = sim->snapshot();
     EXPECT_FALSE(sim->advance_to(40.0 / 24.0)) << scheme;
@@ -365,7 +364,7 @@ TEST(Implicit, RingingFlipKeepsNoiseApicAndPicDoNot) {
 // the same way (measured before the fix: 20 Newton, 2,265 CG iterations, residual 2.2e-7
 // against a tolerance of 2e-7, 4.5 s); a coarser grid does not show it (dx = 0.02: 1 iteration).
 TEST(Implicit, FloatFreeFallStepConvergesInAFewIterations) {
-  SceneDesc s = load_scene(scene_path("torus-drop"));
+  SceneDesc s = load_scene(apiclab::test::shipped_scene_path("torus-drop"));
   s.objects.resize(1);
   MpmSimulation<float, 3> sim(s);
   const double dt = 0.02, c = s.materials[0].wave_speed();
@@ -427,7 +426,8 @@ SolveCounts run_counting(const SceneDesc& s) {
 // Newton solve used to stop after 2 of 20 iterations at a residual 7 % above the tolerance: the
 // line search could not see E fall below E's own round-off (sim/mpm/implicit/newton_cg.hpp).
 TEST(Implicit, RotatingDiskConvergesAtEveryStep) {
-  const SolveCounts c = run_counting(load_scene(scene_path("rotating-disk")));
+  const SolveCounts c =
+      run_counting(load_scene(apiclab::test::shipped_scene_path("rotating-disk")));
   ASSERT_FALSE(c.failure) << c.failure->message;
   EXPECT_GT(c.steps, 0);
   EXPECT_EQ(c.unconverged, 0) << "worst residual " << c.worst_residual;
@@ -444,7 +444,7 @@ TEST(Implicit, PicSmallStepsConvergeAsItsVelocitiesDecay) {
       const double dx = 0.0625, c = std::sqrt((1000.0 * 0.3 / (1.3 * 0.4) + 1000.0 / 1.3) / 2);
       const double dt = factor * dx / (c + 0.4 * 0.3);  // the sweep's dt_factor
       SceneDesc s = load_scene(
-          scene_path("rotating-disk"),
+          apiclab::test::shipped_scene_path("rotating-disk"),
           {"solver.scheme=pic", std::string("solver.integrator=") + integrator, "time.end=0.5",
            "domain.dx=0.0625", R"(time.dt={"rule":"fixed","value":)" + std::to_string(dt) + "}"});
       const SolveCounts n = run_counting(s);
@@ -466,7 +466,7 @@ TEST(Implicit, BodyAtRestIsNeitherUnconvergedNorBlownUp) {
                                      std::string("solver.integrator=") + integrator};
     if (std::string(integrator) == "symplectic")
       sets.push_back(R"(time.dt={"rule":"elastic","nu":0.5})");
-    SceneDesc s = load_scene(scene_path("rotating-disk"), sets);
+    SceneDesc s = load_scene(apiclab::test::shipped_scene_path("rotating-disk"), sets);
     MpmSimulation<double, 2> sim(s);
     const double a = 0.3;
     for (auto& F : MpmProbe(sim).particles().F)
@@ -487,7 +487,7 @@ TEST(Implicit, BodyAtRestIsNeitherUnconvergedNorBlownUp) {
 // the same resting, rotated disk (round-off grows by a factor each step).
 TEST(Implicit, BlowUpFromRestIsStillCaught) {
   SceneDesc s =
-      load_scene(scene_path("rotating-disk"),
+      load_scene(apiclab::test::shipped_scene_path("rotating-disk"),
                  {"objects.0.angular_velocity=0", "time.end=1", "solver.integrator=symplectic",
                   R"(time.dt={"rule":"fixed","value":0.025})"});
   MpmSimulation<double, 2> sim(s);

@@ -21,13 +21,10 @@
 #include "sim/geometry/sampling.hpp"
 #include "sim/scene/scene.hpp"
 #include "sim/simulation.hpp"
+#include "tests/shipped_scenes.hpp"
 
 namespace apiclab {
 namespace {
-
-std::string scene_path(const std::string& name) {
-  return std::string(APICLAB_SOURCE_DIR) + "/assets/scenes/" + name + ".json";
-}
 
 // Overrides that set every object's sampling to `ppc` particles per cell.
 std::vector<std::string> all_ppc(const SceneDesc& s, int ppc) {
@@ -61,7 +58,7 @@ TEST(PaperScenes, SphereImpactParticleCountMatchesPaper) {
   // gives 333,124, 0.03% below the paper's count.
   for (const std::string name : {"sphere-impact-3d", "sphere-impact-3d-spin"}) {
     SCOPED_TRACE(name);
-    SceneDesc s = load_scene(scene_path(name));
+    SceneDesc s = load_scene(apiclab::test::shipped_scene_path(name));
     ASSERT_EQ(s.objects.size(), 2u);
     size_t total = 0;
     for (int i = 0; i < 2; ++i) total += sample_object(s, i).positions.size();
@@ -75,8 +72,8 @@ TEST(PaperScenes, SphereImpactParticleCountMatchesPaper) {
         EXPECT_GE(s.domain.max[a] - o.shape.center[a] - 2, 10 * s.domain.dx);
       }
   }
-  SceneDesc spin = load_scene(scene_path("sphere-impact-3d-spin"));
-  SceneDesc plain = load_scene(scene_path("sphere-impact-3d"));
+  SceneDesc spin = load_scene(apiclab::test::shipped_scene_path("sphere-impact-3d-spin"));
+  SceneDesc plain = load_scene(apiclab::test::shipped_scene_path("sphere-impact-3d"));
   EXPECT_NEAR(spin.materials[0].E, 8 * plain.materials[0].E, 1e-9);
   EXPECT_EQ(spin.objects[0].angular_velocity, (Vec3d{0, 0, 1}));
 }
@@ -84,10 +81,10 @@ TEST(PaperScenes, SphereImpactParticleCountMatchesPaper) {
 TEST(PaperScenes, SphereImpactRunsFirstFrames) {
   // Coarsened 2x (h = 30/128) with one particle per cell: ~5k particles, a 1-step frame.
   for (const std::string name : {"sphere-impact-3d", "sphere-impact-3d-spin"}) {
-    SceneDesc full = load_scene(scene_path(name));
+    SceneDesc full = load_scene(apiclab::test::shipped_scene_path(name));
     auto o = all_ppc(full, 1);
     o.push_back("domain.dx=0.234375");
-    SceneDesc s = load_scene(scene_path(name), o);
+    SceneDesc s = load_scene(apiclab::test::shipped_scene_path(name), o);
     run_frames(s, 2);
   }
 }
@@ -109,7 +106,7 @@ Eigen::Vector3d fitted_axis(const std::vector<Vec3d>& x) {
 }
 
 TEST(PaperScenes, TorusDropCountsAndSeededRotations) {
-  SceneDesc s = load_scene(scene_path("torus-drop"));
+  SceneDesc s = load_scene(apiclab::test::shipped_scene_path("torus-drop"));
   ASSERT_EQ(s.objects.size(), 25u);
   std::set<double> angles;
   size_t total = 0, lo = SIZE_MAX, hi = 0;
@@ -144,14 +141,16 @@ TEST(PaperScenes, TorusDropCountsAndSeededRotations) {
 }
 
 TEST(PaperScenes, RandomRotationIsReproducible) {
-  SceneDesc a = load_scene(scene_path("torus-drop"));
-  SceneDesc b = load_scene(scene_path("torus-drop"));
+  SceneDesc a = load_scene(apiclab::test::shipped_scene_path("torus-drop"));
+  SceneDesc b = load_scene(apiclab::test::shipped_scene_path("torus-drop"));
   EXPECT_EQ(a.objects[3].shape.rotation_degrees, b.objects[3].shape.rotation_degrees);
   EXPECT_EQ(sample_object(a, 3).positions, sample_object(b, 3).positions);
   // The same seed on another torus gives the same angle; another seed, other particles.
-  SceneDesc c = load_scene(scene_path("torus-drop"), {"objects.4.shape.rotation.random_seed=4"});
+  SceneDesc c = load_scene(apiclab::test::shipped_scene_path("torus-drop"),
+                           {"objects.4.shape.rotation.random_seed=4"});
   EXPECT_EQ(c.objects[4].shape.rotation_degrees, a.objects[3].shape.rotation_degrees);
-  SceneDesc d = load_scene(scene_path("torus-drop"), {"objects.3.shape.rotation.random_seed=99"});
+  SceneDesc d = load_scene(apiclab::test::shipped_scene_path("torus-drop"),
+                           {"objects.3.shape.rotation.random_seed=99"});
   EXPECT_NE(d.objects[3].shape.rotation_degrees, a.objects[3].shape.rotation_degrees);
   EXPECT_NE(sample_object(d, 3).positions, sample_object(a, 3).positions);
 }
@@ -185,10 +184,10 @@ TEST(PaperScenes, RandomSeedKeyIsStrict) {
 
 TEST(PaperScenes, TorusDropRunsFirstFrames) {
   // Coarsened 2x (dx = 0.4/35) with one particle per cell: ~3.4k particles.
-  SceneDesc full = load_scene(scene_path("torus-drop"));
+  SceneDesc full = load_scene(apiclab::test::shipped_scene_path("torus-drop"));
   auto o = all_ppc(full, 1);
   o.push_back("domain.dx=0.011428571428571429");
-  SceneDesc s = load_scene(scene_path("torus-drop"), o);
+  SceneDesc s = load_scene(apiclab::test::shipped_scene_path("torus-drop"), o);
   run_frames(s, 2);
 }
 
@@ -229,7 +228,7 @@ std::vector<std::array<Eigen::Vector3d, 3>> load_triangles(const std::string& ob
 }
 
 TEST(PaperScenes, BunnySamplingFillsTheMeshInsideOnly) {
-  SceneDesc s = load_scene(scene_path("bunnies"));
+  SceneDesc s = load_scene(apiclab::test::shipped_scene_path("bunnies"));
   ASSERT_EQ(s.objects.size(), 2u);
   const std::string obj = std::string(APICLAB_SOURCE_DIR) + "/assets/meshes/bunny.obj";
   size_t total = 0;
@@ -284,11 +283,11 @@ TEST(PaperScenes, BunnySamplingFillsTheMeshInsideOnly) {
 TEST(PaperScenes, BunniesRunFirstFrames) {
   // Coarsened 2x (64^3 grid) with one particle per cell: ~2.3k particles. The scene's fixed
   // dt = 1e-4 makes 417 steps a frame; the coarse grid allows 2e-4 (dx / c = 4.3e-4).
-  SceneDesc full = load_scene(scene_path("bunnies"));
+  SceneDesc full = load_scene(apiclab::test::shipped_scene_path("bunnies"));
   auto o = all_ppc(full, 1);
   o.push_back("domain.dx=0.015625");
   o.push_back("time.dt.value=0.0002");
-  SceneDesc s = load_scene(scene_path("bunnies"), o);
+  SceneDesc s = load_scene(apiclab::test::shipped_scene_path("bunnies"), o);
   run_frames(s, 2);
 }
 
