@@ -9,8 +9,9 @@
 //   fig11_roundtrip.png/.csv       Fig 11: round-trip transfer error against Δx, Sec 6.8
 //   eol_fig6_translation.png/.csv  Fan et al. 2013 Fig 6: grid nodes and memory, EoL/Eulerian
 //   eol_fig7_spin.png/.csv         Fan et al. 2013 Fig 7: ω(t) of a spinning disk, EoL/Eulerian
-//   eol_fig8_drop.png/.csv         Fan et al. 2013 Fig 8: Δt against time of the drop, coloured
-//                                  by the bound that set it
+//   eol_fig8_two_balls.png/.csv    Fan et al. 2013 Fig 8: EoL's Δt through the two-ball
+//                                  collision, coloured by its bound, the contact marked
+//   eol_fig9_two_balls.png/.csv    Fan et al. 2013 Fig 9: the same, EoL beside Eulerian
 //   scheme_energy.png/.csv         two-ring total energy at a fixed time, every scheme
 #include <algorithm>
 #include <cstdio>
@@ -73,6 +74,9 @@ int run_figures(const FiguresOptions& o) {
     for (const std::string& s : f.schemes) {
       jobs::Run r;
       r.scene = f.scene, r.scheme = s, r.t_end = t_end, r.cost = f.cost;
+      r.overrides = f.overrides;
+      if (o.quick)
+        r.overrides.insert(r.overrides.end(), f.quick_overrides.begin(), f.quick_overrides.end());
       if (f.methods) r.scheme.clear(), r.method = s;
       if (ringing && frames) r.snapshot_times = frame_times;
       f.runs.push_back(std::move(r));
@@ -94,7 +98,8 @@ int run_figures(const FiguresOptions& o) {
     for (const jobs::Run& r : f.runs)
       if (!r.failure.empty())
         std::fprintf(stderr, "apiclab figures: %s with %s failed: %s (charted up to there)\n",
-                     r.scene.c_str(), r.scheme.c_str(), r.failure.c_str());
+                     r.scene.c_str(), (r.method.empty() ? r.scheme : r.method).c_str(),
+                     r.failure.c_str());
 
   for (const figures::TimeFigure& f : chosen) {
     if (!wanted(o.only, f.id)) continue;

@@ -1,8 +1,10 @@
 #include "app/figures/time_figure.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 
 #include "app/cli.hpp"
 #include "app/figures/chart_style.hpp"
@@ -41,10 +43,35 @@ struct LimitStyle {
 const LimitStyle kLimits[] = {
     {"elastic", "elastic limit", IM_COL32(123, 50, 148, 255)},
     {"advection", "advection, eq 33", IM_COL32(230, 159, 0, 255)},
+    {"contact", "contact bound", IM_COL32(200, 30, 60, 255)},
     {"frame", "frame time", IM_COL32(30, 30, 30, 255)},
     {"max", "time.dt.value", IM_COL32(150, 150, 150, 255)},
     {"fixed", "fixed", IM_COL32(140, 90, 40, 255)},
 };
+
+// The steps whose objects' surfaces overlapped (Fig 8's contact interval), a grey bar at half the
+// run's smallest value; none (no samples) when no step touched.
+gui::PlotSeries contact_interval(const jobs::Run& r, const Quantity& q) {
+  double low = std::numeric_limits<double>::infinity();
+  bool touched = false;
+  for (std::size_t i = 1; i < r.rows.size(); ++i) {
+    const double v = value(r, q, i);
+    if (v > 0) low = std::min(low, v);
+    touched = touched || r.rows[i].contact_pairs > 0;
+  }
+  gui::PlotSeries s;
+  if (!touched || !std::isfinite(low)) return s;
+  s.label = series_label(r) + ": contact (surfaces overlap)";
+  s.color = IM_COL32(120, 120, 120, 255);
+  s.count = r.rows.size();
+  s.x = [&r](std::size_t i) { return r.rows[i].t; };
+  s.y = [&r, y = r.method == "eol" ? 0.5 * low : 0.35 * low](std::size_t i) {
+    return r.rows[i].contact_pairs > 0 ? y : std::nan("");
+  };
+  s.thickness = 6.0f;
+  s.dashed = r.method != "eol";
+  return s;
+}
 
 // One series per run and bound: the steps that bound set, the others left out (gaps). A bound
 // that set fewer than half the steps gets a dot on each of its steps, so single steps show.
@@ -70,6 +97,8 @@ std::vector<gui::PlotSeries> limit_series(const std::vector<jobs::Run>& runs, co
       s.markers = 2 * steps < r.rows.size();
       out.push_back(std::move(s));
     }
+  for (const jobs::Run& r : runs) out.push_back(contact_interval(r, q));
+  std::erase_if(out, [](const gui::PlotSeries& s) { return s.count == 0; });
   return out;
 }
 
@@ -97,14 +126,15 @@ void write_time_figure(ChartCanvas& canvas, const TimeFigure& f, const std::stri
   {
     std::ofstream csv(base.string() + ".csv");
     csv << "scheme,step,t,dt,kinetic,kinetic_grid,potential,total_energy,angular_momentum"
-        << (f.methods ? ",dt_limit,grid_nodes,grid_bytes\n" : "\n");
+        << (f.methods ? ",dt_limit,grid_nodes,grid_bytes,contact_pairs\n" : "\n");
     csv.precision(17);
     for (const jobs::Run& r : f.runs)
       for (const DiagnosticsRow& d : r.rows)
         csv << key_of(r) << ',' << d.step << ',' << d.t << ',' << d.dt << ',' << d.kinetic << ','
             << d.kinetic_grid << ',' << d.potential << ',' << d.total << ',' << d.L[2]
             << (f.methods ? "," + d.dt_limit + "," + std::to_string(std::llround(d.grid_nodes)) +
-                                "," + std::to_string(std::llround(d.grid_bytes)) + "\n"
+                                "," + std::to_string(std::llround(d.grid_bytes)) + "," +
+                                std::to_string(d.contact_pairs) + "\n"
                           : "\n");
     if (!csv) throw cli::UsageError("cannot write " + base.string() + ".csv");
   }

@@ -17,10 +17,13 @@ void EolSimulation<T, D>::forces(EolObject<T, D>& o) {
   const Mat<T, D> R = o.frame.rotation();
   Vec<T, D> g;
   for (int a = 0; a < D; ++a) g[a] = T(scene_.gravity[std::size_t(a)]);
-  // Elasticity in frame axes, then per node (in the same parallel region) rotated to world axes
-  // with gravity and f_qvv added.
+  // Elasticity (and Kelvin–Voigt damping) in frame axes, then per node (in the same parallel
+  // region) rotated to world axes with gravity and f_qvv added.
+  const bool viscous = ViscousForces<T, D>::any(materials_);
+  if (viscous) o.viscous.compute(o.grid, materials_, parallel_);
   o.elastic.compute(o.grid, materials_, o.force, parallel_, [&](std::size_t i) {
     const T m = o.grid.mass[i];
+    if (viscous) o.force[i] += o.viscous.force[i];
     o.force[i] = R * o.force[i] + m * g;
     if (lagrangian_ && m > T(0))
       o.force[i] +=

@@ -36,9 +36,10 @@ EolSimulation<T, D>::EolSimulation(const SceneDesc& scene, bool lagrangian)
 template <class T, int D>
 void EolSimulation<T, D>::add_materials() {
   for (const MaterialDesc& m : scene_.materials) {
-    materials_.push_back({m.model, {T(m.mu()), T(m.lambda())}});
+    materials_.push_back({m.model, {T(m.mu()), T(m.lambda())}, T(m.viscosity)});
     density_.push_back(T(m.rho));
     max_wave_speed_ = std::max(max_wave_speed_, m.wave_speed());
+    max_kinematic_viscosity_ = std::max(max_kinematic_viscosity_, m.viscosity / m.rho);
   }
 }
 

@@ -24,6 +24,7 @@
 #include "sim/eol/grid/extrapolation.hpp"
 #include "sim/eol/grid/forces.hpp"
 #include "sim/eol/grid/implicit_elasticity.hpp"
+#include "sim/eol/grid/viscosity.hpp"
 #include "sim/eol/least_squares_split.hpp"
 #include "sim/eol/surface/rest_surface.hpp"
 #include "sim/eol/time_step.hpp"
@@ -41,6 +42,7 @@ struct EolObject {
   std::vector<Vec<T, D>> r, x, u, force, scratch, vstar;
   ElasticForces<T, D> elastic;
   ImplicitElasticity<T, D> implicit;  // solver.elasticity implicit: the backward Euler solve
+  ViscousForces<T, D> viscous;        // materials.*.viscosity > 0: Kelvin–Voigt damping
   Extrapolation<T, D> extrapolation;
   // The surface (Sec 3.8): built once in material space; Algorithm 2 places it at frame times
   // (EolSimulation::place_surfaces) at intermediate positions surface_y (world: R y + p), each
@@ -53,8 +55,8 @@ struct EolObject {
   double rest_mass = 0;
   // Grid storage held (Fig 6): every per-node and per-cell array of this object's grid.
   std::size_t grid_bytes() const {
-    std::size_t b = grid.bytes() + elastic.bytes() + implicit.bytes() + extrapolation.bytes() +
-                    held_bytes(owner);
+    std::size_t b = grid.bytes() + elastic.bytes() + implicit.bytes() + viscous.bytes() +
+                    extrapolation.bytes() + held_bytes(owner);
     for (const auto* f : {&r, &x, &u, &force, &scratch, &vstar}) b += held_bytes(*f);
     return b;
   }
@@ -121,11 +123,14 @@ class EolSimulation final : public Simulation {
   }
   // The blow-up check's energy scale, again from the current state (tests that set a state).
   void reset_energy_reference() { energy_ref_ = energy_reference(); }
-  // Time spent in each phase (seconds, summed over steps): forces, assembly (impulse and planes,
-  // in one pass with the split's sums), split (its solve and remainder, with the Δt choice's
-  // projections), everything else (advection, extrapolation, mass), and the surface placements.
+  // Time spent in each phase (seconds, summed over steps): forces, collision (the box test and
+  // the contact rows of eq 28, between objects and against planes), assembly (the impulse, in one
+  // pass with the split's sums), the QP of eq 29, split (its solve and remainder, with the Δt
+  // choice's projections), advection (eq 15), extrapolation with the mass passes, and the
+  // surface placements (Algorithm 2, at frames and for the contact rows).
   struct StageSeconds {
-    double forces = 0, assembly = 0, split = 0, advection = 0, surface = 0;
+    double forces = 0, collision = 0, assembly = 0, qp = 0, split = 0, advection = 0,
+           extrapolation = 0, surface = 0;
   };
   const StageSeconds& stage_seconds() const { return stages_; }
   // The energy ledger (energy_ledger.hpp): on, every step adds its stages' energy changes to
@@ -232,6 +237,7 @@ class EolSimulation final : public Simulation {
   ContactRows<T, D> plane_scratch_;
   std::vector<OverlapPair<T>> object_pairs_;
   double energy_ref_ = 0, max_wave_speed_ = 0;
+  double max_kinematic_viscosity_ = 0;  // max η/ρ over the materials: the viscous step limit
   DtLimit last_limit_ = DtLimit::fixed;
   NewtonCgReport implicit_report_;
   StageSeconds stages_;
@@ -255,6 +261,7 @@ class EolSimulation final : public Simulation {
   std::array<double, 3> split_rates(const EolObject<T, D>& o, const DtSums& sums) const;
   double object_dt(const EolObject<T, D>& o, double dt, DtLimit& limit);
   double approach_limit(const EolObject<T, D>& o) const;
+  double objects_approach_limit() const;        // between objects, under implicit elasticity
   std::vector<SplitSums<D, 1>> split_partial_;  // the same for finish_step's split
 };
 

@@ -31,7 +31,11 @@ void EolSimulation<T, D>::finish_step(double dt) {
   object_pairs_.clear();
   move_planes(planes_, time_);  // moving colliders where they are at the step's start
   if (!bodies_.empty()) place_bodies(bodies_, D, time_, body_poses_);
-  const std::vector<char> meeting = meeting_objects();
+  std::vector<char> meeting;
+  {
+    StageTimer timer{stages_.collision};
+    meeting = meeting_objects();
+  }
   for (std::size_t k = 0; k < objects_.size(); ++k)
     if (meeting.empty() || !meeting[k]) finish_object(objects_[k], dt, ledger);
   if (!meeting.empty()) finish_together(meeting, dt, ledger);
@@ -63,11 +67,11 @@ void EolSimulation<T, D>::finish_object(EolObject<T, D>& o, double dt, EnergyLed
 // with no node rows.
 template <class T, int D>
 SplitSums<D, 1> EolSimulation<T, D>::impulse(EolObject<T, D>& o, T dt) {
-  StageTimer timer{stages_.assembly};
   const bool surface = scene_.solver.eol.contact == EolSolverDesc::Contact::surface;
   const bool surface_rows =
       surface && (!planes_.empty() || !body_poses_.empty()) && may_touch_planes(o);
   if (surface_rows) impulse_surface_contact(o, dt);
+  StageTimer timer{stages_.assembly};
   return impulse_pass(o, dt, surface_rows);
 }
 
@@ -137,9 +141,12 @@ void EolSimulation<T, D>::split(EolObject<T, D>& o, const SplitSums<D, 1>& sums,
 // into the empty nodes, the mass there, and the spatial state.
 template <class T, int D>
 void EolSimulation<T, D>::advect(EolObject<T, D>& o, T dt) {
-  StageTimer timer{stages_.advection};
-  advect_pair(o.grid, o.vstar, dt, o.grid.X, o.scratch, o.vstar, o.grid.v, parallel_);
-  std::swap(o.grid.X, o.scratch);
+  {
+    StageTimer timer{stages_.advection};
+    advect_pair(o.grid, o.vstar, dt, o.grid.X, o.scratch, o.vstar, o.grid.v, parallel_);
+    std::swap(o.grid.X, o.scratch);
+  }
+  StageTimer timer{stages_.extrapolation};
   update_mass(o, false);
   o.extrapolation.apply(o.grid);
   update_mass(o, true);

@@ -24,6 +24,9 @@ struct DiagnosticsRow {
   // Grid storage the solver holds (EoL: nodes of every object's grid, bytes of their per-node
   // and per-cell arrays); not in the diagnostics CSV: Fig 6's CSV carries them.
   double grid_nodes = 0, grid_bytes = 0;
+  // EoL: pairs of objects whose surfaces overlapped at the step's start (the contact interval
+  // of Fan et al. Fig 8); not in the diagnostics CSV.
+  int contact_pairs = 0;
 };
 
 inline const char* diagnostics_header() {

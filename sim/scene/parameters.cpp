@@ -310,6 +310,17 @@ std::vector<NumericParameter> declare() {
        .get = [](const S& s, int i) { return s.materials[size_t(i)].rho; },
        .set = [](S& s, int i, double v) { s.materials[size_t(i)].rho = v; },
        .count = material_count},
+      {.key = "materials.*.viscosity",
+       .label = "viscosity eta",
+       .unit = "Pa s",
+       .range = Range{0, kInf, false, true},
+       .default_value = 0,
+       .help = "eol, eulerian: Kelvin-Voigt damping, a viscous stress eta (grad v + grad v^T) "
+               "beside the elastic one; damps deformation, not rigid motion",
+       .get = [](const S& s, int i) { return s.materials[size_t(i)].viscosity; },
+       .set = [](S& s, int i, double v) { s.materials[size_t(i)].viscosity = v; },
+       .count = material_count,
+       .method = "eol eulerian"},
   };
 }
 

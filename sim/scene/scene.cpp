@@ -240,11 +240,17 @@ void read_solver(Reader r, SceneDesc& s, const std::set<std::string>& left_out) 
   for (const std::string& key : left_out) r.accept(key);
 }
 
-void read_material(Reader r, SceneDesc& s, int index) {
+// `switched`: `--set solver.method` gave another method than the file's, whose material keys
+// (materials.*.viscosity) the new method leaves out, as it leaves out the file's solver keys.
+void read_material(Reader r, SceneDesc& s, int index, bool switched) {
   MaterialDesc& m = s.materials.emplace_back();
   m.name = r.string("name", "material" + std::to_string(index));
   read_choices(r, s, "materials.*.", index);
   read_numbers(r, s, "materials.*.", index);
+  if (!switched) return;
+  for (const NumericParameter& p : numeric_parameters())
+    if (p.key.starts_with("materials.*.") && !p.read_by(s.solver.method))
+      r.accept(std::string(p.key.substr(12)));
 }
 
 // The index of the material a key names by name or index.
@@ -442,7 +448,7 @@ void read_collider(Reader r, SceneDesc& s, int index) {
 }
 
 SceneDesc parse_json(const json& j, const std::string& file,
-                     const std::set<std::string>& left_out = {}) {
+                     const std::set<std::string>& left_out = {}, bool switched = false) {
   SceneDesc s;
   s.source = file;
   Reader r(j, "", file);
@@ -458,7 +464,7 @@ SceneDesc parse_json(const json& j, const std::string& file,
     r.fail("materials", "expected a non-empty array");
   const json& mats = r.raw("materials");
   for (size_t i = 0; i < mats.size(); ++i)
-    read_material(Reader(mats[i], "materials." + std::to_string(i), file), s, int(i));
+    read_material(Reader(mats[i], "materials." + std::to_string(i), file), s, int(i), switched);
   // Every numeric parameter is read by now: ranges and the relations between values are
   // checked before any object is placed in the domain.
   validate(s);
@@ -568,9 +574,11 @@ SceneDesc parse_with_overrides(json j, const std::string& file,
   const json before = overrides.empty() ? json() : j;
   for (auto& o : overrides) apply_override(j, o, file);
   try {
+    const bool switched = !overrides.empty() && method_of(before) != method_of(j);
     return parse_json(
         j, file,
-        overrides.empty() ? std::set<std::string>{} : switched_method_keys(before, j, overrides));
+        overrides.empty() ? std::set<std::string>{} : switched_method_keys(before, j, overrides),
+        switched);
   } catch (const SceneError&) {
     throw;
   } catch (const std::exception& e) {

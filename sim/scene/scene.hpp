@@ -114,6 +114,7 @@ struct MaterialDesc {
   MaterialModel model = MaterialModel::neo_hookean;
   // The scene must give all three; these make a usable material for scenes built in code.
   double E = 1000.0, nu = 0.3, rho = 1.0;
+  double viscosity = 0.0;  // Kelvin-Voigt η (eol, eulerian)
   double mu() const { return E / (2.0 * (1.0 + nu)); }
   double lambda() const { return E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)); }
   double wave_speed() const { return std::sqrt((lambda() + 2.0 * mu()) / rho); }

@@ -3,6 +3,7 @@
 #pragma once
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -60,14 +61,22 @@ void EolSimulation<T, D>::impulse_nodes(EolObject<T, D>& o, T dt) {
 // against the planes, and the QP on them. The impulse stage calls it only when may_touch_planes.
 template <class T, int D>
 void EolSimulation<T, D>::impulse_surface_contact(EolObject<T, D>& o, T dt) {
-  impulse_nodes(o, dt);
+  {
+    StageTimer timer{stages_.assembly};
+    impulse_nodes(o, dt);
+  }
   place_surface(o);
-  const T cell = scene_.solver.eol.contact_cell > 0 ? T(scene_.solver.eol.contact_cell) : o.grid.dx;
-  contact_rows_.clear();
-  assemble_surface_rows(o.grid, o.surface_y, o.surface.simplex, o.frame.rotation(), o.frame.p,
-                        planes_, cell, contact_rows_);
-  assemble_body_rows(o.grid, o.surface_y, o.surface.simplex, o.frame.rotation(), o.frame.p,
-                     body_poses_, cell, 0, contact_rows_);
+  {
+    StageTimer timer{stages_.collision};
+    const T cell =
+        scene_.solver.eol.contact_cell > 0 ? T(scene_.solver.eol.contact_cell) : o.grid.dx;
+    contact_rows_.clear();
+    assemble_surface_rows(o.grid, o.surface_y, o.surface.simplex, o.frame.rotation(), o.frame.p,
+                          planes_, cell, contact_rows_);
+    assemble_body_rows(o.grid, o.surface_y, o.surface.simplex, o.frame.rotation(), o.frame.p,
+                       body_poses_, cell, 0, contact_rows_);
+  }
+  StageTimer timer{stages_.qp};
   contact_stats_ = contact_solver_.solve(contact_rows_, o.grid.mass, o.u);
 }
 
@@ -131,7 +140,8 @@ void EolSimulation<T, D>::object_contact(const std::vector<char>& meeting) {
     views.push_back({&o.grid.mass, &o.u, offset});
     offset += std::uint32_t(o.grid.size());
   }
-  StageTimer timer{stages_.assembly};
+  std::optional<StageTimer> collision;  // the rows; the QP below has its own stage
+  collision.emplace(stages_.collision);
   const T cell = scene_.solver.eol.contact_cell > 0 ? T(scene_.solver.eol.contact_cell)
                                                     : bodies.front().grid->dx;
   contact_rows_.clear();
@@ -146,6 +156,8 @@ void EolSimulation<T, D>::object_contact(const std::vector<char>& meeting) {
     }
     ++b;
   }
+  collision.reset();
+  StageTimer timer{stages_.qp};
   const auto start = std::chrono::steady_clock::now();
   contact_stats_ = global_solver_.solve(contact_rows_, views);
   contact_stats_.seconds =

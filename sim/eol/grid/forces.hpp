@@ -25,6 +25,7 @@ template <class T>
 struct ElasticMaterial {
   MaterialModel model;
   Lame<T> lame;
+  T viscosity = T(0);  // Kelvin–Voigt η (viscosity.hpp)
 };
 
 // Node index of corner k of the cell whose lowest node is `base`.
