@@ -180,8 +180,9 @@ TEST(RunOutputs, SummaryJsonFields) {
   DiagnosticsRow first = sim->measure();
   RunSummary summary(first, sim->total_mass(), DriftRule::domain_extent(s));
   sim->advance_to(0.1, [&](const DiagnosticsRow& r) { summary.add(r); });
-  const nlohmann::json j = run_summary_json(s, run_settings(s, Precision::dbl, {}), summary,
-                                            sim->time(), {2.0, 3.5, 1000}, std::nullopt);
+  const nlohmann::json j =
+      run_summary_json(s, run_settings(s, Precision::dbl, {}), summary, sim->time(),
+                       {2.0, 3.5, 1000, sim->steps()}, std::nullopt);
   EXPECT_EQ(j["steps"], sim->steps());
   EXPECT_EQ(j["t_final"], 0.1);
   EXPECT_LE(j["dt"]["min"].get<double>(), j["dt"]["median"].get<double>());

@@ -126,10 +126,11 @@ if [ "$RC" -eq 0 ] && cmp -s <(cut -d, -f1-16,18 "$c/whole.csv") <(cut -d, -f1-1
 else
   nok "resume with SCENE and the same options" "exit $RC" "$(head -c 300 "$ERR")"
 fi
-# The resumed process's rates count its own steps, not the run's from t = 0.
+# The resumed process's rates count its own steps (none here: the last checkpoint is at the
+# end), not the run's from t = 0.
 rates=$(python3 -c 'import json,sys; j=json.load(open(sys.argv[1]))
 timed=j["steps_per_second"]*j["wall_seconds"]
-print("%d %.1f %d" % (j["steps"], timed, 0 < timed < j["steps"] - 0.5))' "$c/summary.json" 2>&1)
+print("%d %.1f %d" % (j["steps"], timed, 0 <= timed < j["steps"] - 0.5))' "$c/summary.json" 2>&1)
 if [ "${rates##* }" = 1 ]; then
   ok "a resumed run's steps/s counts the steps after its checkpoint (steps, steps timed: ${rates% *})"
 else
