@@ -90,7 +90,7 @@ std::string write_pane(const PaneView& v, const std::string& dir) {
   const Precision precision = v.sim.precision();
   if (!v.sim.checkpoints())
     throw std::runtime_error("checkpoint: solver method '" + scene.solver.method +
-                             "' has no checkpoints yet (mpm has)");
+                             "' has no checkpoints");
   if (v.sim.failure()) throw std::runtime_error("checkpoint: the pane failed; nothing to resume");
   if (v.origin && v.origin->csv_text.empty())
     throw std::runtime_error(

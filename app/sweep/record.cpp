@@ -264,8 +264,7 @@ int record_run(const cli::RunOptions& o, const std::string& dir,
   auto sim = make_simulation(scene, precision);
   if (checkpoint.on() && !sim->checkpoints())
     throw cli::UsageError("solver method '" + scene.solver.method +
-                          "' has no checkpoints yet (--checkpoint-every, --checkpoint-seconds: "
-                          "mpm)");
+                          "' has no checkpoints (--checkpoint-every, --checkpoint-seconds)");
   bool sim_touched = false;
   std::optional<RecordProgress> resumed;
   if (checkpoint.on())
