@@ -208,6 +208,7 @@ class EolSimulation final : public Simulation {
                         const LedgerEnergies& pushed, EnergyLedger& step) const;
   // Adds the seconds of its scope to one of stages_.
   struct StageTimer {
+    explicit StageTimer(double& into) : total(into) {}  // std::optional::emplace needs it (clang)
     double& total;
     std::chrono::steady_clock::time_point start = std::chrono::steady_clock::now();
     ~StageTimer() {
