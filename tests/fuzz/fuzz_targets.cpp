@@ -68,9 +68,11 @@ Outcome guarded(const std::uint8_t* data, std::size_t size, F&& f) {
 // Shipped scenes whose one-step build takes longer than the fuzzer's budget for an input under
 // the sanitizers: eol-bunny-3d samples a 75,408-triangle mesh's distance (12 s of CPU under ASan,
 // 0.3 s in Release), so its mutations time out on a loaded machine. Its mesh is fuzzed by
-// fuzz_obj, and tests/fuzz/fuzz_test.sh leaves it out of fuzz_scene's seeds too.
+// fuzz_obj, and tests/fuzz/fuzz_test.sh leaves it out of fuzz_scene's seeds too. eol-two-balls-3d's
+// first step (two balls, 1/80 m object grids, viscous forces) ran past the 30 s budget under ASan;
+// its keys are those of eol-two-balls, which stays.
 bool too_slow_to_fuzz(const std::filesystem::path& scene) {
-  return scene.filename() == "eol-bunny-3d.json";
+  return scene.filename() == "eol-bunny-3d.json" || scene.filename() == "eol-two-balls-3d.json";
 }
 
 std::vector<std::string> shipped_scenes() {

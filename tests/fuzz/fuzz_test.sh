@@ -53,7 +53,7 @@ case "$mode" in
         # The shipped scenes but those too slow for an input's budget (too_slow_to_fuzz in
         # fuzz_targets.cpp says why).
         mkdir -p "$build/findings/scene-seeds" && rm -f "$build/findings/scene-seeds"/*
-        find "$src/assets/scenes" -maxdepth 1 -name '*.json' ! -name eol-bunny-3d.json \
+        find "$src/assets/scenes" -maxdepth 1 -name '*.json' ! -name eol-bunny-3d.json ! -name eol-two-balls-3d.json \
           -exec cp {} "$build/findings/scene-seeds/" \;
         seeds=("$build/findings/scene-seeds") dict="$src/tests/fuzz/scene.dict"
         ;;
