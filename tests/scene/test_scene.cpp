@@ -682,6 +682,15 @@ std::string with_word(const std::string& text, const ChoiceParameter& c, const s
   return j.dump();
 }
 
+// A scene as code builds one: one default item in each list (materials, objects, colliders).
+SceneDesc one_item_each() {
+  SceneDesc s;
+  s.materials.emplace_back();
+  s.objects.emplace_back();
+  s.colliders.emplace_back();
+  return s;
+}
+
 // A word key: each of its words gives the same outcome from the scene file and from --set (read
 // back, or refused with one message, as the fixed rule without its step is), at least one word
 // besides the scene's own is read back, an unknown word is refused alike naming the key, and
@@ -721,11 +730,7 @@ void check_word_key(const ChoiceParameter& c) {
     section = section->is_array() ? &(*section)[0] : &(*section)[path[i]];
   section->erase(path.back());
   EXPECT_EQ(c.get(parse_scene_text(left_out.dump(), "good.json"), 0), c.default_key) << "left out";
-  SceneDesc code;
-  code.materials.emplace_back();
-  code.objects.emplace_back();
-  code.colliders.emplace_back();
-  EXPECT_EQ(c.get(code, 0), c.default_key) << "built in code";
+  EXPECT_EQ(c.get(one_item_each(), 0), c.default_key) << "built in code";
 }
 
 // One declaration per parameter: every registry key, numeric or word, is listed in the generated
@@ -755,11 +760,7 @@ TEST(Parameters, EveryKeyIsReadFromTheFileListedSetAndRefusedAlike) {
 // The defaults are stated once, in the registry: SceneDesc() starts from them, and a scene that
 // leaves a key out keeps them (the two-step rule's dt_max is the one that depends on the scene).
 TEST(Parameters, DefaultsComeFromTheRegistryAlone) {
-  const SceneDesc fresh;
-  SceneDesc built;  // one item in each list, as code adds them: a list key's default is its item's
-  built.materials.emplace_back();
-  built.objects.emplace_back();
-  built.colliders.emplace_back();
+  const SceneDesc fresh, built = one_item_each();  // a list key's default is its item's
   nlohmann::json minimal = nlohmann::json::parse(kGood);
   minimal.erase("time");
   minimal.erase("solver");
