@@ -210,7 +210,7 @@ int run(const RunCommandOptions& given, const CLI::App& cmd) {
   DiagnosticsRow first = sim->measure();
   first.dt = 0;
   if (!resumed) out.write_row(diagnostics_row_text(first));
-  RunSummary summary(first, sim->total_mass(), DriftRule::domain_extent(scene));
+  RunSummary summary(DriftRule::of(*sim, first));
   if (resumed) try {
       summary.load(state);
       std::vector<PvdSeries::Entry> series(state.value<std::uint64_t>());
@@ -347,7 +347,10 @@ int run(const RunCommandOptions& given, const CLI::App& cmd) {
     s << particles * steps_timed * per_second << " particle-steps/s";
   else
     s << steps_timed * per_second << " steps/s";
-  s << "; dE/E = " << summary.energy_drift();
+  if (summary.energy_relative())
+    s << "; dE/E = " << summary.energy_drift();
+  else
+    s << "; dE = " << summary.energy_drift() << " J (absolute: E0 is round-off)";
   if (summary.angular_momentum_relative())
     s << ", |dL|/|L0| = " << summary.angular_momentum_drift();
   else

@@ -43,26 +43,33 @@ struct DriftPlot {
   std::string energy_label = "|dE|/|E0|";
   std::string momentum_label;               // "|dL|/|L0|", or "|dL| [kg m^2/s] (L0 = 0)"
   std::string title;                        // says whether |dL| is relative or absolute
-  std::vector<double> t, energy, momentum;  // on a log axis: every value > 0
+  std::vector<double> t, energy, momentum;  // on a log axis: 0 (an absolute drift) left out
 };
 
 // The drift series of rows 1..n-1 by `rule` (row 0 alone before the first step). The energy
-// drift is always there (floored at
-// kRelativeDriftFloor); an absolute |ΔL| is floored at the momentum round-off `L_round_off`
-// (a change of L below it is none), a relative one at kRelativeDriftFloor.
+// drift is always there (a relative one floored at kRelativeDriftFloor); an absolute |ΔL| is
+// floored at the momentum round-off `L_round_off` (a change of L below it is none), a relative
+// one at kRelativeDriftFloor.
 template <class Row>
 DriftPlot drift_plot(const DriftRule& rule, const Row& row, std::size_t n, double L_round_off) {
   DriftPlot d;
   d.momentum_relative = rule.angular_momentum_relative();
+  if (!rule.energy_relative()) d.energy_label = "|dE| [J] (E0 = 0)";
   d.momentum_label = d.momentum_relative ? "|dL|/|L0|" : "|dL| [kg m^2/s] (L0 = 0)";
   // Short enough for a quarter of the window; the legend names each series with its unit.
-  d.title = d.momentum_relative ? "relative drift (log)" : "drift (log): |dL| absolute";
+  const bool energy_relative = rule.energy_relative();
+  d.title = energy_relative && d.momentum_relative ? "relative drift (log)"
+            : energy_relative                      ? "drift (log): |dL| absolute"
+            : d.momentum_relative                  ? "drift (log): |dE| absolute"
+                                                   : "drift (log): absolute";
   const double L_floor = d.momentum_relative ? kRelativeDriftFloor : L_round_off;
   // Row 0 is the reference itself (drift 0 by definition): left out once there are steps, so
   // the log axis is not stretched down to the floor by it.
   for (std::size_t i = n > 1 ? 1 : 0; i < n; ++i) {
     d.t.push_back(row(i).t);
-    d.energy.push_back(std::max(std::abs(rule.energy(row(i))), kRelativeDriftFloor));
+    // An absolute |ΔE| (E₀ round-off) has no floor: an exact 0 is left out, as |ΔL|'s below.
+    const double dE = std::abs(rule.energy(row(i)));
+    d.energy.push_back(rule.energy_relative() ? std::max(dE, kRelativeDriftFloor) : dE);
     const double dL = rule.angular_momentum(row(i));
     // With no scale at all (nothing ever moved) there is no floor: an exact 0 is left out.
     d.momentum.push_back(L_floor > 0 ? std::max(dL, L_floor) : dL);

@@ -135,6 +135,7 @@ nlohmann::json run_summary_json(const SceneDesc& scene, const nlohmann::json& se
                                 const std::optional<Failure>& failure) {
   const RunSummary::DtStats dt = summary.dt();
   const bool relative = summary.angular_momentum_relative();
+  const bool energy_relative = summary.energy_relative();
   const double wall = std::max(c.wall_seconds, 1e-9);
   nlohmann::json j = {
       {"apiclab_version", apiclab_version()},
@@ -153,8 +154,9 @@ nlohmann::json run_summary_json(const SceneDesc& scene, const nlohmann::json& se
                    : nlohmann::json()},
       {"steps_per_second", double(c.steps_timed) / wall},
       {"energy_drift",
-       {{"kind", "relative"},
-        {"quantity", "(E - E0) / |E0|"},
+       {{"kind", energy_relative ? "relative" : "absolute"},
+        {"quantity", energy_relative ? "(E - E0) / |E0|" : "E - E0 (E0 below round-off)"},
+        {"unit", energy_relative ? "1" : "J"},
         {"final", summary.energy_drift()},
         {"max_abs", summary.max_energy_drift()}}},
       {"angular_momentum_drift",

@@ -148,8 +148,7 @@ void SimWorker::rewind_panes() {
     p.origin = nullptr;
     p.history.push(p.sim->measure());
     p.total_mass = p.sim->total_mass();
-    p.drift = std::make_shared<const DriftRule>(p.history[0], p.total_mass,
-                                                DriftRule::domain_extent(*scene_));
+    p.drift = std::make_shared<const DriftRule>(DriftRule::of(*p.sim, p.history[0]));
   }
   link_lockstep();
   playing_ = false;

@@ -51,6 +51,9 @@ class Simulation {
 
   virtual DiagnosticsRow measure() const = 0;  // energies and momenta of the current state
   virtual double total_mass() const = 0;
+  // The energy round-off of a body at rest, ε_T D Σ m c² (sim/mpm/implicit/round_off_floor.hpp):
+  // an initial energy below it is no scale for a relative drift (sim/measure/run_summary.hpp).
+  virtual double rest_energy_round_off() const { return 0; }
   const std::optional<Failure>& failure() const { return failure_; }
 
   // Sees every iteration of an iterative solve inside a step (implicit: the Newton iteration,

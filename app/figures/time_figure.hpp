@@ -32,8 +32,8 @@ struct TimeFigure {
   std::vector<jobs::Run> runs;  // one per scheme, filled by the caller
   bool methods = false;  // EoL figures: one run per solver method, CSV with dt_limit, grid_nodes,
                          // grid_bytes, contact_pairs
-  std::vector<std::string> overrides;        // `--set` KEY=VALUE for every run
-  std::vector<std::string> quick_overrides;  // and in --quick besides
+  std::vector<std::string> overrides{};        // `--set` KEY=VALUE for every run
+  std::vector<std::string> quick_overrides{};  // and in --quick besides
 };
 
 // DIR/<file>.png and DIR/<file>.csv; throws UsageError when the CSV cannot be written.

@@ -120,7 +120,7 @@ std::string write_pane(const PaneView& v, const std::string& dir) {
     DiagnosticsRow first = v.history[0];
     first.dt = 0;  // as run's first row
     csv = std::string(diagnostics_header()) + '\n' + diagnostics_row_text(first);
-    summary.emplace(first, v.sim.total_mass(), DriftRule::domain_extent(scene));
+    summary.emplace(DriftRule::of(v.sim, first));
   }
   for (std::size_t i = from; i < v.history.size(); ++i) {
     csv += diagnostics_row_text(v.history[i]);

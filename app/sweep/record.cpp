@@ -112,7 +112,8 @@ json conservation_json(const metrics::Conservation& c) {
           {"final_angular", c.final_angular},
           {"angular_relative", c.angular_relative},
           {"max_momentum", c.max_momentum},
-          {"final_momentum", c.final_momentum}};
+          {"final_momentum", c.final_momentum},
+          {"energy_relative", c.energy_relative}};
 }
 
 // The row's fields in a fixed order, for a record's checkpoint.
@@ -368,8 +369,7 @@ int record_run(const cli::RunOptions& o, const std::string& dir,
     rec.fail_quantity = failure->quantity;
     rec.fail_message = failure->message;
   }
-  rec.conservation =
-      metrics::conservation(rows, sim->total_mass(), DriftRule::domain_extent(scene));
+  if (!rows.empty()) rec.conservation = metrics::conservation(rows, DriftRule::of(*sim, rows[0]));
   rusage use{};
   getrusage(RUSAGE_SELF, &use);
   rec.cpu_s = double(use.ru_utime.tv_sec + use.ru_stime.tv_sec) +
@@ -467,7 +467,7 @@ RunRecord read_record(const std::string& dir) {
   r.conservation = {json_number(c, "max_energy"),      json_number(c, "final_energy"),
                     json_number(c, "max_angular"),     json_number(c, "final_angular"),
                     c.value("angular_relative", true), json_number(c, "max_momentum"),
-                    json_number(c, "final_momentum")};
+                    json_number(c, "final_momentum"),  c.value("energy_relative", true)};
   return r;
 }
 

@@ -125,7 +125,7 @@ std::string write_runs_csv(const Spec& spec, const std::vector<RunResult>& resul
          "newton_iters,cg_iters,peak_rss_mb,outcome,fail_step,fail_t,fail_quantity,"
          "unconverged_steps,noise,max_energy,final_energy,max_angular,final_angular,"
          "angular_relative,max_momentum,final_momentum,err_com,err_kinetic,err_elastic,"
-         "err_displacement,displacement_rms,err_rigid,reference,scheme_label\n";
+         "err_displacement,displacement_rms,err_rigid,reference,scheme_label,energy_relative\n";
   for (const RunResult& r : results) {
     const PlannedRun& p = *r.run;
     const RunRecord& c = r.rec;
@@ -147,7 +147,8 @@ std::string write_runs_csv(const Spec& spec, const std::vector<RunResult>& resul
         << number_text(r.ref.com, 6) << ',' << number_text(r.ref.kinetic, 6) << ','
         << number_text(r.ref.elastic, 6) << ',' << number_text(r.ref.displacement, 6) << ','
         << number_text(r.ref.displacement_rms, 6) << ',' << number_text(r.rigid, 6) << ','
-        << results[p.reference].run->id << ',' << csv_field(scheme_label_of(p)) << '\n';
+        << results[p.reference].run->id << ',' << csv_field(scheme_label_of(p)) << ','
+        << (r.present ? (c.conservation.energy_relative ? "1" : "0") : "") << '\n';
   }
   write_file_whole(path, out.str());
   return path;

@@ -29,8 +29,11 @@ void reference_section(std::ostringstream& md, const Spec& spec,
     if (r.outcome == "refused") md << " (" << r.rec.fail_message << ")";
     if (r.present) {
       md << ", " << number_text(r.cost(), 3) << " s in the steps (" << r.rec.steps << " steps, "
-         << r.rec.particles << " particles); its own errors: max |dE|/E0 "
-         << number_text(r.error("energy"), 3) << ", max |dL|/|L0| "
+         << r.rec.particles << " particles); its own errors: "
+         << (r.rec.conservation.energy_relative ? "max |dE|/E0 " : "max |dE| [J] (E0 round-off) ")
+         << number_text(r.error("energy"), 3)
+         << (r.rec.conservation.angular_relative ? ", max |dL|/|L0| "
+                                                 : ", max |dL| [kg m^2/s] (L0 round-off) ")
          << number_text(r.error("angular"), 3);
       if (std::isfinite(r.rigid)) md << ", rigid " << number_text(r.rigid, 3);
       md << ". Its distances to itself are 0 by definition";

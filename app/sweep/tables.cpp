@@ -42,7 +42,10 @@ std::string cell_text(const RunResult& r) {
   } else if (r.outcome == "noisy") {
     std::snprintf(buf, sizeof buf, "noisy %.2g", r.rec.noise);
   } else if (r.outcome == "completed") {
-    std::snprintf(buf, sizeof buf, "dE %.3g%%", 100 * r.rec.conservation.final_energy);
+    if (r.rec.conservation.energy_relative)
+      std::snprintf(buf, sizeof buf, "dE %.3g%%", 100 * r.rec.conservation.final_energy);
+    else  // E₀ is round-off (sim/measure/run_summary.hpp): the change itself
+      std::snprintf(buf, sizeof buf, "dE %.2g J", r.rec.conservation.final_energy);
   } else if (r.outcome == "refused") {  // fail_message: "exit N: CAUSE"
     std::snprintf(buf, sizeof buf, "refused, %s",
                   r.rec.fail_message.substr(0, r.rec.fail_message.find(':')).c_str());

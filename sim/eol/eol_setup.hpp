@@ -176,9 +176,13 @@ double EolSimulation<T, D>::energy_reference() const {
     g += scene_.gravity[std::size_t(a)] * scene_.gravity[std::size_t(a)];
     height += std::pow(scene_.domain.max[std::size_t(a)] - scene_.domain.min[std::size_t(a)], 2);
   }
-  const double rest = energy_round_off<T>(total_mass() * max_wave_speed_ * max_wave_speed_, D);
-  return std::max(
-      {r.kinetic + r.elastic + total_mass() * std::sqrt(g) * std::sqrt(height), rest, 1e-300});
+  return std::max({r.kinetic + r.elastic + total_mass() * std::sqrt(g) * std::sqrt(height),
+                   rest_energy_round_off(), 1e-300});
+}
+
+template <class T, int D>
+double EolSimulation<T, D>::rest_energy_round_off() const {
+  return energy_round_off<T>(total_mass() * max_wave_speed_ * max_wave_speed_, D);
 }
 
 }  // namespace apiclab::eol

@@ -87,6 +87,7 @@ class EolSimulation final : public Simulation {
   void step_fixed(double dt) override;
   DiagnosticsRow measure() const override;
   double total_mass() const override;
+  double rest_energy_round_off() const override;
   bool steps_in_parallel() const override { return parallel_; }
   std::shared_ptr<Snapshot> snapshot() const override;
   bool checkpoints() const override { return true; }

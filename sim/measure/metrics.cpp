@@ -40,10 +40,15 @@ using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<do
 
 Conservation conservation(const std::vector<DiagnosticsRow>& rows, double total_mass,
                           double extent) {
+  if (rows.empty()) return {};
+  return conservation(rows, DriftRule(rows.front(), total_mass, extent));
+}
+
+Conservation conservation(const std::vector<DiagnosticsRow>& rows, const DriftRule& drift) {
   Conservation c;
   if (rows.empty()) return c;
-  const DriftRule drift(rows.front(), total_mass, extent);
   c.angular_relative = drift.angular_momentum_relative();
+  c.energy_relative = drift.energy_relative();
   for (const DiagnosticsRow& r : rows) {
     const double dE = std::abs(drift.energy(r)), dL = drift.angular_momentum(r);
     const std::array<double, 3> dp{r.p[0] - rows.front().p[0], r.p[1] - rows.front().p[1],

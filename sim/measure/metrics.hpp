@@ -8,16 +8,23 @@
 
 #include "sim/measure/diagnostics.hpp"
 
+namespace apiclab {
+class DriftRule;  // sim/measure/run_summary.hpp
+}
+
 namespace apiclab::metrics {
 
-// Conservation over a run, by the drift rule of sim/measure/run_summary.hpp: |ΔE|/E₀; |ΔL|/|L₀|, or
-// the absolute |ΔL| where L₀ counts as zero; |Δp| absolute. Max over every row and at the last row.
+// Conservation over a run, by the drift rule of sim/measure/run_summary.hpp: |ΔE|/|E₀|, or the
+// absolute |ΔE| where E₀ is round-off; |ΔL|/|L₀|, or the absolute |ΔL| where L₀ counts as zero;
+// |Δp| absolute. Max over every row and at the last row.
 struct Conservation {
   double max_energy = 0, final_energy = 0;
   double max_angular = 0, final_angular = 0;
   bool angular_relative = true;
   double max_momentum = 0, final_momentum = 0;
+  bool energy_relative = true;
 };
+Conservation conservation(const std::vector<DiagnosticsRow>& rows, const DriftRule& drift);
 Conservation conservation(const std::vector<DiagnosticsRow>& rows, double total_mass,
                           double extent);
 

@@ -15,17 +15,29 @@
 
 namespace apiclab {
 
-// The drift of a diagnostics row from the initial one. dE/E is signed. dL is |ΔL|/|L₀|, except
-// when |L₀| is below round-off of the momentum scale √(2 K₀ M)·extent (a body at rest, a
-// symmetric impact): then L₀ counts as zero and dL is the absolute |ΔL|.
+// The drift of a diagnostics row from the initial one. dE/E is signed: (E − E₀)/|E₀|, except
+// when |E₀| is at or below the round-off of a body at rest (Simulation::rest_energy_round_off:
+// at rest without gravity E₀ is itself round-off); then E₀ counts as zero and dE is the signed
+// absolute E − E₀ in J. dL is |ΔL|/|L₀|, except when |L₀| is below round-off of the momentum
+// scale √(2 K₀ M)·extent (a body at rest, a symmetric impact): then L₀ counts as zero and dL is
+// the absolute |ΔL|.
 class DriftRule {
  public:
   // extent: the largest |max| + |min| of the domain over its axes (lever arm of L).
-  DriftRule(const DiagnosticsRow& first, double total_mass, double extent)
-      : first_(first), E0_(std::max(std::abs(first.total), 1e-300)) {
+  DriftRule(const DiagnosticsRow& first, double total_mass, double extent,
+            double energy_round_off = 0)
+      : first_(first) {
+    const double E0 = std::abs(first.total);
+    E0_ = E0 > energy_round_off ? E0 : 0.0;
     const double L_scale = std::sqrt(2 * std::max(first.kinetic, 0.0) * total_mass) * extent;
     const double L0 = norm(first.L);
     L0_ = L0 > 1e-12 * L_scale ? L0 : 0.0;
+  }
+  // The rule for `sim`'s run from its first row.
+  template <class Sim>
+  static DriftRule of(const Sim& sim, const DiagnosticsRow& first) {
+    return DriftRule(first, sim.total_mass(), domain_extent(sim.scene()),
+                     sim.rest_energy_round_off());
   }
   static double domain_extent(const SceneDesc& scene) {
     double extent = 0;
@@ -34,7 +46,10 @@ class DriftRule {
     return extent;
   }
 
-  double energy(const DiagnosticsRow& r) const { return (r.total - first_.total) / E0_; }
+  double energy(const DiagnosticsRow& r) const {
+    return E0_ > 0 ? (r.total - first_.total) / E0_ : r.total - first_.total;
+  }
+  bool energy_relative() const { return E0_ > 0; }
   double angular_momentum(const DiagnosticsRow& r) const {
     const std::array<double, 3> dL{r.L[0] - first_.L[0], r.L[1] - first_.L[1],
                                    r.L[2] - first_.L[2]};
@@ -54,6 +69,7 @@ class DriftRule {
 // Fed the initial row and then every step's row.
 class RunSummary {
  public:
+  explicit RunSummary(const DriftRule& drift) : drift_(drift), last_(drift.first_) {}
   RunSummary(const DiagnosticsRow& first, double total_mass, double extent)
       : drift_(first, total_mass, extent), last_(first) {}
 
@@ -71,6 +87,7 @@ class RunSummary {
   double energy_drift() const { return drift_.energy(last_); }
   double angular_momentum_drift() const { return drift_.angular_momentum(last_); }
   bool angular_momentum_relative() const { return drift_.angular_momentum_relative(); }
+  bool energy_relative() const { return drift_.energy_relative(); }
   // The largest |dE/E| and dL over the steps so far (dL by the same rule as above).
   double max_energy_drift() const { return max_energy_drift_; }
   double max_angular_momentum_drift() const { return max_angular_momentum_drift_; }

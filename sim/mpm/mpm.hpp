@@ -52,6 +52,7 @@ class MpmSimulation final : public Simulation, public TransferControls {
     for (T x : p_.mass) m += double(x);
     return m;
   }
+  double rest_energy_round_off() const override;
   bool steps_in_parallel() const override { return parallel_worthwhile(); }
   std::shared_ptr<Snapshot> snapshot() const override;
   void on_solver_iteration(SolverIterationObserver observer) override {

@@ -230,6 +230,37 @@ TEST(RunSummary, RoundOffL0GivesAbsoluteDrift) {
   EXPECT_EQ(DriftRule::domain_extent(disk()), 1.0);  // rotating disk: [0, 1]²
 }
 
+// E0 at or below the rest round-off ε D Σ m c² counts as zero: dE is absolute, in J.
+TEST(RunSummary, RoundOffE0GivesAbsoluteEnergyDrift) {
+  const DriftRule rest(row_with(0, 3e-15, {0, 0, 0}), 1.0, 1.0, 1e-12);
+  EXPECT_FALSE(rest.energy_relative());
+  EXPECT_DOUBLE_EQ(rest.energy(row_with(0, 5e-15, {0, 0, 0})), 2e-15);
+  const DriftRule moving(row_with(0, 2e-12, {0, 0, 0}), 1.0, 1.0, 1e-12);
+  EXPECT_TRUE(moving.energy_relative());
+  EXPECT_DOUBLE_EQ(moving.energy(row_with(0, 3e-12, {0, 0, 0})), 0.5);
+  // Exactly zero is absolute even without a round-off scale (no division by a floor).
+  EXPECT_FALSE(DriftRule(row_with(0, 0, {0, 0, 0}), 1.0, 1.0).energy_relative());
+}
+
+// The rotating disk at rest without gravity, under MPM and EoL: E0 is round-off of the rest
+// energy, the drift absolute and within a few round-offs; spinning, it is relative.
+TEST(RunSummary, BodyAtRestHasAbsoluteEnergyDriftInBothFamilies) {
+  for (const char* method : {"mpm", "eol"}) {
+    const std::string m = std::string("solver.method=") + method;
+    auto rest = make_simulation(disk({m, "objects.0.angular_velocity=0", "time.end=0.02"}));
+    const DiagnosticsRow first = rest->measure();
+    RunSummary s(DriftRule::of(*rest, first));
+    ASSERT_FALSE(rest->advance_to(0.02, [&](const DiagnosticsRow& r) { s.add(r); })) << method;
+    const double round_off = rest->rest_energy_round_off();
+    EXPECT_GT(round_off, 0) << method;
+    EXPECT_LE(std::abs(first.total), round_off) << method;
+    EXPECT_FALSE(s.energy_relative()) << method;
+    EXPECT_LE(s.max_energy_drift(), 10 * round_off) << method;
+    auto spinning = make_simulation(disk({m}));
+    EXPECT_TRUE(DriftRule::of(*spinning, spinning->measure()).energy_relative()) << method;
+  }
+}
+
 TEST(Jobs, PoolRunsEveryIndexOnceAndRethrows) {
   std::vector<std::atomic<int>> seen(50);
   jobs::run_pool(seen.size(), 3, [&](std::size_t i) { ++seen[i]; });
