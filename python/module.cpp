@@ -148,6 +148,17 @@ void advance(PySimulation& self, double t) {
   }
 }
 
+// The CSV's header for these rows: with the conservation ledger's columns where the rows carry
+// them (a DiagnosticsRow with `ledger`), the plain header otherwise.
+template <class Rows>
+auto header_of(const Rows& rows, int) -> decltype(diagnostics_header(rows.front().ledger)) {
+  return diagnostics_header(!rows.empty() && rows.front().ledger);
+}
+template <class Rows>
+std::string header_of(const Rows&, long) {
+  return diagnostics_header();
+}
+
 // The rows as the CSV writes them, parsed back into columns: numbers as float64 arrays, words
 // (dt_limit) as lists of str, so every column the CSV has appears under its header's name.
 py::dict columns_of(const std::vector<DiagnosticsRow>& rows) {
@@ -155,7 +166,7 @@ py::dict columns_of(const std::vector<DiagnosticsRow>& rows) {
   for (const DiagnosticsRow& r : rows) write_diagnostics_row(csv, r);
   std::vector<std::string> names;
   {
-    std::istringstream header(diagnostics_header());
+    std::istringstream header(header_of(rows, 0));
     for (std::string name; std::getline(header, name, ',');) names.push_back(name);
   }
   std::vector<std::vector<std::string>> cells(names.size());
@@ -236,10 +247,18 @@ py::array render_image(PySimulation& self, int width, int height, const std::str
 }
 #endif
 
+// The CSV's first row, as `apiclab run` writes it: the state before any step, dt 0.
+DiagnosticsRow first_row(const Simulation& sim) {
+  DiagnosticsRow r = sim.measure();
+  r.dt = 0;
+  return r;
+}
+
 std::unique_ptr<PySimulation> make(py::object scene, py::object set, const std::string& precision) {
   const SceneDesc desc = load(scene, set_list(set));
   auto s = std::make_unique<PySimulation>();
   s->sim = make_simulation(desc, precision_named(precision, desc));
+  s->rows.push_back(first_row(*s->sim));
   return s;
 }
 
@@ -338,6 +357,8 @@ PYBIND11_MODULE(_apiclab, m) {
           [](PySimulation& s, py::kwargs arrays) {
             BusyGuard busy(s);
             write_particles(*s.sim, arrays);
+            // Written before the first step: the first row is the written state, as in a run.
+            if (s.sim->steps() == 0 && s.rows.size() == 1) s.rows.front() = first_row(*s.sim);
           },
           "Writes x, v, F, C, mass or volume (storage order) between steps.")
       .def(
@@ -372,8 +393,11 @@ PYBIND11_MODULE(_apiclab, m) {
           },
           "The grid fields: MPM's stored region as a dict, another method's grid layers as a list.")
       .def(
+          "_partition_conflict", [](PySimulation& s) { return partition_conflict(*s.sim); },
+          "For the tests: what breaks the parallel P2G's block partition now, or ''.")
+      .def(
           "diagnostics", [](const PySimulation& s) { return columns_of(s.rows); },
-          "Every diagnostics CSV column of every step taken, by name.")
+          "Every diagnostics CSV column, by name: the first state's row, then one per step.")
       .def(
           "measure", [](const PySimulation& s) { return columns_of({s.sim->measure()}); },
           "The diagnostics of the current state, as one-row columns.")

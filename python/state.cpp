@@ -207,6 +207,14 @@ void write_particles(Simulation& sim, const py::dict& arrays) {
   if (!with_mpm(sim, [&](auto& m) { write_into(m, arrays); })) no_particles(sim);
 }
 
+std::string partition_conflict(Simulation& sim) {
+  std::string why;
+  with_mpm(sim, [&](auto& m) {
+    why = MpmProbe<const std::remove_reference_t<decltype(m)>>(m).partition_conflict();
+  });
+  return why;
+}
+
 py::dict mpm_grid(Simulation& sim) {
   py::dict d;
   with_mpm(sim, [&](auto& m) { d = grid_of(m); });

@@ -43,7 +43,7 @@ def run_csv(tmp_path, sets):
 
 def check_same_as_run(sim, rows, particles):
     d = sim.diagnostics()
-    assert len(rows) == sim.steps == 100
+    assert len(rows) == sim.steps + 1 == 101  # the first state's row, then one per step
     for name in rows[0]:
         if name == "wall_s":
             continue
@@ -114,14 +114,19 @@ def test_writing_v_and_c_is_the_setup_s_state():
 
 def test_moving_x_across_blocks_steps_as_the_moved_scene():
     shift = 8 * 0.03125  # eight cells: two sorting blocks
-    here = apiclab.Simulation(SCENE, set=SETS)
-    there = apiclab.Simulation(SCENE, set=SETS + [f"objects.0.shape.center=[{0.5 - shift}, 0.5]"])
+    small = SETS + ["objects.0.shape.radius=0.15"]
+    here = apiclab.Simulation(SCENE, set=small)
+    there = apiclab.Simulation(SCENE, set=small + [f"objects.0.shape.center=[{0.5 - shift}, 0.5]"])
     for _ in range(5):
         here.step()
         there.step()
     assert np.array_equal(here.state.id, there.state.id)
     assert np.allclose(here.state.x - [shift, 0], there.state.x, rtol=0, atol=1e-12)
     here.set_state(**{n: getattr(there.state, n) for n in ("x", "v", "F", "C")})
+    assert "outside the active box" in here._partition_conflict()
+    here.step()
+    there.step()
+    assert here._partition_conflict() == ""  # the step sorted the moved particles again
     for _ in range(10):
         here.step()
         there.step()
@@ -165,7 +170,7 @@ def test_diagnostics_clone_grid_and_scheme():
     copy.set_scheme("pic")
     copy.advance(0.02)
     assert sim.steps == 10 and copy.steps == 20 and sim.scheme == "apic" and copy.scheme == "pic"
-    assert len(copy.diagnostics()["t"]) == 20 and len(sim.diagnostics()["t"]) == 10
+    assert len(copy.diagnostics()["t"]) == 21 and len(sim.diagnostics()["t"]) == 11
     g = sim.grid()
     assert g["mass"].ndim == 2 and g["velocity"].shape == g["mass"].shape + (2,)
     assert abs(g["mass"].sum() - sim.state.mass.sum()) < 1e-12 * sim.state.mass.sum()
@@ -174,13 +179,16 @@ def test_diagnostics_clone_grid_and_scheme():
 
 
 def test_ctrl_c_in_run_to_raises_between_steps():
-    sim = apiclab.Simulation(SCENE, set=["solver.integrator=symplectic"])
+    sim = apiclab.Simulation(SCENE, set=SETS[:2])
     timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
     timer.start()
-    with pytest.raises(KeyboardInterrupt):
-        sim.run_to(1000.0)
-    timer.join()
-    assert 0 < sim.time < 1000 and sim.steps == len(sim.diagnostics()["t"])
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            sim.run_to(1000.0)
+    finally:
+        timer.cancel()
+        timer.join()
+    assert 0 < sim.time < 1000 and sim.steps + 1 == len(sim.diagnostics()["t"])
     sim.step()  # the state is whole: it steps on
 
 
