@@ -367,7 +367,8 @@ PYBIND11_MODULE(_apiclab, m) {
             py::dict g = mpm_grid(*s.sim);
             if (!g.empty()) return py::object(g);
             py::list layers;  // a method with grids of its own: its snapshot's layers
-            for (const GridLayer& l : s.sim->snapshot()->grids) {
+            const std::shared_ptr<const Snapshot> snap = s.sim->snapshot();
+            for (const GridLayer& l : snap->grids) {
               py::dict d, fields;
               d["name"] = l.name;
               d["nodes"] = py::make_tuple(l.nodes[0], l.nodes[1], l.nodes[2]);

@@ -178,6 +178,26 @@ def test_diagnostics_clone_grid_and_scheme():
         sim.set_scheme("picc")
 
 
+def test_float_precision_views_and_writes():
+    sim = apiclab.Simulation(SCENE, set=SETS, precision="float")
+    assert sim.precision == "float" and sim.state.x.dtype == np.float32
+    sim.set_state(v=np.zeros(sim.state.v.shape), C=np.zeros(sim.state.C.shape))  # float64 given
+    sim.step()
+    assert sim.state.v.dtype == np.float32 and not np.any(sim.state.v)
+
+
+def test_a_method_without_particles_gives_its_grids():
+    sim = apiclab.Simulation("eol-spin")
+    sim.step()
+    layers = sim.grid()
+    assert sim.method == "eol" and sim.scheme is None and sim.particle_count == 0
+    assert layers and all(f.shape == layers[0]["nodes"] for f in layers[0]["fields"].values())
+    with pytest.raises(ValueError, match="no particles"):
+        sim.state
+    with pytest.raises(ValueError, match="double precision only"):
+        apiclab.Simulation("eol-spin", precision="float")
+
+
 def test_ctrl_c_in_run_to_raises_between_steps():
     sim = apiclab.Simulation(SCENE, set=SETS[:2])
     timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
