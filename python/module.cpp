@@ -57,6 +57,12 @@ class BusyGuard {
   PySimulation& s_;
 };
 
+// Reads of the state while another thread steps it would race: refused like a second step.
+const PySimulation& idle(const PySimulation& s) {
+  if (s.busy) throw std::runtime_error("this Simulation is stepping in another thread");
+  return s;
+}
+
 // A `--set` value as text: strings as they are, numbers and switches as JSON, others by json.dumps.
 std::string set_value(py::handle v) {
   if (py::isinstance<py::str>(v)) return py::str(v);
@@ -348,6 +354,7 @@ PYBIND11_MODULE(_apiclab, m) {
       .def_property_readonly(
           "state",
           [](py::object self) {
+            idle(self.cast<PySimulation&>());
             py::dict views = particle_views(*self.cast<PySimulation&>().sim, self);
             return py::module_::import("types").attr("SimpleNamespace")(**views);
           },
@@ -364,7 +371,7 @@ PYBIND11_MODULE(_apiclab, m) {
       .def(
           "grid",
           [](PySimulation& s) {
-            py::dict g = mpm_grid(*s.sim);
+            py::dict g = mpm_grid(*idle(s).sim);
             if (!g.empty()) return py::object(g);
             py::list layers;  // a method with grids of its own: its snapshot's layers
             const std::shared_ptr<const Snapshot> snap = s.sim->snapshot();
@@ -394,13 +401,13 @@ PYBIND11_MODULE(_apiclab, m) {
           },
           "The grid fields: MPM's stored region as a dict, another method's grid layers as a list.")
       .def(
-          "_partition_conflict", [](PySimulation& s) { return partition_conflict(*s.sim); },
+          "_partition_conflict", [](PySimulation& s) { return partition_conflict(*idle(s).sim); },
           "For the tests: what breaks the parallel P2G's block partition now, or ''.")
       .def(
           "diagnostics", [](const PySimulation& s) { return columns_of(s.rows); },
           "Every diagnostics CSV column, by name: the first state's row, then one per step.")
       .def(
-          "measure", [](const PySimulation& s) { return columns_of({s.sim->measure()}); },
+          "measure", [](const PySimulation& s) { return columns_of({idle(s).sim->measure()}); },
           "The diagnostics of the current state, as one-row columns.")
       .def("clear_diagnostics", [](PySimulation& s) { s.rows.clear(); })
       .def("set_scheme", &set_scheme, py::arg("scheme"), py::arg("flip_alpha") = py::none(),
@@ -409,7 +416,7 @@ PYBIND11_MODULE(_apiclab, m) {
           "clone",
           [](const PySimulation& s) {
             auto c = std::make_unique<PySimulation>();
-            c->sim = s.sim->clone();
+            c->sim = idle(s).sim->clone();
             c->rows = s.rows;
             return c;
           },

@@ -198,6 +198,21 @@ def test_a_method_without_particles_gives_its_grids():
         apiclab.Simulation("eol-spin", precision="float")
 
 
+def test_steps_release_the_gil_and_refuse_a_second_thread():
+    sim = apiclab.Simulation(SCENE, set=SETS[:2])
+    stepping = threading.Thread(target=sim.advance, args=(0.3,))
+    refused = 0
+    stepping.start()
+    while stepping.is_alive():  # this thread runs while the other one steps
+        try:
+            sim.state
+        except RuntimeError as e:
+            assert "another thread" in str(e)
+            refused += 1
+    stepping.join()
+    assert refused > 0 and sim.time == 0.3
+
+
 def test_ctrl_c_in_run_to_raises_between_steps():
     sim = apiclab.Simulation(SCENE, set=SETS[:2])
     timer = threading.Timer(0.3, lambda: os.kill(os.getpid(), signal.SIGINT))
