@@ -19,7 +19,7 @@ import apiclab
 X0, LENGTH, Y0, HEIGHT = 0.2, 0.6, 0.45, 0.1
 
 
-def beam_scene(end):
+def bar_scene(end):
     return {
         "name": "ringing-bar",
         "dim": 2,
@@ -42,7 +42,7 @@ def main():
     parser.add_argument("--png", help="write the last frame's picture here")
     args = parser.parse_args()
 
-    sim = apiclab.Simulation(beam_scene(args.end))
+    sim = apiclab.Simulation(bar_scene(args.end))
     s = sim.state
     k = math.pi / LENGTH
     X = s.x.copy()
