@@ -23,6 +23,7 @@ packages=(
   libegl-dev libgl-dev libegl1 libgl1-mesa-dri libosmesa6-dev libstb-dev fonts-dejavu-core
   libglfw3-dev libimgui-dev xvfb xauth ffmpeg clang-format
   libnanoflann-dev parallel zlib1g-dev
+  python3-dev python3-numpy python3-pytest pybind11-dev
 )
 # The full tier builds with clang's sanitizers and fuzzes (clang, libFuzzer in libclang-rt-dev,
 # OpenMP for clang) and drives the viewer with random input (xdotool); the extended tier reads

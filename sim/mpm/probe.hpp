@@ -1,10 +1,13 @@
 // A hand on the MPM solver's phases, for the tests and the round-trip probe
 // (sim/mpm/roundtrip.cpp): read and write the particle state and the grid, step one phase (sort,
 // P2G, grid update, boundary conditions, G2P), transfer once from a given grid field, read the
-// grid's moments. MpmSimulation keeps all of these private; the probe is its friend and adds no
+// grid's moments, and tell the solver that its particles were written (the Python module,
+// python/state.cpp). MpmSimulation keeps all of these private; the probe is its friend and adds no
 // work to a step.
 #pragma once
 #include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -30,6 +33,18 @@ class MpmProbe {
   decltype(auto) particles() const { return sim_.particles(); }
   decltype(auto) grid() const { return sim_.grid(); }
   decltype(auto) solver() const { return sim_.solver(); }
+
+  // After particles() was written from outside between steps (the Python module): positions
+  // may have left their blocks, so the next step sorts them again; the blow-up check's energy
+  // and the implicit solve's velocity scale are the written state's, as setup takes the first's.
+  void particles_written(bool moved) const {
+    if (moved) sim_.blocks_.add_drift(1e30);
+    sim_.stress_of_current_F_ = false;
+    sim_.energy_ref_ = sim_.energy_reference();
+    const DiagnosticsRow now = sim_.measure();
+    sim_.velocity_scale_ = std::sqrt(2 * std::max(now.kinetic + now.elastic, 0.0) /
+                                     std::max(sim_.total_mass(), 1e-300));
+  }
 
   // The phases, in step_fixed's order (sim/mpm/mpm_step.hpp).
   void sort_particles() const { sim_.sort_particles(); }

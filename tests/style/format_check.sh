@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
-# Fails when a C++ source under sim/, render/, app/ or tests/ differs from what .clang-format
+# Fails when a C++ source under sim/, render/, app/, python/ or tests/ differs from what .clang-format
 # makes of it, and prints the files (fix: clang-format -i FILE).
 set -uo pipefail
 root="${1:-.}"
 cd "$root" || exit 2
 command -v clang-format >/dev/null || { echo "format_check: clang-format is not installed" >&2; exit 2; }
-mapfile -t files < <(find sim render app tests -name '*.[ch]pp' | sort)
+mapfile -t files < <(find sim render app python tests -name '*.[ch]pp' | sort)
 # One clang-format for all the files (a process a file took most of the time); a file that
 # differs is named on its "error: code should be clang-formatted" lines.
 out="$(clang-format --dry-run --Werror "${files[@]}" 2>&1)"
