@@ -146,7 +146,7 @@ void killed_mid_write_for_test(const std::string& path, const Envelope& e) {
 void write_envelope(const std::string& dir, const Envelope& e) {
   const std::string path = checkpoint_path(dir);
   killed_mid_write_for_test(path, e);
-  write_file_whole(path, {e.front, e.state, e.back}, true);
+  write_file_whole(path, {e.front, e.state, e.back});
 }
 
 }  // namespace

@@ -33,17 +33,6 @@ int write_all(int fd, std::string_view bytes) {
   return 0;
 }
 
-// The folder holding `path` on the disk (its entries: a rename in it). Best effort: a folder
-// that cannot be opened or synced leaves the rename to the file system's own schedule.
-void sync_folder_of(const std::string& path) {
-  const std::size_t slash = path.find_last_of('/');
-  const std::string dir = slash == std::string::npos ? "." : path.substr(0, slash + 1);
-  const int fd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (fd < 0) return;
-  ::fsync(fd);
-  ::close(fd);
-}
-
 }  // namespace
 
 WriteError::WriteError(const std::string& file, int errno_value)
@@ -56,16 +45,13 @@ void write_file_whole(const std::string& path, const std::string& bytes) {
   write_file_whole(path, whole);
 }
 
-void write_file_whole(const std::string& path, std::initializer_list<std::string_view> pieces,
-                      bool synced) {
+void write_file_whole(const std::string& path, std::initializer_list<std::string_view> pieces) {
   const std::string temp = temporary_name_of(path);
   const int fd = open_for_writing(temp);
   if (fd < 0) throw WriteError(path, last_error());
   int error = 0;
   for (auto piece = pieces.begin(); piece != pieces.end() && error == 0; ++piece)
     error = write_all(fd, *piece);
-  errno = 0;
-  if (synced && error == 0 && ::fdatasync(fd) != 0) error = last_error();
   errno = 0;
   if (::close(fd) != 0 && error == 0) error = last_error();
   errno = 0;
@@ -74,7 +60,6 @@ void write_file_whole(const std::string& path, std::initializer_list<std::string
     std::remove(temp.c_str());
     throw WriteError(path, error);
   }
-  if (synced) sync_folder_of(path);
 }
 
 void write_file_whole(const std::string& path, const std::function<void(std::ostream&)>& fill) {

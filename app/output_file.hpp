@@ -28,10 +28,7 @@ std::string temporary_name_of(const std::string& path);
 // file is removed and WriteError names `path`.
 void write_file_whole(const std::string& path, const std::string& bytes);
 // The same with `pieces` one after another, each written from where it lies (no joined copy).
-// `synced`: the file is on the disk (fdatasync) before the rename and the rename after it (the
-// folder's fsync), so a machine that stops keeps the file before or the new one, whole.
-void write_file_whole(const std::string& path, std::initializer_list<std::string_view> pieces,
-                      bool synced = false);
+void write_file_whole(const std::string& path, std::initializer_list<std::string_view> pieces);
 // The same with the bytes `fill` puts on a stream (formatted in memory first).
 void write_file_whole(const std::string& path, const std::function<void(std::ostream&)>& fill);
 
