@@ -28,6 +28,8 @@ constexpr char kMagic[16] = {'a', 'p', 'i', 'c', 'l', 'a', 'b', ' ',
 constexpr std::uint32_t kFormatVersion = 1;
 constexpr std::uint32_t kByteOrder = 0x01020304;
 constexpr std::size_t kPrefix = sizeof(kMagic) + 4 + 4 + 8 + 8;
+// States from this size on are written on a thread of their own (CheckpointWriter).
+constexpr std::size_t kStateOnThread = std::size_t(1) << 20;
 
 // A 64-bit checksum over 8-byte words in four independent lanes (a multiply-xorshift mix), so a
 // checkpoint of 100 MB is checked in well under a frame's time. Fed in pieces, it is the checksum
@@ -178,6 +180,8 @@ std::string& CheckpointWriter::state() {
 
 void CheckpointWriter::write(nlohmann::json header) {
   finish();
+  // A small state is written at once: a thread beside the run's threads would cost more.
+  if (state_.size() < kStateOnThread) return write_envelope(dir_, envelope_of(header, state_));
   pending_ = std::async(std::launch::async, [this, h = std::move(header)]() mutable {
     write_envelope(dir_, envelope_of(std::move(h), state_));
   });

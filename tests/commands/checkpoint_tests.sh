@@ -111,12 +111,13 @@ else
 fi
 
 # ---- a checkpoint that cannot be written stops the run: one line, exit 2 ----------------------
-# The file is written on a thread of its own while the run goes on: its failure still ends the
-# run, naming the file and the cause. (checkpoint.bin.part is a folder: the write cannot open it.)
+# A state of 1 MiB or more (this disk at a third of its dx) is written on a thread of its own
+# while the run goes on: its failure still ends the run, naming the file and the cause.
+# (checkpoint.bin.part is a folder: the write cannot open it.)
 w="$TMP/unwritable"
 mkdir -p "$w/ck/checkpoint.bin.part"
-run_cli run rotating-disk --t-end 0.25 --csv "$w/run.csv" --quiet --checkpoint-every 1 \
-  --checkpoint-dir "$w/ck"
+run_cli run rotating-disk --t-end 0.25 --set domain.dx=0.0104 --csv "$w/run.csv" --quiet \
+  --checkpoint-every 1 --checkpoint-dir "$w/ck"
 last_t=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next } { t = $c["t"] } END { print t }' "$w/run.csv")
 if [ "$RC" -eq 2 ] && [ "$(wc -l <"$ERR")" -eq 1 ] &&
   grep -q "^apiclab: cannot write $w/ck/checkpoint.bin: Is a directory$" "$ERR" &&
