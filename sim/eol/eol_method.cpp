@@ -4,7 +4,6 @@
 // section.
 #include "sim/eol/eol_positions.hpp"
 #include "sim/eol/eol_simulation.hpp"
-#include "sim/eol/surface/surface_placement.hpp"
 #include "sim/method_registry.hpp"
 #include "sim/scene/memory_estimate.hpp"
 
@@ -27,14 +26,14 @@ void validate_eol_family(SceneSection&, SceneDesc& s) {
                        " solver has no periodic walls");
 }
 
+// Algorithm 2 places the surfaces at every frame time (reached_frame_time): at a frame, the last
+// placement is the frame's.
 template <int D>
 MaterialPoints surface_points(const eol::EolSimulation<double, D>& sim) {
   MaterialPoints p;
   for (const auto& o : sim.objects()) {
-    std::vector<Vec<double, D>> y = o.surface_y;
-    if (!sim.surfaces_placed()) eol::place_surface(o.grid, o.surface.X, y, false);
-    for (std::size_t s = 0; s < y.size(); ++s) {
-      const Vec<double, D> x = o.world(y[s]);
+    for (std::size_t s = 0; s < o.surface_y.size(); ++s) {
+      const Vec<double, D> x = o.surface_world(s);
       for (int a = 0; a < D; ++a) p.positions.push_back(x[a]);
       p.object.push_back(o.surface.owner[s]);
     }
