@@ -10,6 +10,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <iterator>
 #include <sstream>
 #include <string_view>
@@ -168,8 +169,15 @@ void write_checkpoint(const std::string& dir, nlohmann::json header, const std::
   write_envelope(dir, envelope_of(std::move(header), state));
 }
 
+struct CheckpointWriter::Pending {
+  std::future<void> write;
+};
+
+CheckpointWriter::CheckpointWriter(std::string dir)
+    : dir_(std::move(dir)), pending_(std::make_unique<Pending>()) {}
+
 CheckpointWriter::~CheckpointWriter() {
-  if (pending_.valid()) pending_.wait();
+  if (pending_->write.valid()) pending_->write.wait();
 }
 
 std::string& CheckpointWriter::state() {
@@ -182,18 +190,18 @@ void CheckpointWriter::write(nlohmann::json header) {
   finish();
   // A small state is written at once: a thread beside the run's threads would cost more.
   if (state_.size() < kStateOnThread) return write_envelope(dir_, envelope_of(header, state_));
-  pending_ = std::async(std::launch::async, [this, h = std::move(header)]() mutable {
+  pending_->write = std::async(std::launch::async, [this, h = std::move(header)]() mutable {
     write_envelope(dir_, envelope_of(std::move(h), state_));
   });
 }
 
 void CheckpointWriter::check() {
-  if (pending_.valid() && pending_.wait_for(std::chrono::seconds(0)) == std::future_status::ready)
-    pending_.get();
+  std::future<void>& w = pending_->write;
+  if (w.valid() && w.wait_for(std::chrono::seconds(0)) == std::future_status::ready) w.get();
 }
 
 void CheckpointWriter::finish() {
-  if (pending_.valid()) pending_.get();
+  if (pending_->write.valid()) pending_->write.get();
 }
 
 void save_run_state(StateWriter& w, const RunProgress& p, const RunSummary& summary,

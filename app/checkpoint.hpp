@@ -6,7 +6,7 @@
 // checksum), then the build and the settings: each refusal is one line naming the difference.
 #pragma once
 #include <cstdint>
-#include <future>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -37,11 +37,11 @@ void write_checkpoint(const std::string& dir, nlohmann::json header, const std::
 
 // A run's checkpoints, one after another into DIR: the state goes into a buffer kept from one
 // checkpoint to the next, and the file is checksummed, written and renamed on a thread of its
-// own while the run goes on. The next checkpoint waits for that write; a write that failed
-// throws its WriteError from the next call.
+// own while the run goes on (a state under 1 MiB at once). The next checkpoint waits for that
+// write; a write that failed throws its WriteError from the next call.
 class CheckpointWriter {
  public:
-  explicit CheckpointWriter(std::string dir) : dir_(std::move(dir)) {}
+  explicit CheckpointWriter(std::string dir);
   CheckpointWriter(const CheckpointWriter&) = delete;
   CheckpointWriter& operator=(const CheckpointWriter&) = delete;
   ~CheckpointWriter();  // waits for the write in flight
@@ -58,7 +58,8 @@ class CheckpointWriter {
  private:
   std::string dir_;
   std::string state_;
-  std::future<void> pending_;
+  struct Pending;  // the write in flight (app/checkpoint.cpp: <future> stays out of this header)
+  std::unique_ptr<Pending> pending_;
 };
 
 // The run's part of a checkpoint's state, before the solver's (`run` and the viewer's panes):
