@@ -1,13 +1,19 @@
 #include "app/checkpoint.hpp"
 
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
 #include <csignal>
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <future>
 #include <iterator>
 #include <sstream>
+#include <string_view>
 
 #include "app/output_file.hpp"
 #include "app/perf_ledger.hpp"
@@ -23,24 +29,55 @@ constexpr char kMagic[16] = {'a', 'p', 'i', 'c', 'l', 'a', 'b', ' ',
 constexpr std::uint32_t kFormatVersion = 1;
 constexpr std::uint32_t kByteOrder = 0x01020304;
 constexpr std::size_t kPrefix = sizeof(kMagic) + 4 + 4 + 8 + 8;
+// States from this size on are written on a thread of their own (CheckpointWriter).
+constexpr std::size_t kStateOnThread = std::size_t(1) << 20;
 
 // A 64-bit checksum over 8-byte words in four independent lanes (a multiply-xorshift mix), so a
-// checkpoint of 100 MB is checked in well under a frame's time.
-std::uint64_t checksum(const char* data, std::size_t n) {
-  constexpr std::uint64_t k = 0x9E3779B97F4A7C15ull;
-  std::uint64_t h[4] = {k, k ^ 1, k ^ 2, k ^ 3};
-  std::size_t i = 0;
-  for (; i + 32 <= n; i += 32)
+// checkpoint of 100 MB is checked in well under a frame's time. Fed in pieces, it is the checksum
+// of the pieces joined.
+class Checksum {
+ public:
+  void add(const char* data, std::size_t n) {
+    total_ += n;
+    if (held_ > 0) {
+      const std::size_t take = std::min(n, sizeof(block_) - held_);
+      std::memcpy(block_ + held_, data, take);
+      held_ += take, data += take, n -= take;
+      if (held_ < sizeof(block_)) return;
+      mix(block_);
+      held_ = 0;
+    }
+    for (; n >= sizeof(block_); data += sizeof(block_), n -= sizeof(block_)) mix(data);
+    std::memcpy(block_, data, n);
+    held_ = n;
+  }
+  std::uint64_t value() const {
+    std::uint64_t r = total_;
+    for (std::size_t i = 0; i < held_; ++i) r = (r ^ std::uint8_t(block_[i])) * k;
+    for (std::uint64_t x : h_) r = ((r ^ x) * k) ^ (r >> 31);
+    return r;
+  }
+
+ private:
+  static constexpr std::uint64_t k = 0x9E3779B97F4A7C15ull;
+  void mix(const char* data) {
     for (int l = 0; l < 4; ++l) {
       std::uint64_t w;
-      std::memcpy(&w, data + i + 8 * l, 8);
-      h[l] = (h[l] ^ w) * k;
-      h[l] ^= h[l] >> 29;
+      std::memcpy(&w, data + 8 * l, 8);
+      h_[l] = (h_[l] ^ w) * k;
+      h_[l] ^= h_[l] >> 29;
     }
-  std::uint64_t r = n;
-  for (; i < n; ++i) r = (r ^ std::uint8_t(data[i])) * k;
-  for (std::uint64_t x : h) r = ((r ^ x) * k) ^ (r >> 31);
-  return r;
+  }
+  std::uint64_t h_[4] = {k, k ^ 1, k ^ 2, k ^ 3};
+  char block_[32] = {};
+  std::size_t held_ = 0;  // bytes of an unfinished block
+  std::uint64_t total_ = 0;
+};
+
+std::uint64_t checksum(const char* data, std::size_t n) {
+  Checksum c;
+  c.add(data, n);
+  return c.value();
 }
 
 template <class V>
@@ -65,25 +102,54 @@ std::string shown(const nlohmann::json& v) {
   return v.is_string() ? v.get<std::string>() : v.dump();
 }
 
-void flatten(const nlohmann::json& j, const std::string& key, nlohmann::json& out) {
-  if (j.is_object() && !j.empty()) {
-    for (const auto& [k, v] : j.items()) flatten(v, key.empty() ? k : key + "." + k, out);
-  } else {
-    out[key] = j;
-  }
+// The file as three pieces, so the state is written where it lies: the prefix and the header,
+// the state, the checksum of header and state.
+struct Envelope {
+  std::string front;
+  std::string_view state;
+  std::string back;
+};
+
+Envelope envelope_of(nlohmann::json header, std::string_view state) {
+  header["build"] = this_build();
+  const std::string head = header.dump();
+  Envelope e{"", state, ""};
+  e.front.reserve(kPrefix + head.size());
+  e.front.append(kMagic, sizeof(kMagic));
+  put(e.front, kFormatVersion);
+  put(e.front, kByteOrder);
+  put(e.front, std::uint64_t(head.size()));
+  put(e.front, std::uint64_t(state.size()));
+  e.front += head;
+  Checksum sum;
+  sum.add(head.data(), head.size());
+  sum.add(state.data(), state.size());
+  put(e.back, sum.value());
+  return e;
 }
 
 // A test hook (tests/commands/checkpoint_tests.sh): APICLAB_TEST_KILL_CHECKPOINT=N kills the
 // process by SIGKILL in its N-th checkpoint write, once half the bytes are in the temporary file,
-// where a kill during write_file_whole would leave it.
-void killed_mid_write_for_test(const std::string& path, const std::string& bytes) {
+// where a kill during the write would leave it.
+void killed_mid_write_for_test(const std::string& path, const Envelope& e) {
   static int writes = 0;
   const char* at = std::getenv("APICLAB_TEST_KILL_CHECKPOINT");
   if (at == nullptr || std::atoi(at) != ++writes) return;
   std::ofstream part(temporary_name_of(path), std::ios::binary | std::ios::trunc);
-  part.write(bytes.data(), std::streamsize(bytes.size() / 2));
+  std::size_t half = (e.front.size() + e.state.size() + e.back.size()) / 2;
+  for (std::string_view piece : {std::string_view(e.front), e.state, std::string_view(e.back)}) {
+    const std::size_t n = std::min(half, piece.size());
+    part.write(piece.data(), std::streamsize(n));
+    half -= n;
+  }
   part.flush();
   std::raise(SIGKILL);
+}
+
+void write_envelope(const std::string& dir, const Envelope& e) {
+  const std::string path = checkpoint_path(dir);
+  killed_mid_write_for_test(path, e);
+  write_file_whole(path, {e.front, e.state, e.back});
 }
 
 }  // namespace
@@ -100,20 +166,93 @@ std::string checkpoint_dir_of(const CheckpointOptions& c, const std::string& csv
 }
 
 void write_checkpoint(const std::string& dir, nlohmann::json header, const std::string& state) {
-  header["build"] = this_build();
-  const std::string head = header.dump();
-  std::string out;
-  out.reserve(kPrefix + head.size() + state.size() + 8);
-  out.append(kMagic, sizeof(kMagic));
-  put(out, kFormatVersion);
-  put(out, kByteOrder);
-  put(out, std::uint64_t(head.size()));
-  put(out, std::uint64_t(state.size()));
-  out += head;
-  out += state;
-  put(out, checksum(out.data() + kPrefix, head.size() + state.size()));
-  killed_mid_write_for_test(checkpoint_path(dir), out);
-  write_file_whole(checkpoint_path(dir), out);
+  write_envelope(dir, envelope_of(std::move(header), state));
+}
+
+struct CheckpointWriter::Pending {
+  std::future<void> write;
+};
+
+CheckpointWriter::CheckpointWriter(std::string dir)
+    : dir_(std::move(dir)), pending_(std::make_unique<Pending>()) {}
+
+CheckpointWriter::~CheckpointWriter() {
+  if (pending_->write.valid()) pending_->write.wait();
+}
+
+std::string& CheckpointWriter::state() {
+  finish();
+  state_.clear();  // keeps its capacity: no fresh pages for the next state
+  return state_;
+}
+
+void CheckpointWriter::write(nlohmann::json header) {
+  finish();
+  // A small state is written at once: a thread beside the run's threads would cost more.
+  if (state_.size() < kStateOnThread) return write_envelope(dir_, envelope_of(header, state_));
+  pending_->write = std::async(std::launch::async, [this, h = std::move(header)]() mutable {
+    write_envelope(dir_, envelope_of(std::move(h), state_));
+  });
+}
+
+void CheckpointWriter::check() {
+  std::future<void>& w = pending_->write;
+  if (w.valid() && w.wait_for(std::chrono::seconds(0)) == std::future_status::ready) w.get();
+}
+
+void CheckpointWriter::finish() {
+  if (pending_->write.valid()) pending_->write.get();
+}
+
+void save_run_state(StateWriter& w, const RunProgress& p, const RunSummary& summary,
+                    const std::vector<PvdSeries::Entry>& series) {
+  w.tag("run");
+  w.value(p.last_frame);
+  w.value(p.csv_bytes);
+  w.value(p.frames_bytes);
+  w.value(p.unconverged);
+  summary.save(w);
+  w.value(std::uint64_t(series.size()));
+  for (const PvdSeries::Entry& e : series) {
+    w.value(e.t);
+    w.value(std::int32_t(e.part));
+    w.text(e.file);
+  }
+}
+
+RunProgress load_run_state(StateReader& r, RunSummary& summary,
+                           std::vector<PvdSeries::Entry>& series) {
+  RunProgress p;
+  r.tag("run");
+  r.value(p.last_frame);
+  r.value(p.csv_bytes);
+  r.value(p.frames_bytes);
+  r.value(p.unconverged);
+  summary.load(r);
+  const auto n = r.value<std::uint64_t>();
+  if (n > r.left() / (sizeof(double) + sizeof(std::int32_t) + sizeof(std::uint64_t)))
+    throw StateError("the state ends early");
+  series.resize(std::size_t(n));
+  for (PvdSeries::Entry& e : series) {
+    e.t = r.value<double>();
+    e.part = r.value<std::int32_t>();
+    e.file = r.text();
+  }
+  return p;
+}
+
+nlohmann::json run_header(const Simulation& sim, const nlohmann::json& settings,
+                          const std::string& csv, const std::string& cwd, int frame,
+                          nlohmann::json options) {
+  return {{"scene", sim.scene().name},
+          {"settings", settings},
+          {"csv", csv},
+          {"threads", omp_get_max_threads()},
+          {"cwd", cwd},
+          {"frame", frame},
+          {"step", sim.steps()},
+          {"t", sim.time()},
+          {"options", std::move(options)}};
 }
 
 CheckpointFile read_checkpoint(const std::string& dir) {
@@ -220,23 +359,6 @@ void options_from_json(const nlohmann::json& j, RunOptions& o, std::string& summ
   } catch (const nlohmann::json::exception&) {
     throw UsageError("checkpoint: its header does not hold the run's options");
   }
-}
-
-std::string settings_difference(const nlohmann::json& theirs, const nlohmann::json& ours) {
-  nlohmann::json a = theirs, b = ours;
-  a.erase("overrides");
-  b.erase("overrides");
-  nlohmann::json fa = nlohmann::json::object(), fb = nlohmann::json::object();
-  flatten(a, "", fa);
-  flatten(b, "", fb);
-  for (const auto& [key, value] : fa.items()) {
-    if (!fb.contains(key)) return key + " is " + shown(value) + " there, not set here";
-    if (fb[key] != value)
-      return key + " is " + shown(value) + " there, " + shown(fb[key]) + " here";
-  }
-  for (const auto& [key, value] : fb.items())
-    if (!fa.contains(key)) return key + " is not set there, " + shown(value) + " here";
-  return "";
 }
 
 }  // namespace apiclab::cli

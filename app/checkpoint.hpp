@@ -5,10 +5,16 @@
 // state, Simulation::save_state). Read back, the envelope is checked first (format, length,
 // checksum), then the build and the settings: each refusal is one line naming the difference.
 #pragma once
+#include <cstdint>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "app/cli.hpp"
+#include "app/particle_export.hpp"
+#include "sim/measure/run_summary.hpp"
+#include "sim/state_io.hpp"
 
 namespace apiclab::cli {
 
@@ -29,6 +35,54 @@ std::string checkpoint_dir_of(const CheckpointOptions& c, const std::string& csv
 // (with this build added) and `state`. WriteError when it cannot.
 void write_checkpoint(const std::string& dir, nlohmann::json header, const std::string& state);
 
+// A run's checkpoints, one after another into DIR: the state goes into a buffer kept from one
+// checkpoint to the next, and the file is checksummed, written and renamed on a thread of its
+// own while the run goes on (a state under 1 MiB at once). The next checkpoint waits for that
+// write; a write that failed throws its WriteError from the next call.
+class CheckpointWriter {
+ public:
+  explicit CheckpointWriter(std::string dir);
+  CheckpointWriter(const CheckpointWriter&) = delete;
+  CheckpointWriter& operator=(const CheckpointWriter&) = delete;
+  ~CheckpointWriter();  // waits for the write in flight
+  const std::string& dir() const { return dir_; }
+  // The buffer for the next state, emptied, once the write in flight is done.
+  std::string& state();
+  // Starts writing DIR/checkpoint.bin from `header` and the state in the buffer.
+  void write(nlohmann::json header);
+  // Throws the WriteError of a write that has failed; never waits.
+  void check();
+  // Waits for the write in flight; throws its WriteError.
+  void finish();
+
+ private:
+  std::string dir_;
+  std::string state_;
+  struct Pending;  // the write in flight (app/checkpoint.cpp: <future> stays out of this header)
+  std::unique_ptr<Pending> pending_;
+};
+
+// The run's part of a checkpoint's state, before the solver's (`run` and the viewer's panes):
+// the output indexes, then the running diagnostics and the files series.pvd lists.
+struct RunProgress {
+  std::int32_t last_frame = -1;    // the last frame written
+  std::uint64_t csv_bytes = 0;     // the CSV's bytes
+  std::uint64_t frames_bytes = 0;  // frames.csv's bytes (0 without --dump)
+  std::int64_t unconverged = 0;    // steps whose implicit solve did not converge
+};
+void save_run_state(StateWriter& w, const RunProgress& p, const RunSummary& summary,
+                    const std::vector<PvdSeries::Entry>& series);
+// StateError when the state is not a run's.
+RunProgress load_run_state(StateReader& r, RunSummary& summary,
+                           std::vector<PvdSeries::Entry>& series);
+
+// The header of a run's checkpoint: the scene and `settings` of `sim`, the run's CSV, the folder
+// it started in (`cwd`), its options (options_json), the thread count, and where it stands:
+// the last frame written, the step and the time.
+nlohmann::json run_header(const Simulation& sim, const nlohmann::json& settings,
+                          const std::string& csv, const std::string& cwd, int frame,
+                          nlohmann::json options);
+
 struct CheckpointFile {
   nlohmann::json header;
   std::string bytes;         // the whole file
@@ -44,9 +98,5 @@ nlohmann::json options_json(const RunOptions& o, const std::string& summary,
                             const CheckpointOptions& c);
 void options_from_json(const nlohmann::json& j, RunOptions& o, std::string& summary,
                        CheckpointOptions& c);
-
-// "" or the first difference between the settings a checkpoint was written with and a run's,
-// as "KEY is A there, B here" (compared without the --set spellings, `overrides`).
-std::string settings_difference(const nlohmann::json& theirs, const nlohmann::json& ours);
 
 }  // namespace apiclab::cli

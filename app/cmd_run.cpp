@@ -180,46 +180,35 @@ int run(const RunCommandOptions& given, const CLI::App& cmd) {
   // A resumed run reads its own state past the header: the output indexes first.
   StateReader state(resumed ? resumed->bytes.data() + resumed->state_at : nullptr,
                     resumed ? resumed->state_size : 0);
-  int last_frame = -1;
-  std::uint64_t csv_bytes = 0, frames_bytes = 0;
-  long unconverged = 0;
+  RunProgress resumed_at;  // where the checkpoint left the outputs
   const auto refuse_state = [&](const StateError& e) {
     return UsageError("checkpoint " + command.resume + ": " + e.what());
   };
+  DiagnosticsRow first = sim->measure();
+  first.dt = 0;
+  RunSummary summary(DriftRule::of(*sim, first));
   if (resumed) try {
-      state.tag("run");
-      last_frame = state.value<std::int32_t>();
-      csv_bytes = state.value<std::uint64_t>();
-      frames_bytes = state.value<std::uint64_t>();
-      unconverged = long(state.value<std::int64_t>());
+      std::vector<PvdSeries::Entry> series;
+      resumed_at = load_run_state(state, summary, series);
+      dump.series().restore(std::move(series));
     } catch (const StateError& e) {
       throw refuse_state(e);
     }
-  if (resumed) check_output_length(command.resume, csv, csv_bytes);
+  int last_frame = resumed_at.last_frame;
+  long unconverged = long(resumed_at.unconverged);
+  if (resumed) check_output_length(command.resume, csv, resumed_at.csv_bytes);
   if (resumed && !o.dump.empty())
     check_output_length(command.resume, (std::filesystem::path(o.dump) / "frames.csv").string(),
-                        frames_bytes);
-  RowFile out = resumed ? RowFile(csv, csv_bytes) : RowFile(csv);
+                        resumed_at.frames_bytes);
+  RowFile out = resumed ? RowFile(csv, resumed_at.csv_bytes) : RowFile(csv);
   if (!resumed) {
     out.write_row(std::string(diagnostics_header()) + '\n');
     write_csv_sidecar(csv, settings);
   }
   if (const std::string note = time_step_note(scene); !note.empty() && !o.quiet)
     std::fprintf(stderr, "apiclab: %s\n", note.c_str());
-
-  DiagnosticsRow first = sim->measure();
-  first.dt = 0;
   if (!resumed) out.write_row(diagnostics_row_text(first));
-  RunSummary summary(DriftRule::of(*sim, first));
   if (resumed) try {
-      summary.load(state);
-      std::vector<PvdSeries::Entry> series(state.value<std::uint64_t>());
-      for (PvdSeries::Entry& e : series) {
-        e.t = state.value<double>();
-        e.part = state.value<std::int32_t>();
-        e.file = state.text();
-      }
-      dump.series().restore(std::move(series));
       sim->load_state(state);
     } catch (const StateError& e) {
       throw refuse_state(e);
@@ -240,7 +229,7 @@ int run(const RunCommandOptions& given, const CLI::App& cmd) {
   });
   FrameIndex frames;
   if (!o.dump.empty() && resumed) {
-    frames = FrameIndex(o.dump, frames_bytes);
+    frames = FrameIndex(o.dump, resumed_at.frames_bytes);
   } else if (!o.dump.empty()) {
     frames = FrameIndex(o.dump);
     write_csv_sidecar((std::filesystem::path(o.dump) / "frames.csv").string(), settings);
@@ -248,39 +237,27 @@ int run(const RunCommandOptions& given, const CLI::App& cmd) {
   double start = now_seconds(), last_checkpoint = start, checkpoint_wall = 0;
   const long long steps_at_start = sim->steps();  // a resumed run's rates count its own steps
   int checkpoints = 0;
-  // The run's state after its last whole row: output indexes, running diagnostics, the solver.
+  std::optional<CheckpointWriter> checkpoint;
+  if (!checkpoint_dir.empty()) checkpoint.emplace(checkpoint_dir);
+  // The run's state after its last whole row: output indexes, running diagnostics, the solver;
+  // the file is written while the run goes on.
   const auto save_checkpoint = [&] {
     const double begin = now_seconds();
-    std::string bytes;
-    StateWriter w(bytes);
-    w.tag("run");
-    w.value(std::int32_t(last_frame));
-    w.value(std::uint64_t(out.size()));
-    w.value(std::uint64_t(frames.size()));
-    w.value(std::int64_t(unconverged));
-    summary.save(w);
-    const auto& series = dump.series().entries();
-    w.value(std::uint64_t(series.size()));
-    for (const PvdSeries::Entry& e : series) {
-      w.value(e.t);
-      w.value(std::int32_t(e.part));
-      w.text(e.file);
-    }
+    StateWriter w(checkpoint->state());
+    save_run_state(w, {last_frame, out.size(), frames.size(), unconverged}, summary,
+                   dump.series().entries());
     sim->save_state(w);
-    const nlohmann::json header = {
-        {"scene", scene.name},
-        {"settings", settings},
-        {"csv", csv},
-        {"threads", threads},
-        {"cwd", run_cwd},
-        {"frame", last_frame},
-        {"step", sim->steps()},
-        {"t", sim->time()},
-        {"options", options_json(o, command.summary, command.checkpoint)}};
-    write_checkpoint(checkpoint_dir, header, bytes);
+    checkpoint->write(run_header(*sim, settings, csv, run_cwd, last_frame,
+                                 options_json(o, command.summary, command.checkpoint)));
     last_checkpoint = now_seconds();
     checkpoint_wall += last_checkpoint - begin;
     ++checkpoints;
+  };
+  // Waits for the checkpoint being written; its WriteError stops the run.
+  const auto finish_checkpoint = [&] {
+    const double begin = now_seconds();
+    if (checkpoint) checkpoint->finish();
+    checkpoint_wall += now_seconds() - begin;
   };
   Lockstep panes({sim.get()});
   const auto on_row = [&](std::size_t, const DiagnosticsRow& r) {
@@ -295,6 +272,7 @@ int run(const RunCommandOptions& given, const CLI::App& cmd) {
     std::ostringstream extra;
     extra << "t=" << r.t << " step " << r.step;
     progress.update(r.t, extra.str());
+    if (checkpoint) checkpoint->check();
     const double seconds = command.checkpoint.every_seconds;
     if (seconds > 0 && !sim->failure() && now_seconds() - last_checkpoint >= seconds)
       save_checkpoint();
@@ -314,10 +292,11 @@ int run(const RunCommandOptions& given, const CLI::App& cmd) {
       },
       resumed ? last_frame : -1);
   sim->on_solver_iteration(nullptr);
+  finish_checkpoint();
   if (const int signal = stop_signal()) {
     // Stopped between steps: the state is whole, so a checkpointing run keeps it.
     const bool keep = !checkpoint_dir.empty() && !sim->failure();
-    if (keep) save_checkpoint();
+    if (keep) save_checkpoint(), finish_checkpoint();
     progress.finish(
         stopped_text(signal, *sim, csv, o.dump, last_frame, keep ? checkpoint_dir : ""));
     return stop_exit_code(signal);
@@ -373,8 +352,8 @@ int run(const RunCommandOptions& given, const CLI::App& cmd) {
   if (!command.summary.empty()) s << "\nrun summary: " << command.summary;
   if (checkpoints > 0)
     s << "\ncheckpoints: " << checkpoints << " written to " << checkpoint_path(checkpoint_dir)
-      << " in " << checkpoint_wall << " s wall (apiclab run --resume " << checkpoint_dir
-      << " continues from the last)";
+      << ", the run held up " << checkpoint_wall << " s wall by them (apiclab run --resume "
+      << checkpoint_dir << " continues from the last)";
   progress.finish(s.str());
   return 0;
 }

@@ -21,7 +21,7 @@ int open_for_writing(const std::string& path) {
 }
 
 // Writes every byte (a short write continues where it stopped); 0, or the errno that stopped it.
-int write_all(int fd, const std::string& bytes) {
+int write_all(int fd, std::string_view bytes) {
   std::size_t done = 0;
   while (done < bytes.size()) {
     errno = 0;
@@ -41,10 +41,17 @@ WriteError::WriteError(const std::string& file, int errno_value)
 std::string temporary_name_of(const std::string& path) { return path + ".part"; }
 
 void write_file_whole(const std::string& path, const std::string& bytes) {
+  const std::initializer_list<std::string_view> whole = {bytes};
+  write_file_whole(path, whole);
+}
+
+void write_file_whole(const std::string& path, std::initializer_list<std::string_view> pieces) {
   const std::string temp = temporary_name_of(path);
   const int fd = open_for_writing(temp);
   if (fd < 0) throw WriteError(path, last_error());
-  int error = write_all(fd, bytes);
+  int error = 0;
+  for (auto piece = pieces.begin(); piece != pieces.end() && error == 0; ++piece)
+    error = write_all(fd, *piece);
   errno = 0;
   if (::close(fd) != 0 && error == 0) error = last_error();
   errno = 0;

@@ -6,9 +6,11 @@
 #pragma once
 #include <cstddef>
 #include <functional>
+#include <initializer_list>
 #include <ostream>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace apiclab {
 
@@ -25,6 +27,8 @@ std::string temporary_name_of(const std::string& path);
 // Writes `bytes` to path's temporary name, then renames it to `path`; on failure the temporary
 // file is removed and WriteError names `path`.
 void write_file_whole(const std::string& path, const std::string& bytes);
+// The same with `pieces` one after another, each written from where it lies (no joined copy).
+void write_file_whole(const std::string& path, std::initializer_list<std::string_view> pieces);
 // The same with the bytes `fill` puts on a stream (formatted in memory first).
 void write_file_whole(const std::string& path, const std::function<void(std::ostream&)>& fill);
 

@@ -81,25 +81,6 @@ bool same_file(const std::string& a, const std::string& b) {
   return fs::equivalent(a, b, ec) && !ec;
 }
 
-// "" when `theirs` are the same settings as `ours`, else the first key that differs:
-// "materials.0.E is 1000 there, 2000 here".
-std::string settings_difference(const nlohmann::json& theirs, const nlohmann::json& ours) {
-  std::map<std::string, std::string> a, b;
-  flatten(theirs, "", a);
-  flatten(ours, "", b);
-  std::set<std::string> keys;
-  for (const auto& [k, v] : a) keys.insert(k);
-  for (const auto& [k, v] : b) keys.insert(k);
-  for (const std::string& k : keys) {
-    const auto x = a.find(k), y = b.find(k);
-    const std::string there = x == a.end() ? "unset" : x->second;
-    const std::string here = y == b.end() ? "unset" : y->second;
-    if (there == here || (k == "scene_file" && same_file(there, here))) continue;
-    return k + " is " + there + " there, " + here + " here";
-  }
-  return "";
-}
-
 // A string field of a sidecar's settings, or "?" (the file may be anyone's).
 std::string text_field(const nlohmann::json& j, const char* key) {
   return j.is_object() && j.contains(key) && j[key].is_string() ? j[key].get<std::string>() : "?";
@@ -153,6 +134,23 @@ void remove_file(const fs::path& p) {
 }
 
 }  // namespace
+
+std::string settings_difference(const nlohmann::json& theirs, const nlohmann::json& ours) {
+  std::map<std::string, std::string> a, b;
+  flatten(theirs, "", a);
+  flatten(ours, "", b);
+  std::set<std::string> keys;
+  for (const auto& [k, v] : a) keys.insert(k);
+  for (const auto& [k, v] : b) keys.insert(k);
+  for (const std::string& k : keys) {
+    const auto x = a.find(k), y = b.find(k);
+    const std::string there = x == a.end() ? "unset" : x->second;
+    const std::string here = y == b.end() ? "unset" : y->second;
+    if (there == here || (k == "scene_file" && same_file(there, here))) continue;
+    return k + " is " + there + " there, " + here + " here";
+  }
+  return "";
+}
 
 std::string safe_file_name(const std::string& name) {
   std::string s = name.substr(0, 100);

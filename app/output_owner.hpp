@@ -23,6 +23,14 @@ std::string safe_file_name(const std::string& name);
 // `frame` when it is.
 bool is_frame_file_name(const std::string& name, long* frame = nullptr);
 
+// "" when `theirs` are the same settings as `ours` (run_settings, app/run_outputs.hpp), else the
+// first key that differs: "materials.0.E is 1000 there, 2000 here", "time.end is 0.5 there, 1
+// here". The numeric parameters go by their own keys; `overrides` is left out (`--scheme flip`
+// and `--set solver.scheme=flip` are the same settings), and so is the solver's label, which
+// only spells the scheme and its parameter again; two spellings of one scene file are one.
+// Outputs' owners and checkpoints are compared by it.
+std::string settings_difference(const nlohmann::json& theirs, const nlohmann::json& ours);
+
 class OutputClaims {
  public:
   // `owner`: the settings this command records in its sidecars (run_settings; compare adds its

@@ -1,7 +1,5 @@
 #include "app/gui/pane_checkpoint.hpp"
 
-#include <omp.h>
-
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -67,19 +65,12 @@ cli::RunOptions run_options_of(const SceneDesc& pane, Precision precision) {
   return o;
 }
 
-// The run section of a checkpoint's state, as `run` writes it (app/cmd_run.cpp): its output
-// indexes, the running diagnostics, the dump series (none), then the solver's state.
-std::string run_state(const PaneView& v, int frame, std::uint64_t csv_bytes, long unconverged,
-                      const RunSummary& summary) {
+// The pane's state as `run` writes it: its output indexes, the running diagnostics, the dump
+// series (none), then the solver's state.
+std::string run_state(const PaneView& v, const cli::RunProgress& p, const RunSummary& summary) {
   std::string bytes;
   StateWriter w(bytes);
-  w.tag("run");
-  w.value(std::int32_t(frame));
-  w.value(csv_bytes);
-  w.value(std::uint64_t(0));
-  w.value(std::int64_t(unconverged));
-  summary.save(w);
-  w.value(std::uint64_t(0));
+  cli::save_run_state(w, p, summary, {});
   v.sim.save_state(w);
   return bytes;
 }
@@ -129,16 +120,10 @@ std::string write_pane(const PaneView& v, const std::string& dir) {
   }
   write_file_whole(o.csv, csv);
   write_csv_sidecar(o.csv, settings);
-  const json header = {{"scene", scene.name},
-                       {"settings", settings},
-                       {"csv", o.csv},
-                       {"threads", omp_get_max_threads()},
-                       {"cwd", fs::current_path().string()},
-                       {"frame", v.frame},
-                       {"step", v.sim.steps()},
-                       {"t", v.sim.time()},
-                       {"options", cli::options_json(o, "", c)}};
-  cli::write_checkpoint(dir, header, run_state(v, int(v.frame), csv.size(), unconverged, *summary));
+  const json header = cli::run_header(v.sim, settings, o.csv, fs::current_path().string(),
+                                      int(v.frame), cli::options_json(o, "", c));
+  const cli::RunProgress p{std::int32_t(v.frame), csv.size(), 0, unconverged};
+  cli::write_checkpoint(dir, header, run_state(v, p, *summary));
   std::ostringstream s;
   s << "checkpoint at t = " << v.sim.time() << " s (frame " << v.frame << ", step " << v.sim.steps()
     << ") in " << dir << "; apiclab run --resume " << dir << " continues it";
@@ -197,15 +182,11 @@ void open_checkpoint(ViewerState& st, SimWorker& worker, const std::string& dir)
         std::make_shared<StateReader>(file->bytes.data() + file->state_at, file->state_size);
     auto origin =
         std::make_shared<PaneOrigin>(PaneOrigin{"", RunSummary(DiagnosticsRow{}, 0, 0), 0});
-    state->tag("run");
-    const int frame = state->value<std::int32_t>();
-    const auto csv_bytes = state->value<std::uint64_t>();
-    state->value<std::uint64_t>();
-    origin->unconverged = long(state->value<std::int64_t>());
-    origin->summary.load(*state);
-    for (auto n = state->value<std::uint64_t>(); n > 0; --n)
-      state->value<double>(), state->value<std::int32_t>(), state->text();
-    origin->csv_text = csv_prefix(from_run_folder(cwd, h.value("csv", "")), csv_bytes);
+    std::vector<PvdSeries::Entry> series;
+    const cli::RunProgress p = cli::load_run_state(*state, origin->summary, series);
+    const int frame = p.last_frame;
+    origin->unconverged = long(p.unconverged);
+    origin->csv_text = csv_prefix(from_run_folder(cwd, h.value("csv", "")), p.csv_bytes);
     PaneConfig pane;
     pane.scheme = scene.solver.scheme, pane.flip_alpha = scene.solver.flip_alpha;
     pane.method = scene.solver.method;

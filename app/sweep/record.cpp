@@ -20,6 +20,7 @@
 #include "app/checkpoint.hpp"
 #include "app/frame_loop.hpp"
 #include "app/output_file.hpp"
+#include "app/output_owner.hpp"
 #include "app/particle_export.hpp"
 #include "app/run_outputs.hpp"
 #include "sim/eol/eol_positions.hpp"
@@ -54,21 +55,28 @@ class FrameWriter {
   }
   std::uint64_t size() const { return size_; }
   void flush() { out_.flush(); }
-  void add(const Snapshot& s, const std::vector<double>& positions, const DiagnosticsRow& row) {
+  // The frame's points; every frame has the points of the first (a fixed set of material points).
+  void add(int dim, double t, const MaterialPoints& points, const DiagnosticsRow& row) {
+    const std::vector<double>& positions = points.positions;
+    const std::vector<std::int32_t>& object = points.object;
     if (!header_written_) {
-      const std::int32_t dim = s.dim;
-      const std::uint64_t n = s.count();
+      const std::int32_t d = dim;
+      const std::uint64_t n = object.size();
       out_.write(kFramesMagic, 4);
-      out_.write(reinterpret_cast<const char*>(&dim), sizeof dim);
+      out_.write(reinterpret_cast<const char*>(&d), sizeof d);
       out_.write(reinterpret_cast<const char*>(&bytes_), sizeof bytes_);
       out_.write(reinterpret_cast<const char*>(&n), sizeof n);
-      out_.write(reinterpret_cast<const char*>(s.object.data()),
-                 std::streamsize(s.object.size() * sizeof(std::int32_t)));
+      out_.write(reinterpret_cast<const char*>(object.data()),
+                 std::streamsize(object.size() * sizeof(std::int32_t)));
       header_written_ = true;
-      size_ += 4 + sizeof dim + sizeof bytes_ + sizeof n + s.object.size() * sizeof(std::int32_t);
+      size_ += 4 + sizeof d + sizeof bytes_ + sizeof n + object.size() * sizeof(std::int32_t);
     }
+    if (count_ == 0) count_ = positions.size();
+    if (positions.size() != count_)  // a reader could not tell the frames apart
+      throw std::logic_error("frames.bin: a frame of " + std::to_string(positions.size()) +
+                             " values after frames of " + std::to_string(count_));
     size_ += sizeof(double) * 3 + positions.size() * std::size_t(bytes_);
-    const double head[3] = {s.time, row.kinetic, row.elastic};
+    const double head[3] = {t, row.kinetic, row.elastic};
     out_.write(reinterpret_cast<const char*>(head), sizeof head);
     if (bytes_ == 8) {
       out_.write(reinterpret_cast<const char*>(positions.data()),
@@ -84,18 +92,20 @@ class FrameWriter {
   std::ofstream out_;
   std::int32_t bytes_;
   std::uint64_t size_ = 0;  // bytes written
+  std::size_t count_ = 0;   // values per frame, the first frame's
   bool header_written_ = false;
 };
 
-// The frame's points at the run's precision, by particle id: an MPM run's particle table (its
-// scalar widened), an EoL run's nodes; another family's as its snapshot holds them.
-std::vector<double> positions_of(const Simulation& sim, const Snapshot& snap) {
+// The frame's points at the run's precision with their objects: an MPM run's particles by id
+// (its particle table's positions, the scalar widened), an EoL run's surface vertices
+// (sim/eol/eol_positions.hpp); another family's as its snapshot holds them.
+MaterialPoints points_of(const Simulation& sim, const Snapshot& snap) {
   if (const TransferControls* t = sim.transfers()) {
     const ParticleTable table = t->particle_table();
-    if (const ParticleColumn* x = table.find("position")) return x->values;
+    if (const ParticleColumn* x = table.find("position")) return {x->values, snap.object};
   }
-  if (auto x = eol_node_positions(sim)) return *x;
-  return {snap.positions.begin(), snap.positions.end()};
+  if (auto p = eol_surface_points(sim)) return std::move(*p);
+  return {{snap.positions.begin(), snap.positions.end()}, snap.object};
 }
 
 double rms(const std::vector<float>& v, int components) {
@@ -310,19 +320,19 @@ int record_run(const cli::RunOptions& o, const std::string& dir,
   rec.particles = long(particle_count(*sim));
   // The record's state after its last whole row (app/checkpoint.hpp, written whole).
   double last_checkpoint = now_seconds();
+  std::optional<cli::CheckpointWriter> writer;  // the file is written while the run goes on
+  if (checkpoint.on()) writer.emplace(checkpoint_dir);
   const auto save_checkpoint = [&] {
     frames.flush();
     p.csv_bytes = csv.size();
     p.frames_bytes = frames.size();
     p.index_bytes = dump_frames.size();
     if (dump) p.series = dump->series().entries();
-    std::string bytes;
-    StateWriter w(bytes);
+    StateWriter w(writer->state());
     save_progress(w, p);
     sim->save_state(w);
     cli::ensure_writable_dir(checkpoint_dir);
-    cli::write_checkpoint(checkpoint_dir, record_header(final_dir, settings, *sim, p.last_frame),
-                          bytes);
+    writer->write(record_header(final_dir, settings, *sim, p.last_frame));
     last_checkpoint = now_seconds();
   };
   Lockstep panes({sim.get()});
@@ -333,6 +343,7 @@ int record_run(const cli::RunOptions& o, const std::string& dir,
     rec.newton_iters += r.newton_iters;
     rec.cg_iters += r.cg_iters;
     if (!r.converged) ++rec.unconverged_steps;
+    if (writer) writer->check();
     const double seconds = checkpoint.every_seconds;
     if (seconds > 0 && !sim->failure() && now_seconds() - last_checkpoint >= seconds)
       save_checkpoint();
@@ -341,7 +352,7 @@ int record_run(const cli::RunOptions& o, const std::string& dir,
   const auto on_frame = [&](int f) {
     if (sim->failure()) return false;
     auto snap = sim->snapshot();
-    frames.add(*snap, positions_of(*sim, *snap), rows.back());
+    frames.add(snap->dim, snap->time, points_of(*sim, *snap), rows.back());
     if (dump) {
       dump->write(*sim, f);
       dump_frames.add(f, sim->time(), {sim->steps()});
@@ -360,6 +371,7 @@ int record_run(const cli::RunOptions& o, const std::string& dir,
   };
   run_frame_loop(FrameTimes(scene, o.max_steps), panes, on_row, on_frame,
                  resumed ? p.last_frame : -1);
+  if (writer) writer->finish();
   frames.flush();
   rec.steps = sim->steps();
   if (const auto& failure = sim->failure()) {

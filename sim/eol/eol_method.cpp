@@ -26,23 +26,28 @@ void validate_eol_family(SceneSection&, SceneDesc& s) {
                        " solver has no periodic walls");
 }
 
+// Algorithm 2 places the surfaces at every frame time (reached_frame_time): at a frame, the last
+// placement is the frame's.
 template <int D>
-std::vector<double> node_positions(const eol::EolSimulation<double, D>& sim) {
-  std::vector<double> x;
-  for (const auto& o : sim.objects())
-    for (std::size_t i = 0; i < o.grid.size(); ++i)
-      if (o.grid.fill[i] >= 0.5)  // the snapshot's nodes (sim/eol/eol_snapshot.hpp)
-        for (int a = 0; a < D; ++a) x.push_back(o.x[i][a]);
-  return x;
+MaterialPoints surface_points(const eol::EolSimulation<double, D>& sim) {
+  MaterialPoints p;
+  for (const auto& o : sim.objects()) {
+    for (std::size_t s = 0; s < o.surface_y.size(); ++s) {
+      const Vec<double, D> x = o.surface_world(s);
+      for (int a = 0; a < D; ++a) p.positions.push_back(x[a]);
+      p.object.push_back(o.surface.owner[s]);
+    }
+  }
+  return p;
 }
 
 }  // namespace
 
-std::optional<std::vector<double>> eol_node_positions(const Simulation& sim) {
+std::optional<MaterialPoints> eol_surface_points(const Simulation& sim) {
   if (const auto* s = dynamic_cast<const eol::EolSimulation<double, 2>*>(&sim))
-    return node_positions(*s);
+    return surface_points(*s);
   if (const auto* s = dynamic_cast<const eol::EolSimulation<double, 3>*>(&sim))
-    return node_positions(*s);
+    return surface_points(*s);
   return std::nullopt;
 }
 

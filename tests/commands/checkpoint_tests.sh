@@ -4,7 +4,8 @@
 # that of a run never stopped (the CSV without its wall_s column), for MPM explicit with APIC,
 # XPIC and PolyPIC, for the implicit midpoint rule, and for eol and eulerian (contact between
 # objects, a moving body, 3D); a kill while a checkpoint is written leaves the one before; corrupt,
-# truncated and foreign checkpoints are refused with one line and exit 2.
+# truncated and foreign checkpoints are refused with one line and exit 2; a checkpoint that cannot
+# be written stops the run with one line.
 # Usage: APICLAB=/path/to/apiclab checkpoint_tests.sh
 set -u
 APICLAB=${APICLAB:?set APICLAB to the apiclab executable}
@@ -109,6 +110,23 @@ else
     "${why:-}" "$(head -c 600 "$ERR")"
 fi
 
+# ---- a checkpoint that cannot be written stops the run: one line, exit 2 ----------------------
+# A state of 1 MiB or more (this disk at a third of its dx) is written on a thread of its own
+# while the run goes on: its failure still ends the run, naming the file and the cause.
+# (checkpoint.bin.part is a folder: the write cannot open it.)
+w="$TMP/unwritable"
+mkdir -p "$w/ck/checkpoint.bin.part"
+run_cli run rotating-disk --t-end 0.25 --set domain.dx=0.0104 --csv "$w/run.csv" --quiet \
+  --checkpoint-every 1 --checkpoint-dir "$w/ck"
+last_t=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next } { t = $c["t"] } END { print t }' "$w/run.csv")
+if [ "$RC" -eq 2 ] && [ "$(wc -l <"$ERR")" -eq 1 ] &&
+  grep -q "^apiclab: cannot write $w/ck/checkpoint.bin: Is a directory$" "$ERR" &&
+  [ ! -e "$w/ck/checkpoint.bin" ] && awk -v t="$last_t" 'BEGIN { exit !(t > 0 && t < 0.125) }'; then
+  ok "a checkpoint that cannot be written stops the run at t = $last_t: '$(cat "$ERR")', exit 2"
+else
+  nok "a failed checkpoint write stops the run" "exit $RC, the CSV ends at t = $last_t" "$(head -c 400 "$ERR")"
+fi
+
 # ---- --checkpoint-seconds, and SCENE with the same options --------------------------------------
 c="$TMP/seconds"
 mkdir -p "$c"
@@ -152,7 +170,7 @@ refused() {
 }
 refused "another scene" "belongs to scene 'rotating-disk', not 'ringing'" \
   run ringing --csv "$c/run.csv" --resume "$CK"
-refused "other settings" "was written with other settings: parameters.time.end is 0.25 there, 0.5 here" \
+refused "other settings" "was written with other settings: time.end is 0.25 there, 0.5 here" \
   run rotating-disk --t-end 0.5 --csv "$c/run.csv" --resume "$CK"
 refused "another CSV" "belongs to the run whose CSV is" \
   run rotating-disk --t-end 0.25 --csv "$c/other.csv" --resume "$CK"
