@@ -39,7 +39,8 @@ void EolSimulation<T, D>::forces_ahead() {
 }
 
 // Backward Euler's forces for the step (implicit_elasticity.hpp), each object's solve from the
-// forces of the state now; the tolerances are the MPM family's solver keys.
+// forces of the state now, then held to the step's contact rows (implicit_contact.hpp); the
+// tolerances are the MPM family's solver keys.
 template <class T, int D>
 void EolSimulation<T, D>::implicit_forces(double dt) {
   StageTimer timer{stages_.forces};
@@ -53,8 +54,8 @@ void EolSimulation<T, D>::implicit_forces(double dt) {
     if (lagrangian_)
       for (std::size_t i = 0; i < o.grid.size(); ++i)
         rigid[i] = o.frame.nu + spin_cross<T, D>(o.frame.omega, o.r[i]);
-    const NewtonCgReport r =
-        o.implicit.solve(o.grid, materials_, o.frame.rotation(), o.u, o.force, T(dt), settings);
+    o.implicit.begin(o.grid, materials_, o.frame.rotation(), o.u, o.force, T(dt), settings);
+    const NewtonCgReport r = o.implicit.minimise();
     implicit_report_.newton_iterations += r.newton_iterations;
     implicit_report_.cg_iterations += r.cg_iterations;
     implicit_report_.converged = implicit_report_.converged && r.converged;
@@ -64,6 +65,8 @@ void EolSimulation<T, D>::implicit_forces(double dt) {
       implicit_report_.tolerance = r.tolerance;
     }
   }
+  implicit_contact();
+  for (auto& o : objects_) o.implicit.finish(o.u, o.force);
 }
 
 }  // namespace apiclab::eol

@@ -65,6 +65,24 @@ struct EolObject {
   Vec<T, D> world(const Vec<T, D>& y) const { return frame.rotation() * y + frame.p; }
 };
 
+// Backward Euler with the contact rows as its constraints (contact/implicit_contact.hpp): the
+// rows, the alternations of Newton solve and dual LCP, their CG solves for A = J R H⁻¹ Rᵀ Jᵀ,
+// and the largest row violation (relative to Σ|j| max|u|) before the first and after the last.
+struct ImplicitContactStats {
+  int rows = 0, iterations = 0, cg_iterations = 0;
+  double first_violation = 0, violation = 0;
+  void merge(const ImplicitContactStats& o) {
+    rows += o.rows;
+    iterations = std::max(iterations, o.iterations);
+    cg_iterations += o.cg_iterations;
+    first_violation = std::max(first_violation, o.first_violation);
+    violation = std::max(violation, o.violation);
+  }
+};
+// The alternations stop once every row holds to this relative violation, or after this many.
+inline constexpr double kImplicitContactTolerance = 1e-4;
+inline constexpr int kImplicitContactIterations = 20;
+
 template <class T, int D>
 class EolSimulation final : public Simulation {
  public:
@@ -119,6 +137,7 @@ class EolSimulation final : public Simulation {
   // solver.elasticity implicit: the last step's backward Euler solves, summed over the objects
   // (the residual and tolerance of the one furthest from its tolerance).
   const NewtonCgReport& last_implicit_solve() const { return implicit_report_; }
+  const ImplicitContactStats& last_implicit_contact() const { return implicit_contact_; }
   bool implicit_elasticity() const {
     return scene_.solver.eol.elasticity == EolSolverDesc::Elasticity::backward_euler;
   }
@@ -170,6 +189,10 @@ class EolSimulation final : public Simulation {
   void forces_ahead();  // every object's, for the state now (forces_ready_)
   // solver.elasticity implicit: each object's forces replaced by backward Euler's for the step.
   void implicit_forces(double dt);
+  // Its contact: the step's rows built first, then held by the solves (implicit_contact.hpp).
+  void implicit_contact();
+  void constrained_solve(const std::vector<ObjectVelocities<T, D>>& views,
+                         const std::vector<EolObject<T, D>*>& group);
   // step()'s hooks (Simulation::step; eol_time_step.hpp, eol_step.hpp).
   double choose_dt() override;
   void dt_set_by_frame() override { last_limit_ = DtLimit::frame; }
@@ -190,6 +213,10 @@ class EolSimulation final : public Simulation {
   // The step's stages for the meeting objects together: impulse → one QP → split → transport.
   void finish_together(const std::vector<char>& meeting, double dt, EnergyLedger& ledger);
   void object_contact(const std::vector<char>& meeting);
+  // The rows into contact_rows_: the meeting objects' (pairs and planes, nodes side by side) and
+  // one object's against the planes and bodies, each with its surfaces placed now.
+  std::vector<ObjectVelocities<T, D>> object_rows(const std::vector<char>& meeting);
+  void plane_rows(EolObject<T, D>& o);
   void split(EolObject<T, D>& o, const SplitSums<D, 1>& sums, T dt);
   void advect(EolObject<T, D>& o, T dt);
   void impulse_surface_contact(EolObject<T, D>& o, T dt);
@@ -242,6 +269,7 @@ class EolSimulation final : public Simulation {
   double max_kinematic_viscosity_ = 0;  // max η/ρ over the materials: the viscous step limit
   DtLimit last_limit_ = DtLimit::fixed;
   NewtonCgReport implicit_report_;
+  ImplicitContactStats implicit_contact_;
   StageSeconds stages_;
   bool ledger_on_ = false;
   EnergyLedger ledger_, last_ledger_;

@@ -144,9 +144,10 @@ double EolSimulation<T, D>::approach_limit(const EolObject<T, D>& o) const {
 }
 
 // Under implicit elasticity, between objects as approach_limit against planes: the step that
-// closes the gap between two objects' material boxes (nodes with mass, world axes) by no more
-// than that gap plus α Δx, at the fastest approach along the line between their centres (the
-// largest speed of A's nodes towards B less the smallest of B's towards A: Galilean invariant).
+// closes the gap between two objects' material boxes (nodes with mass, world axes), less the
+// 2 Δx by which their surfaces may be closer, by no more than a tenth of a cell beyond it, at the
+// fastest approach along the line between their centres (the largest speed of A's nodes towards
+// B less the smallest of B's towards A: Galilean invariant).
 // Eq 33 reads v* only, zero for balls in flight: the two balls' frame-long steps met 6 cells deep.
 template <class T, int D>
 double EolSimulation<T, D>::objects_approach_limit() const {
@@ -191,8 +192,11 @@ double EolSimulation<T, D>::objects_approach_limit() const {
       if (!(speed > 0)) continue;
       const Vec<T, D> gap =
           (ext[b].lo - ext[a].hi).cwiseMax(ext[a].lo - ext[b].hi).cwiseMax(Vec<T, D>::Zero());
-      const double reach = scene_.solver.eol.alpha * std::min(ext[a].dx, ext[b].dx);
-      dt = std::min(dt, (double(gap.norm()) + reach) / speed);
+      // A surface lies within a cell of its nodes with mass, so the surfaces may be 2 Δx closer
+      // than the boxes; the step then reaches a tenth of a cell past them. Reaching α Δx, the
+      // two balls' first step with pair rows started 1.6 cells of area deep (Δx 0.0125).
+      const double cell = std::min(ext[a].dx, ext[b].dx);
+      dt = std::min(dt, (std::max(double(gap.norm()) - 2 * cell, 0.0) + 0.1 * cell) / speed);
     }
   return dt;
 }

@@ -2,6 +2,7 @@
 // instantiations sim/eol/eol_{2d,3d}.cpp only.
 #pragma once
 #include "sim/eol/contact/eol_contact.hpp"
+#include "sim/eol/contact/implicit_contact.hpp"
 #include "sim/eol/eol_checkpoint.hpp"
 #include "sim/eol/eol_forces.hpp"
 #include "sim/eol/eol_ledger.hpp"

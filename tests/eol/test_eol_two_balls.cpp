@@ -175,6 +175,22 @@ TEST(EolTwoBalls, DampedBallsReturnToTheirRestShapes2D) {
   expect_rest_shapes<2>("eol-two-balls.json", 0.05, 1.0);
 }
 
+// Under implicit elasticity without viscosity (Fig 8's settings), through the collision: the
+// contact rows held inside the backward Euler solve keep E ≤ E₀ (with eq 29's QP after the solve
+// instead, E rose to 2.3 E₀ in the first step with pair rows), and the contact bound between the
+// objects keeps the overlap under half a cell (reaching α Δx, 1.6 cells).
+TEST(EolTwoBalls, HeadOnUnderImplicitElasticity2D) {
+  auto s = scene<2>("eol-two-balls.json", "eol", 0.05, 0.2,
+                    {"solver.elasticity=implicit", "materials.0.viscosity=0"});
+  ASSERT_TRUE(s);
+  const RestRun r = run_to_rest<2>(*s, 0.2, 0.0, 0.2);
+  report("2D eol, implicit", r, 0.05);
+  EXPECT_GT(r.contact_steps, 0);
+  EXPECT_LE(r.overlap_cells, 0.5);
+  EXPECT_LT(r.drift, 0.01 * r.p_scale);
+  EXPECT_LE(r.gain, 1e-12 * r.e0);
+}
+
 // The same in 3D (r = 3 cells): about a minute, so in the slow tier.
 TEST(EolSlow, DampedBallsReturnToTheirRestShapes3D) {
   expect_rest_shapes<3>("eol-two-balls-3d.json", 0.05, 1.0);

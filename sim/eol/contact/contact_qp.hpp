@@ -69,6 +69,41 @@ class ContactSolver {
           A_(row_[a], row_[c]) += inv_m * double(coeff_[a].dot(coeff_[c]));
       s = end;
     }
+    dual(J.bilateral, st);
+    // u = u* − M⁻¹ Jᵀ λ.
+    for (std::size_t e = 0; e < node_.size(); ++e) {
+      const double l = lambda_[row_[e]];
+      if (l != 0.0) u[node_[e]] -= T(l / double(mass[node_[e]])) * coeff_[e];
+    }
+    for (int k = 0; k < m; ++k) st.active += lambda_[k] != 0.0;
+    rates(J, u);  // now J u − r, for the violation
+    for (int k = 0; k < m; ++k)
+      if (usable_[std::size_t(k)])
+        st.max_violation =
+            std::max(st.max_violation, J.bilateral[std::size_t(k)] ? std::abs(b_[std::size_t(k)])
+                                                                   : b_[std::size_t(k)]);
+    return st;
+  }
+  const Eigen::VectorXd& multipliers() const { return lambda_; }
+
+  // The dual LCP alone, on a given A (m × m, symmetric positive semi-definite) and b: λ with
+  // w = b − Aλ, λ ≥ 0, w ≤ 0, λ w = 0 on the unilateral rows and w = 0 on the bilateral ones.
+  // Backward Euler with contact (implicit_contact.hpp) passes A = J H⁻¹ Jᵀ.
+  const Eigen::VectorXd& solve_dual(const Eigen::MatrixXd& A, const std::vector<double>& b,
+                                    const std::vector<std::uint8_t>& bilateral,
+                                    ContactSolveStats& st) {
+    A_ = A;
+    b_ = b;
+    st.rows = int(b.size());
+    dual(bilateral, st);
+    st.active = int((lambda_.array() != 0.0).count());
+    return lambda_;
+  }
+
+ private:
+  // Projected Gauss–Seidel on the dual (A_, b_), then the active-set polish.
+  void dual(const std::vector<std::uint8_t>& bilateral, ContactSolveStats& st) {
+    const int m = int(b_.size());
     // Rows no node with mass can move are left out (λ = 0): nothing can enforce them.
     double diag_max = 0;
     for (int k = 0; k < m; ++k) diag_max = std::max(diag_max, A_(k, k));
@@ -86,30 +121,15 @@ class ContactSolver {
         // A is symmetric: its column k is row k, and contiguous.
         const double w = b_[std::size_t(k)] - A_.col(k).dot(lambda_);
         double l = lambda_[k] + w / A_(k, k);
-        if (!J.bilateral[std::size_t(k)]) l = std::max(l, 0.0);
+        if (!bilateral[std::size_t(k)]) l = std::max(l, 0.0);
         change = std::max(change, std::abs(l - lambda_[k]) * A_(k, k));
         lambda_[k] = l;
       }
       if (change <= 1e-12 * b_scale + tol) break;
     }
-    polish(J, b_scale, st);
-    // u = u* − M⁻¹ Jᵀ λ.
-    for (std::size_t e = 0; e < node_.size(); ++e) {
-      const double l = lambda_[row_[e]];
-      if (l != 0.0) u[node_[e]] -= T(l / double(mass[node_[e]])) * coeff_[e];
-    }
-    for (int k = 0; k < m; ++k) st.active += lambda_[k] != 0.0;
-    rates(J, u);  // now J u − r, for the violation
-    for (int k = 0; k < m; ++k)
-      if (usable_[std::size_t(k)])
-        st.max_violation =
-            std::max(st.max_violation, J.bilateral[std::size_t(k)] ? std::abs(b_[std::size_t(k)])
-                                                                   : b_[std::size_t(k)]);
-    return st;
+    polish(bilateral, b_scale, st);
   }
-  const Eigen::VectorXd& multipliers() const { return lambda_; }
 
- private:
   // The active set S (bilateral rows, and unilateral rows with λ > 0): A_SS λ_S = b_S exactly;
   // kept when λ_S ≥ 0 on the unilateral rows and w ≤ 0 off S (up to round-off of b).
   // b = J u − r, every row's rate relative to its body.
@@ -121,11 +141,11 @@ class ContactSolver {
   }
 
   // b_scale: max |b|, as solve() computed it.
-  void polish(const ContactRows<T, D>& J, double b_scale, ContactSolveStats& st) {
-    const int m = int(J.rows());
+  void polish(const std::vector<std::uint8_t>& bilateral, double b_scale, ContactSolveStats& st) {
+    const int m = int(b_.size());
     active_.clear();
     for (int k = 0; k < m; ++k)
-      if (usable_[std::size_t(k)] && (J.bilateral[std::size_t(k)] || lambda_[k] > 0))
+      if (usable_[std::size_t(k)] && (bilateral[std::size_t(k)] || lambda_[k] > 0))
         active_.push_back(k);
     if (active_.empty()) return;
     const int s = int(active_.size());
@@ -142,7 +162,7 @@ class ContactSolver {
     const Eigen::VectorXd w = Eigen::Map<const Eigen::VectorXd>(b_.data(), m) - A_ * trial;
     const double eps = 1e-10 * b_scale;
     for (int k = 0; k < m; ++k) {
-      if (!usable_[std::size_t(k)] || J.bilateral[std::size_t(k)]) continue;
+      if (!usable_[std::size_t(k)] || bilateral[std::size_t(k)]) continue;
       if (trial[k] < 0 || (trial[k] == 0 && w[k] > eps)) return;
     }
     lambda_ = trial;

@@ -3,7 +3,6 @@
 #pragma once
 #include <chrono>
 #include <cmath>
-#include <optional>
 #include <utility>
 #include <vector>
 
@@ -65,19 +64,23 @@ void EolSimulation<T, D>::impulse_surface_contact(EolObject<T, D>& o, T dt) {
     StageTimer timer{stages_.assembly};
     impulse_nodes(o, dt);
   }
-  place_surface(o);
-  {
-    StageTimer timer{stages_.collision};
-    const T cell =
-        scene_.solver.eol.contact_cell > 0 ? T(scene_.solver.eol.contact_cell) : o.grid.dx;
-    contact_rows_.clear();
-    assemble_surface_rows(o.grid, o.surface_y, o.surface.simplex, o.frame.rotation(), o.frame.p,
-                          planes_, cell, contact_rows_);
-    assemble_body_rows(o.grid, o.surface_y, o.surface.simplex, o.frame.rotation(), o.frame.p,
-                       body_poses_, cell, 0, contact_rows_);
-  }
+  plane_rows(o);
   StageTimer timer{stages_.qp};
   contact_stats_ = contact_solver_.solve(contact_rows_, o.grid.mass, o.u);
+}
+
+// The object's surface placed now (Algorithm 2) and its rows against the planes and bodies, into
+// contact_rows_.
+template <class T, int D>
+void EolSimulation<T, D>::plane_rows(EolObject<T, D>& o) {
+  place_surface(o);
+  StageTimer timer{stages_.collision};
+  const T cell = scene_.solver.eol.contact_cell > 0 ? T(scene_.solver.eol.contact_cell) : o.grid.dx;
+  contact_rows_.clear();
+  assemble_surface_rows(o.grid, o.surface_y, o.surface.simplex, o.frame.rotation(), o.frame.p,
+                        planes_, cell, contact_rows_);
+  assemble_body_rows(o.grid, o.surface_y, o.surface.simplex, o.frame.rotation(), o.frame.p,
+                     body_poses_, cell, 0, contact_rows_);
 }
 
 // The world box of an object's material: its nodes with mass, two cells wider each side (the
@@ -122,6 +125,20 @@ std::vector<char> EolSimulation<T, D>::meeting_objects() const {
 // QP (global_contact.hpp); their u take the constrained velocities.
 template <class T, int D>
 void EolSimulation<T, D>::object_contact(const std::vector<char>& meeting) {
+  const std::vector<ObjectVelocities<T, D>> views = object_rows(meeting);
+  StageTimer timer{stages_.qp};
+  const auto start = std::chrono::steady_clock::now();
+  contact_stats_ = global_solver_.solve(contact_rows_, views);
+  contact_stats_.seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// The meeting objects' surfaces placed now and their rows (pairs, then each one's planes and
+// bodies) into contact_rows_, over their nodes side by side; each one's masses, velocities and
+// first node in that numbering.
+template <class T, int D>
+std::vector<ObjectVelocities<T, D>> EolSimulation<T, D>::object_rows(
+    const std::vector<char>& meeting) {
   std::vector<ContactObject<T, D>> bodies;
   std::vector<ObjectVelocities<T, D>> views;
   std::uint32_t offset = 0;
@@ -140,8 +157,7 @@ void EolSimulation<T, D>::object_contact(const std::vector<char>& meeting) {
     views.push_back({&o.grid.mass, &o.u, offset});
     offset += std::uint32_t(o.grid.size());
   }
-  std::optional<StageTimer> collision;  // the rows; the QP below has its own stage
-  collision.emplace(stages_.collision);
+  StageTimer timer{stages_.collision};
   const T cell = scene_.solver.eol.contact_cell > 0 ? T(scene_.solver.eol.contact_cell)
                                                     : bodies.front().grid->dx;
   contact_rows_.clear();
@@ -156,12 +172,7 @@ void EolSimulation<T, D>::object_contact(const std::vector<char>& meeting) {
     }
     ++b;
   }
-  collision.reset();
-  StageTimer timer{stages_.qp};
-  const auto start = std::chrono::steady_clock::now();
-  contact_stats_ = global_solver_.solve(contact_rows_, views);
-  contact_stats_.seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return views;
 }
 
 }  // namespace apiclab::eol

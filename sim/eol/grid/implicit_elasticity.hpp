@@ -46,21 +46,40 @@ class ImplicitElasticity {
                        const std::vector<ElasticMaterial<T>>& materials, const Mat<T, D>& R,
                        const std::vector<Vec<T, D>>& u, std::vector<Vec<T, D>>& force, T dt,
                        const ImplicitSettings& s) {
+    begin(g, materials, R, u, force, dt, s);
+    const NewtonCgReport report = minimise();
+    finish(u, force);
+    return report;
+  }
+  // solve() in three parts, so that contact (implicit_contact.hpp) can push between them: the
+  // problem from the step's forces, started at ũ; the minimisation from the last w; the forces.
+  void begin(const EulerianGrid<T, D>& g, const std::vector<ElasticMaterial<T>>& materials,
+             const Mat<T, D>& R, const std::vector<Vec<T, D>>& u,
+             const std::vector<Vec<T, D>>& force, T dt, const ImplicitSettings& s) {
     setup(g, materials, dt);
+    R_ = R;
     const std::size_t n = g.size();
     if (frame_.size() != n) frame_.assign(n, Vec<T, D>::Zero());
-    for (auto* v : {&w_, &grad_, &target_, &cg_.direction, &cg_.residual, &cg_.precond, &cg_.search,
-                    &cg_.product, &cg_.trial})
+    for (auto* v : {&w_, &grad_, &target_, &rest_target_, &cg_.direction, &cg_.residual,
+                    &cg_.precond, &cg_.search, &cg_.product, &cg_.trial})
       v->assign(n, Vec<T, D>::Zero());
     // f_other = f − R f_e(now) = f + R ∂Ψ/∂y, with this quadrature's f_e: f_other + R f_e is f.
     rest_gradient();
     const Mat<T, D> Rt = R.transpose();
+    // A node without mass at a cell with material (the baseline's dropped slivers) is no
+    // unknown: it moves with its extrapolated u, as the advection moves it. Held at w = 0, its
+    // cells would be strained by Δt |u| / Δx.
+    for (std::size_t i = 0; i < n; ++i) {
+      frame_[i] = Rt * frame_[i];
+      w_[i] = Rt * u[i];
+    }
+    cg_.trial = w_;  // the line search's trial points write the unknowns only
     double v2 = 0;
     Vec<T, D> mean = Vec<T, D>::Zero();
     for (std::uint32_t i : active_) {
       const Vec<T, D> other = force[i] + R * grad_[i];
       target_[i] = Rt * (u[i] + (dt / mass_[i]) * other);
-      frame_[i] = Rt * frame_[i];
+      rest_target_[i] = target_[i];
       v2 += double(mass_[i]) * double(u[i].squaredNorm());
       mean += mass_[i] * target_[i];
     }
@@ -73,14 +92,89 @@ class ImplicitElasticity {
         {std::sqrt(v2 / std::max(mass_sum_, 1e-300)), s.velocity_scale, double(mean.norm())});
     const RoundOffFloor floor =
         implicit_round_off_floor<T>(vref, double(dt), double(g.dx), s.wave_speed, 1.0);
-    NewtonCgOptions options{std::max(s.newton_tolerance * vref, floor.newton),
-                            s.newton_max_iterations, std::max(s.cg_tolerance, floor.cg),
-                            s.cg_max_iterations};
+    options_ =
+        NewtonCgOptions{std::max(s.newton_tolerance * vref, floor.newton), s.newton_max_iterations,
+                        std::max(s.cg_tolerance, floor.cg), s.cg_max_iterations};
+  }
+  NewtonCgReport minimise() {
     Problem problem{*this};
-    const NewtonCgReport report = newton_cg_minimise<T, D>(problem, w_, grad_, active_, mass_,
-                                                           mass_sum_, options, cg_, residuals_);
-    for (std::uint32_t i : active_) force[i] = (mass_[i] / dt) * (R * w_[i] - u[i]);
-    return report;
+    return newton_cg_minimise<T, D>(problem, w_, grad_, active_, mass_, mass_sum_, options_, cg_,
+                                    residuals_);
+  }
+  void finish(const std::vector<Vec<T, D>>& u, std::vector<Vec<T, D>>& force) const {
+    for (std::uint32_t i : active_) force[i] = (mass_[i] / dt_) * (R_ * w_[i] - u[i]);
+  }
+  // A contact impulse p (world axes, per node) on the step: m (w − ũ) = Δt f_e − Rᵀ p, so ũ
+  // becomes ũ − M⁻¹ Rᵀ p (the rows' −Jᵀλ). Replaces the last push.
+  void push(const std::vector<Vec<T, D>>& impulse) {
+    const Mat<T, D> Rt = R_.transpose();
+    for (std::uint32_t i : active_) target_[i] = rest_target_[i] - (Rt * impulse[i]) / mass_[i];
+  }
+  // Node i's velocity in world axes, R w (a node with mass).
+  Vec<T, D> velocity(std::size_t i) const { return R_ * w_[i]; }
+  // H = M + Δt² K at the current w, for inverse_apply.
+  void hessian_here() {
+    energy(w_, true);
+    update_hessian();
+  }
+  // out = R H⁻¹ Rᵀ rhs (world axes) by deflated block-Jacobi CG to `tolerance` relative to rhs
+  // (its M⁻¹ norm), as newton_cg_minimise solves its Newton systems; the CG iterations.
+  int inverse_apply(const std::vector<Vec<T, D>>& rhs, std::vector<Vec<T, D>>& out,
+                    double tolerance, int max_iterations) {
+    auto& x = cg_.direction;
+    auto& r = cg_.residual;
+    auto& z = cg_.precond;
+    auto& p = cg_.search;
+    auto& q = cg_.product;
+    const Mat<T, D> Rt = R_.transpose();
+    // x₀ the uniform velocity with Σ (b − M x₀) = 0 (H x₀ = M x₀), then search directions
+    // without momentum (Σ m p = 0), as newton_cg_minimise's deflated CG.
+    Vec<T, D> mean = Vec<T, D>::Zero();
+    double rhs2 = 0;
+    for (std::uint32_t i : active_) {
+      r[i] = Rt * rhs[i];
+      mean += r[i];
+      rhs2 += double(r[i].squaredNorm()) / double(mass_[i]);
+    }
+    mean /= T(std::max(mass_sum_, 1e-300));
+    for (std::uint32_t i : active_) {
+      x[i] = mean;
+      r[i] -= mass_[i] * mean;
+    }
+    // z = C r, then p = z − its mass-weighted mean + β p with β = (r·z)/(r·z)_old; r·z.
+    auto search = [&](double gamma_old) {
+      Vec<T, D> zm = Vec<T, D>::Zero();
+      double gamma = 0;
+      for (std::uint32_t i : active_) {
+        z[i] = block_inverse_[i] * r[i];
+        zm += mass_[i] * z[i];
+        gamma += double(r[i].dot(z[i]));
+      }
+      zm /= T(std::max(mass_sum_, 1e-300));
+      const T beta = gamma_old > 0 ? T(gamma / gamma_old) : T(0);
+      for (std::uint32_t i : active_) p[i] = z[i] - zm + beta * p[i];
+      return gamma;
+    };
+    double gamma = search(0);
+    int k = 0;
+    for (; k < max_iterations; ++k) {
+      double rho = 0;
+      for (std::uint32_t i : active_) rho += double(r[i].squaredNorm()) / double(mass_[i]);
+      if (rho <= tolerance * tolerance * rhs2) break;
+      hessian_apply(p, q);
+      double pq = 0;
+      for (std::uint32_t i : active_) pq += double(p[i].dot(q[i]));
+      if (!(pq > 0)) break;
+      const T alpha = T(gamma / pq);
+      for (std::uint32_t i : active_) {
+        x[i] += alpha * p[i];
+        r[i] -= alpha * q[i];
+      }
+      gamma = search(gamma);
+    }
+    out.assign(x.size(), Vec<T, D>::Zero());
+    for (std::uint32_t i : active_) out[i] = R_ * x[i];
+    return k;
   }
   // Per node, world axes: the frame's rigid velocity ν + ω × r, which solve() leaves out of the
   // nodes' motion (zero on the Eulerian baseline); the caller fills it before each solve().
@@ -88,8 +182,8 @@ class ImplicitElasticity {
   std::size_t bytes() const {
     std::size_t b =
         held_bytes(points_) + held_bytes(frame_) + held_bytes(active_) + held_bytes(block_inverse_);
-    for (const auto* v : {&w_, &grad_, &target_, &cg_.direction, &cg_.residual, &cg_.precond,
-                          &cg_.search, &cg_.product, &cg_.trial})
+    for (const auto* v : {&w_, &grad_, &target_, &rest_target_, &cg_.direction, &cg_.residual,
+                          &cg_.precond, &cg_.search, &cg_.product, &cg_.trial})
       b += held_bytes(*v);
     return b;
   }
@@ -102,7 +196,7 @@ class ImplicitElasticity {
     Mat<T, D> Ainv, F;
     Eigen::Matrix<T, N, N> dPdF;
   };
-  // newton_cg_minimise's problem: no constraints (contact follows as eq 29's QP).
+  // newton_cg_minimise's problem: no constraints (contact enters as a pushed impulse).
   struct Problem {
     ImplicitElasticity& s;
     double energy(const std::vector<Vec<T, D>>& w, bool gradient) { return s.energy(w, gradient); }
@@ -243,12 +337,14 @@ class ImplicitElasticity {
   std::vector<Point> points_;
   std::vector<std::uint32_t> active_;
   std::vector<T> mass_;
-  std::vector<Vec<T, D>> w_, grad_, target_, frame_;
+  std::vector<Vec<T, D>> w_, grad_, target_, rest_target_, frame_;  // rest_target_: ũ unpushed
   std::vector<Mat<T, D>> block_inverse_;
   NewtonCgVectors<T, D> cg_;
   std::vector<double> residuals_;
   double mass_sum_ = 0, energy_round_off_ = 0;
   T dt_ = T(0), dx_ = T(1);
+  Mat<T, D> R_ = Mat<T, D>::Identity();
+  NewtonCgOptions options_{0, 0, 0, 0};
 };
 
 }  // namespace apiclab::eol
