@@ -99,6 +99,40 @@ TEST(Plasticity, UpdateKeepsVolumeAndSkipsBelowYield) {
   std::printf("eq 37 on %d flowing F_e: max |det dFp^-1 - 1| = %.2e\n", flowed, worst);
 }
 
+// The plastic keys through the registry's one-line messages: the plastic model requires its yield
+// stress, the elastic models refuse both keys, each range is checked, and EoL's implicit
+// elasticity refuses a plastic material.
+TEST(Plasticity, KeysAreValidated) {
+  const auto message = [](const json& scene) -> std::string {
+    try {
+      make(scene);
+    } catch (const SceneError& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  json scene = plastic_disk(30);
+  scene["materials"][0].erase("yield_stress");
+  EXPECT_EQ(message(scene),
+            "plastic-test.json: key 'materials.0.yield_stress': required key is "
+            "missing (model plastic)");
+  scene["materials"][0]["model"] = "neo-hookean";
+  scene["materials"][0]["flow_rate"] = 0.5;
+  EXPECT_EQ(message(scene),
+            "plastic-test.json: key 'materials.0.flow_rate': only the plastic model reads it");
+  for (const auto& [key, value] : {std::pair{"yield_stress", -1.0}, std::pair{"flow_rate", 0.0},
+                                   std::pair{"flow_rate", 1.5}}) {
+    json bad = plastic_disk(30);
+    bad["materials"][0][key] = value;
+    EXPECT_NE(message(bad).find(std::string("'materials.0.") + key + "'"), std::string::npos);
+    EXPECT_NE(message(bad).find("outside the allowed range"), std::string::npos) << message(bad);
+  }
+  EXPECT_EQ(message(plastic_disk(30, {{"solver", {{"elasticity", "implicit"}}}})),
+            "plastic-test.json: key 'solver.elasticity': the plastic model needs explicit "
+            "elasticity under eol");
+  EXPECT_EQ(message(plastic_disk(30, {{"solver", {{"method", "mpm"}}}})), "accepted");
+}
+
 // Below the yield stress a whole run leaves F_p = I bit for bit, in both families: a disk thrown
 // on the ground at 2 m/s, through its impact (0.07 s) and rebound.
 TEST(EolPlasticity, BelowYieldFpStaysIdentityForAWholeRun) {
