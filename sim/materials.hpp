@@ -104,7 +104,8 @@ template <class T, int D>
 Mat<T, D> first_piola_and_energy(MaterialModel m, const Mat<T, D>& F, Lame<T> l, T& psi) {
   const T J = F.determinant();
   switch (m) {
-    case MaterialModel::neo_hookean: {
+    case MaterialModel::neo_hookean:
+    case MaterialModel::plastic: {  // its elastic part, of the F_e the caller passes
       if (!(J > T(0))) {
         psi = std::numeric_limits<T>::infinity();
         return l.mu * F;  // as NeoHookean::stress
@@ -128,6 +129,7 @@ template <class T, int D>
 T energy_density(MaterialModel m, const Mat<T, D>& F, Lame<T> l) {
   switch (m) {
     case MaterialModel::neo_hookean:
+    case MaterialModel::plastic:  // its elastic part, of the F_e the caller passes
       return NeoHookean<T, D>::energy(F, l);
     case MaterialModel::fixed_corotated:
       break;
@@ -138,6 +140,7 @@ template <class T, int D>
 Mat<T, D> first_piola(MaterialModel m, const Mat<T, D>& F, Lame<T> l) {
   switch (m) {
     case MaterialModel::neo_hookean:
+    case MaterialModel::plastic:  // its elastic part, of the F_e the caller passes
       return NeoHookean<T, D>::stress(F, l);
     case MaterialModel::fixed_corotated:
       break;
@@ -149,6 +152,7 @@ Mat<T, D> first_piola_differential(MaterialModel m, const Mat<T, D>& F, const Ma
                                    Lame<T> l) {
   switch (m) {
     case MaterialModel::neo_hookean:
+    case MaterialModel::plastic:  // its elastic part, of the F_e the caller passes
       return NeoHookean<T, D>::stress_differential(F, dF, l);
     case MaterialModel::fixed_corotated:
       break;

@@ -1,7 +1,8 @@
 // The EoL family's part of a checkpoint (Simulation::save_state), for `eol` and `eulerian`: per
 // object its frame (p, ν, ω, angle or quaternion), its node fields (X, v, mass, fill, material,
 // owner, and the spatial r, x, u the next step starts from), Algorithm 2's last placement
-// (each placement starts from the one before) and the eulerian baseline's rest mass; then the
+// (each placement starts from the one before), the eulerian baseline's rest mass and the plastic
+// samples' F_p⁻¹ and last placements (eol_plasticity.hpp); then the
 // moving colliders' placement of the last step's start, the last Δt bound and implicit solve
 // (the next row reports them), and the flags the next step reads. A step writes before it reads
 // the forces (computed again on load, as the step computed them ahead), v*, the contact QP (its
@@ -79,6 +80,9 @@ void EolSimulation<T, D>::save_family_state(StateWriter& w) const {
     w.array(o.surface_y);
     w.value(std::int32_t(o.surface_misses));
     w.value(o.rest_mass);
+    w.array(o.plastic.fp_inv);
+    w.array(o.plastic.identity);
+    w.array(o.plastic.y);
   }
   w.tag("colliders");
   w.value(std::uint64_t(planes_.size()));
@@ -127,6 +131,9 @@ void EolSimulation<T, D>::load_family_state(StateReader& r) {
     detail::check_indices(o.owner, scene_.objects.size(), "scene object");
     o.surface_misses = r.value<std::int32_t>();
     r.value(o.rest_mass);
+    r.same_size_array(o.plastic.fp_inv, "plastic samples");
+    r.same_size_array(o.plastic.identity, "plastic samples");
+    r.same_size_array(o.plastic.y, "plastic samples");
   }
   r.tag("colliders");
   if (r.value<std::uint64_t>() != planes_.size())

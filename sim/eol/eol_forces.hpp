@@ -21,14 +21,17 @@ void EolSimulation<T, D>::forces(EolObject<T, D>& o) {
   // region) rotated to world axes with gravity and f_qvv added.
   const bool viscous = ViscousForces<T, D>::any(materials_);
   if (viscous) o.viscous.compute(o.grid, materials_, parallel_);
-  o.elastic.compute(o.grid, materials_, o.force, parallel_, [&](std::size_t i) {
-    const T m = o.grid.mass[i];
-    if (viscous) o.force[i] += o.viscous.force[i];
-    o.force[i] = R * o.force[i] + m * g;
-    if (lagrangian_ && m > T(0))
-      o.force[i] +=
-          quadratic_velocity_force<T, D>(m, o.frame.omega, o.r[i], Vec<T, D>(R * o.grid.v[i]));
-  });
+  o.elastic.compute(
+      o.grid, materials_, o.force, parallel_,
+      [&](std::size_t i) {
+        const T m = o.grid.mass[i];
+        if (viscous) o.force[i] += o.viscous.force[i];
+        o.force[i] = R * o.force[i] + m * g;
+        if (lagrangian_ && m > T(0))
+          o.force[i] +=
+              quadratic_velocity_force<T, D>(m, o.frame.omega, o.r[i], Vec<T, D>(R * o.grid.v[i]));
+      },
+      o.plastic.empty() ? nullptr : &o.plastic);
 }
 
 // The forces of the state now; their Ψ is the diagnostics' elastic energy (elastic_energy).

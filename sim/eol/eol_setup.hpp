@@ -36,7 +36,15 @@ EolSimulation<T, D>::EolSimulation(const SceneDesc& scene, bool lagrangian)
 template <class T, int D>
 void EolSimulation<T, D>::add_materials() {
   for (const MaterialDesc& m : scene_.materials) {
-    materials_.push_back({m.model, {T(m.mu()), T(m.lambda())}, T(m.viscosity)});
+    materials_.push_back({m.model, {T(m.mu()), T(m.lambda())}, T(m.viscosity), {}});
+    if (m.model == MaterialModel::plastic) {
+      if (implicit_elasticity())  // its backward Euler solve reads F, not F F_p⁻¹
+        throw SceneError(scene_.source +
+                         ": key 'solver.elasticity': the plastic model needs explicit elasticity "
+                         "under " +
+                         scene_.solver.method);
+      materials_.back().plastic = {T(m.yield_stress.value_or(HUGE_VAL)), T(m.flow_rate)};
+    }
     density_.push_back(T(m.rho));
     max_wave_speed_ = std::max(max_wave_speed_, m.wave_speed());
     max_kinematic_viscosity_ = std::max(max_kinematic_viscosity_, m.viscosity / m.rho);
@@ -88,6 +96,7 @@ void EolSimulation<T, D>::add_object_grid(const std::vector<int>& shapes, const 
   EolObject<T, D> o;
   o.shapes = shapes;
   place_object_grid(o, lo, hi, dx, padding);
+  add_plastic_samples(o);
   // The surface at half the cell (Sec 3.8); at rest X = p + y, so y_s = X_s − p exactly.
   for (int s : shapes) append_rest_surface<D>(rest_[std::size_t(s)], s, 0.5 * dx, o.surface);
   for (const Vec<double, D>& Xs : o.surface.X)

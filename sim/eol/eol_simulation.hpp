@@ -43,6 +43,7 @@ struct EolObject {
   ElasticForces<T, D> elastic;
   ImplicitElasticity<T, D> implicit;  // solver.elasticity implicit: the backward Euler solve
   ViscousForces<T, D> viscous;        // materials.*.viscosity > 0: Kelvin–Voigt damping
+  PlasticSamples<T, D> plastic;       // F_p⁻¹ in material space (Sec 3.7); empty: none plastic
   Extrapolation<T, D> extrapolation;
   // The surface (Sec 3.8): built once in material space; Algorithm 2 places it at frame times
   // (EolSimulation::place_surfaces) at intermediate positions surface_y (world: R y + p), each
@@ -56,7 +57,7 @@ struct EolObject {
   // Grid storage held (Fig 6): every per-node and per-cell array of this object's grid.
   std::size_t grid_bytes() const {
     std::size_t b = grid.bytes() + elastic.bytes() + implicit.bytes() + viscous.bytes() +
-                    extrapolation.bytes() + held_bytes(owner);
+                    extrapolation.bytes() + plastic.bytes() + held_bytes(owner);
     for (const auto* f : {&r, &x, &u, &force, &scratch, &vstar}) b += held_bytes(*f);
     return b;
   }
@@ -120,6 +121,9 @@ class EolSimulation final : public Simulation {
   // when a step reaches its t_limit, a frame time (reached_frame_time); steps in between do not.
   void place_surfaces();
   bool surfaces_placed() const { return surfaces_placed_; }
+  // Eqs 35-37 at every object's plastic samples, from the state now (eol_plasticity.hpp);
+  // step_fixed runs it after the transport.
+  void plastic_flow();
 
   bool lagrangian() const { return lagrangian_; }
   // Mutable access: the state may change, so the forces computed ahead are recomputed.
@@ -179,6 +183,7 @@ class EolSimulation final : public Simulation {
                          int padding) const;
   std::pair<Vec<T, D>, Spin<T, D>> initial_velocity(int shape, const Vec<T, D>& x) const;
   void set_initial_velocity(EolObject<T, D>& o) const;
+  void add_plastic_samples(EolObject<T, D>& o) const;  // eol_plasticity.hpp
   double energy_reference() const;
   // Mass and spatial state (eol_mass.hpp), forces (eol_forces.hpp).
   void update_mass(EolObject<T, D>& o, bool after_extrapolation);

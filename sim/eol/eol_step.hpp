@@ -18,6 +18,7 @@ void EolSimulation<T, D>::step_fixed(double dt) {
   if (!forces_ready_) forces_ahead();
   if (implicit_elasticity()) implicit_forces(dt);
   finish_step(dt);
+  plastic_flow();
   // The next step's forces now, from the state they would see then; their Ψ gives the
   // diagnostics' elastic energy without another pass over the cells.
   forces_ahead();

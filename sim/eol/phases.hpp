@@ -8,6 +8,7 @@
 #include "sim/eol/eol_ledger.hpp"
 #include "sim/eol/eol_mass.hpp"
 #include "sim/eol/eol_measure.hpp"
+#include "sim/eol/eol_plasticity.hpp"
 #include "sim/eol/eol_setup.hpp"
 #include "sim/eol/eol_snapshot.hpp"
 #include "sim/eol/eol_step.hpp"

@@ -17,6 +17,7 @@
 #include "sim/mpm/particle_sums.hpp"
 #include "sim/mpm/particles.hpp"
 #include "sim/mpm/stencil.hpp"
+#include "sim/plasticity.hpp"
 #include "sim/simulation.hpp"
 
 namespace apiclab {
@@ -25,6 +26,7 @@ template <class T>
 struct MaterialParams {
   MaterialModel model;
   Lame<T> lame;
+  PlasticParams<T> plastic;  // the plastic model's yield stress and flow rate (eq 37)
 };
 
 template <class T, int D>
@@ -71,6 +73,11 @@ class MpmSimulation final : public Simulation, public TransferControls {
   std::size_t grid_bytes() const override { return grid_.allocated_bytes(); }
   std::unique_ptr<ReferenceRun> reference_run() const override;
   bool checkpoints() const override { return true; }
+
+  // The plastic model (mpm_plasticity.hpp; F_p⁻¹ per particle in Particles::fp_inv): the last
+  // step's count of particles that flowed and largest |det ΔF_p⁻¹ − 1| among them.
+  std::size_t plastic_flowed() const { return plastic_flowed_; }
+  double plastic_det_error() const { return plastic_det_error_; }
 
  protected:
   void save_family_state(StateWriter& w) const override;  // sim/mpm/mpm_checkpoint.hpp
@@ -185,6 +192,7 @@ class MpmSimulation final : public Simulation, public TransferControls {
   // P2G keeps every particle's stencil for the steps that read it again.
   bool keeps_stencils() const { return uses_implicit_solve() || !mesh_.empty(); }
   void add_triangulated_object(int object_index);
+  void plastic_flow();            // eqs 35-37 per plastic particle, F_e ← F_e ΔF_p⁻¹
   void allocate_polypic_modes();  // Particles::modes for PolyPIC only
                                   // (sim/mpm/schemes/polypic_modes.hpp)
   template <class K>
@@ -198,6 +206,8 @@ class MpmSimulation final : public Simulation, public TransferControls {
 
   SceneDesc scene_;
   Particles<T, D> p_, scratch_;
+  std::size_t plastic_flowed_ = 0;
+  double plastic_det_error_ = 0;
   Grid<T, D> grid_;
   std::vector<MaterialParams<T>> materials_;
   BoundaryNodes<T, D> boundary_;  // walls and colliders, resolved on the stored box

@@ -1,5 +1,6 @@
 // MPM's part of a checkpoint (Simulation::save_state): the particles in their storage order
-// (the order every sum of the next step runs in), PolyPIC's modes, the block sort's state, and
+// (the order every sum of the next step runs in), PolyPIC's modes, the plastic model's F_p⁻¹
+// (mpm_plasticity.hpp), the block sort's state, and
 // the scalars a step reads from the one before (the two-step rule's grid speed, the grid's
 // kinetic energy, the frozen flag). Everything else a step writes before it reads: the grid,
 // XPIC's node arrays, the implicit solve's Δv (zero at each step's start, no warm start), the
@@ -28,6 +29,7 @@ void MpmSimulation<T, D>::save_family_state(StateWriter& w) const {
   w.array(p_.object);
   w.array(p_.id);
   for (const auto& m : p_.modes) w.array(m);
+  w.array(p_.fp_inv);
   blocks_.save(w);
   w.tag("scalars");
   w.value(kinetic_grid_);
@@ -53,6 +55,7 @@ void MpmSimulation<T, D>::load_family_state(StateReader& r) {
   r.same_size_array(p_.object, "particles");
   r.same_size_array(p_.id, "particles");
   for (auto& m : p_.modes) r.same_size_array(m, "particles");
+  r.same_size_array(p_.fp_inv, "plastic particles");
   std::vector<std::int32_t> loaded = p_.id;
   std::sort(ids.begin(), ids.end());
   std::sort(loaded.begin(), loaded.end());

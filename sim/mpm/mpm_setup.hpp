@@ -1,6 +1,7 @@
 // MpmSimulation's construction: particles sampled from the scene's objects, triangulated
 // objects (Sec 6.7), the wall and collider rules, and the energy the blow-up check compares to.
 #pragma once
+#include <algorithm>
 #include <cmath>
 
 #include "sim/geometry/sampling.hpp"
@@ -16,7 +17,9 @@ MpmSimulation<T, D>::MpmSimulation(const SceneDesc& scene) : scene_(scene) {
   if (scene.dim != D) throw SceneError(scene.source + ": key 'dim': internal dimension mismatch");
   grid_.init(scene);
   for (auto& m : scene.materials) {
-    materials_.push_back({m.model, {T(m.mu()), T(m.lambda())}});
+    materials_.push_back({m.model, {T(m.mu()), T(m.lambda())}, {}});
+    if (m.model == MaterialModel::plastic)
+      materials_.back().plastic = {T(m.yield_stress.value_or(HUGE_VAL)), T(m.flow_rate)};
     max_wave_speed_ = std::max(max_wave_speed_, m.wave_speed());
   }
   for (int o = 0; o < int(scene.objects.size()); ++o) {
@@ -56,6 +59,9 @@ MpmSimulation<T, D>::MpmSimulation(const SceneDesc& scene) : scene_(scene) {
     }
   }
   allocate_polypic_modes();
+  if (std::any_of(materials_.begin(), materials_.end(),
+                  [](const MaterialParams<T>& m) { return m.model == MaterialModel::plastic; }))
+    p_.fp_inv.assign(p_.size(), Mat<T, D>::Identity());
   rebuild_index_of_id();
   boundary_.init(scene);
   energy_ref_ = energy_reference();

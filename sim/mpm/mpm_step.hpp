@@ -55,6 +55,7 @@ bool MpmSimulation<T, D>::step_fixed_summing(double dt, ParticleSums* sums) {
   }
   apply_boundary_conditions();
   grid_to_particles(T(dt), sums);
+  if (!p_.fp_inv.empty()) plastic_flow();
   stress_of_current_F_ = false;
   // An explicit step computes the next step's stress now: its pass also sums the elastic energy
   // that measure() reports after this step, so the diagnostics need no decomposition of their own.

@@ -17,6 +17,9 @@ struct Particles {
   // PolyPIC's mode coefficients beyond the affine ones, one array per mode
   // (sim/mpm/schemes/polypic_modes.hpp); empty for every other scheme.
   std::vector<std::vector<Vec<T, D>>> modes;
+  // F_p⁻¹ per particle for the plastic model (sim/plasticity.hpp; F then holds F_e); empty
+  // in a scene without one.
+  std::vector<Mat<T, D>> fp_inv;
 
   // Allocates `count` zeroed mode arrays (0 frees them).
   void set_mode_count(std::size_t count) {
@@ -30,7 +33,7 @@ struct Particles {
   std::size_t allocated_bytes() const {
     std::size_t b =
         (x.capacity() + v.capacity()) * sizeof(Vec<T, D>) +
-        (C.capacity() + F.capacity()) * sizeof(Mat<T, D>) +
+        (C.capacity() + F.capacity() + fp_inv.capacity()) * sizeof(Mat<T, D>) +
         (mass.capacity() + volume0.capacity()) * sizeof(T) +
         (material.capacity() + object.capacity() + id.capacity()) * sizeof(std::int32_t) +
         modes.capacity() * sizeof(modes[0]);
@@ -48,6 +51,7 @@ struct Particles {
     object.resize(n);
     id.resize(n);
     for (auto& m : modes) m.resize(n, Vec<T, D>::Zero());
+    if (!fp_inv.empty()) fp_inv.resize(n, Mat<T, D>::Identity());
   }
   // out[k] = this[order[k]] for every array; `out` keeps its capacity between calls.
   void gather_into(const std::vector<std::uint32_t>& order, Particles& out,
@@ -71,6 +75,9 @@ struct Particles {
     for (std::size_t j = 0; j < modes.size(); ++j)
 #pragma omp parallel for schedule(static) if (parallel)
       for (std::ptrdiff_t k = 0; k < n; ++k) out.modes[j][k] = modes[j][order[k]];
+    out.fp_inv.resize(fp_inv.empty() ? 0 : order.size());
+    for (std::ptrdiff_t k = 0; k < std::ptrdiff_t(out.fp_inv.size()); ++k)
+      out.fp_inv[k] = fp_inv[order[k]];
   }
 };
 

@@ -7,6 +7,7 @@
 #include "sim/mpm/mpm_checkpoint.hpp"
 #include "sim/mpm/mpm_measure.hpp"
 #include "sim/mpm/mpm_output.hpp"
+#include "sim/mpm/mpm_plasticity.hpp"
 #include "sim/mpm/mpm_setup.hpp"
 #include "sim/mpm/mpm_step.hpp"
 #include "sim/mpm/p2g.hpp"

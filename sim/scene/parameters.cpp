@@ -321,6 +321,28 @@ std::vector<NumericParameter> declare() {
        .set = [](S& s, int i, double v) { s.materials[size_t(i)].viscosity = v; },
        .count = material_count,
        .method = "eol eulerian"},
+      {.key = "materials.*.yield_stress",
+       .label = "yield stress sigma_y",
+       .unit = "Pa",
+       .range = kPositive,
+       .help = "plastic model: the norm of the deviatoric Cauchy stress sigma above which F_p "
+               "flows (Fan et al. 2013, eq 37)",
+       .get = [](const S& s, int i) { return s.materials[size_t(i)].yield_stress.value_or(kInf); },
+       .set = [](S& s, int i, double v) { s.materials[size_t(i)].yield_stress = v; },
+       .count = material_count,
+       .is_set = [](const S& s, int i) { return s.materials[size_t(i)].yield_stress.has_value(); },
+       .unset_default = "none: the plastic model requires it"},
+      {.key = "materials.*.flow_rate",
+       .label = "plastic flow rate nu",
+       .unit = "1",
+       .range = Range{0, 1, true, false},
+       .default_value = 1,
+       .help = "plastic model: gamma = nu (norm(sigma) - sigma_y) / norm(sigma) in [0, 1], the "
+               "share of the deviatoric elastic stretch a step moves into F_p (Fan et al. 2013, "
+               "eq 37); 1 returns the stress to the yield surface",
+       .get = [](const S& s, int i) { return s.materials[size_t(i)].flow_rate; },
+       .set = [](S& s, int i, double v) { s.materials[size_t(i)].flow_rate = v; },
+       .count = material_count},
   };
 }
 

@@ -14,7 +14,7 @@
 namespace apiclab {
 
 enum class Integrator { symplectic, midpoint, backward, lambda_family };
-enum class MaterialModel { neo_hookean, fixed_corotated };
+enum class MaterialModel { neo_hookean, fixed_corotated, plastic };
 enum class ShapeType { box, ball, annulus, torus, mesh };
 enum class SamplingType { lattice, ppc, poisson, triangulated };
 enum class BoundaryCondition { slip, sticky, separate, periodic };
@@ -64,7 +64,10 @@ inline const std::vector<Choice<MaterialModel>>& material_choices() {
   static const std::vector<Choice<MaterialModel>> c = {
       {"neo-hookean", MaterialModel::neo_hookean, "compressible neo-Hookean"},
       {"fixed-corotated", MaterialModel::fixed_corotated,
-       "fixed corotated (Stomakhin et al. 2012)"}};
+       "fixed corotated (Stomakhin et al. 2012)"},
+      {"plastic", MaterialModel::plastic,
+       "neo-Hookean elasticity of F_e with multiplicative plastic flow above "
+       "materials.*.yield_stress (Fan et al. 2013, Sec 3.7, eqs 34-37)"}};
   return c;
 }
 inline const std::vector<Choice<ShapeType>>& shape_choices() {

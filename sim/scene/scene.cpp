@@ -240,6 +240,16 @@ void read_solver(Reader r, SceneDesc& s, const std::set<std::string>& left_out) 
   for (const std::string& key : left_out) r.accept(key);
 }
 
+// The plastic model's keys: its yield stress is required, and the elastic models read neither.
+void read_plastic_keys(Reader& r, const MaterialDesc& m) {
+  if (m.model == MaterialModel::plastic) {
+    if (!m.yield_stress) r.fail("yield_stress", "required key is missing (model plastic)");
+    return;
+  }
+  for (const char* key : {"yield_stress", "flow_rate"})
+    if (r.has(key)) r.fail(key, "only the plastic model reads it");
+}
+
 // `switched`: `--set solver.method` gave another method than the file's, whose material keys
 // (materials.*.viscosity) the new method leaves out, as it leaves out the file's solver keys.
 void read_material(Reader r, SceneDesc& s, int index, bool switched) {
@@ -247,6 +257,7 @@ void read_material(Reader r, SceneDesc& s, int index, bool switched) {
   m.name = r.string("name", "material" + std::to_string(index));
   read_choices(r, s, "materials.*.", index);
   read_numbers(r, s, "materials.*.", index);
+  read_plastic_keys(r, m);
   if (!switched) return;
   for (const NumericParameter& p : numeric_parameters())
     if (p.key.starts_with("materials.*.") && !p.read_by(s.solver.method))

@@ -115,6 +115,9 @@ struct MaterialDesc {
   // The scene must give all three; these make a usable material for scenes built in code.
   double E = 1000.0, nu = 0.3, rho = 1.0;
   double viscosity = 0.0;  // Kelvin-Voigt η (eol, eulerian)
+  // The plastic model's ‖σ_y‖ (required by it, refused by the others) and flow rate ν (eq 37).
+  std::optional<double> yield_stress;
+  double flow_rate = 1.0;
   double mu() const { return E / (2.0 * (1.0 + nu)); }
   double lambda() const { return E * nu / ((1.0 + nu) * (1.0 - 2.0 * nu)); }
   double wave_speed() const { return std::sqrt((lambda() + 2.0 * mu()) / rho); }

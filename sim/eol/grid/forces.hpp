@@ -17,6 +17,7 @@
 #include "sim/eol/frame.hpp"
 #include "sim/eol/grid/cell_points.hpp"
 #include "sim/eol/grid/eulerian_grid.hpp"
+#include "sim/eol/plastic_samples.hpp"
 #include "sim/materials.hpp"
 
 namespace apiclab::eol {
@@ -25,7 +26,8 @@ template <class T>
 struct ElasticMaterial {
   MaterialModel model;
   Lame<T> lame;
-  T viscosity = T(0);  // Kelvin–Voigt η (viscosity.hpp)
+  T viscosity = T(0);        // Kelvin–Voigt η (viscosity.hpp)
+  PlasticParams<T> plastic;  // the plastic model's yield stress and flow rate (eq 37)
 };
 
 // Node index of corner k of the cell whose lowest node is `base`.
@@ -180,10 +182,12 @@ class ElasticForces {
   }
 
   // finish(i) runs for every node once its elastic force is complete, in the same parallel
-  // region (the caller's per-node forces: gravity, f_qvv, the frame rotation).
+  // region (the caller's per-node forces: gravity, f_qvv, the frame rotation). plastic: the
+  // object's F_p⁻¹ samples, for the cells of a plastic material (eq 34).
   template <class Finish>
   void compute(const EulerianGrid<T, D>& g, const std::vector<ElasticMaterial<T>>& materials,
-               std::vector<Vec<T, D>>& force, bool parallel, Finish&& finish) {
+               std::vector<Vec<T, D>>& force, bool parallel, Finish&& finish,
+               const PlasticSamples<T, D>* plastic = nullptr) {
     ensure_cells(g);
     auto zero = [&](std::size_t i) { force[i].setZero(); };
     for_each_cell_by_layer(g.size(), parallel, zero, finish, [&](std::size_t c) {
@@ -197,6 +201,8 @@ class ElasticForces {
       const ElasticMaterial<T>& mat = materials[std::size_t(m)];
       if (mat.model == MaterialModel::neo_hookean)
         neo_hookean_tau(g.dx, mat.lame, pts, tau, vpsi);
+      else if (plastic != nullptr && mat.model == MaterialModel::plastic)
+        plastic_tau(g, base, mat, *plastic, pts, tau, vpsi);
       else
         general_tau(g.dx, mat, pts, tau, vpsi);
       const T inv_dx = T(1) / g.dx;
@@ -321,6 +327,30 @@ class ElasticForces {
         stress_and_energy<T, D>(mat, F, Pk, psi);
         const T volume = pts.det[q] * quad_.weight * pts.fill[q];
         t = volume * Pk * F.transpose();
+        vpsi[q] = volume * psi;
+      }
+      for (int r = 0; r < D; ++r)
+        for (int c = 0; c < D; ++c) tau[r][c][q] = t(r, c);
+    }
+  }
+  // Eq 34: at each point F_e = F F_p⁻¹(X_q), F_p⁻¹ looked up at the point's material coordinate;
+  // τ = V₀ P(F_e) F_eᵀ, the gradient of V₀ Ψ(F F_p⁻¹) in y (F_p held, as X is).
+  void plastic_tau(const EulerianGrid<T, D>& g, std::size_t base, const ElasticMaterial<T>& mat,
+                   const PlasticSamples<T, D>& plastic, const CellPoints<T, D>& pts,
+                   T (&tau)[D][D][P], T (&vpsi)[P]) const {
+    for (int q = 0; q < P; ++q) {
+      Mat<T, D> t = Mat<T, D>::Zero();
+      vpsi[q] = T(0);
+      if (pts.fill[q] > T(0) && pts.det[q] > T(0)) {
+        Vec<T, D> X = Vec<T, D>::Zero();
+        for (int k = 0; k < P; ++k)
+          X += quad_.N_lanes_k[q][k] * g.X[base + offset_[std::size_t(k)]];
+        const Mat<T, D> Fe = g.dx * pts.matrix(q).inverse() * plastic.at(X);
+        Mat<T, D> Pk;
+        T psi;
+        stress_and_energy<T, D>(mat, Fe, Pk, psi);
+        const T volume = pts.det[q] * quad_.weight * pts.fill[q];
+        t = volume * Pk * Fe.transpose();
         vpsi[q] = volume * psi;
       }
       for (int r = 0; r < D; ++r)

@@ -93,7 +93,7 @@ Eigen::Matrix<T, D * D, D * D> projected_stress_hessian(MaterialModel model, con
   // A particle whose ∂P/∂F is positive definite as it is: a Cholesky factorisation (N³/6
   // multiply-adds) says so. The others: neo-Hookean's modes in closed form, else the eigensolver.
   if (Eigen::LLT<Eigen::Matrix<T, N, N>>(H).info() == Eigen::Success) return H;
-  if (model == MaterialModel::neo_hookean && remove_negative_modes_neo_hookean<T, D>(F, l, H))
+  if (model != MaterialModel::fixed_corotated && remove_negative_modes_neo_hookean<T, D>(F, l, H))
     return H;
   Eigen::MatrixXd clamped = H.template cast<double>();
   clamp_negative_eigenvalues(clamped);
