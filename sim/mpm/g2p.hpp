@@ -70,6 +70,7 @@ struct G2pPass {
   bool extras;  // the row's terms per particle (the multilinear D_p, PolyPIC's modes)
   T k_inertia;  // k Δx²
   Vec3d gravity;
+  Vec<T, D>* ledger_x = nullptr;  // with the ledger: every xⁿ (sim/mpm/stage_ledger.hpp)
 
   G2pPass(const SceneDesc& scene, const Grid<T, D>& g, Particles<T, D>& particles,
           const Vec<T, D>* xpic, T k, T step)
@@ -347,16 +348,17 @@ struct G2pPass {
 
   // The diagnostics terms that ChunkTerms::sum cannot form from x, v and C
   // (sim/mpm/particle_sums.hpp): with the multilinear kernel ½ m tr(C D_p Cᵀ) and m (Bᵀ : ε) at
-  // x^{n+1}, and PolyPIC's higher modes' kinetic energy (sim/mpm/schemes/polypic_modes.hpp);
-  // particle q is the chunk's j-th.
+  // x (x^{n+1}, or the ledger's xⁿ), and PolyPIC's higher modes' kinetic energy
+  // (sim/mpm/schemes/polypic_modes.hpp); particle q is the chunk's j-th.
   __attribute__((always_inline)) void diagnostics_terms(ChunkTerms<T, D, chunk>& terms, int j,
-                                                        std::ptrdiff_t q) const {
+                                                        std::ptrdiff_t q,
+                                                        const Vec<T, D>& x) const {
     const T m = p.mass[q];
     T modes_kinetic = 0;
     if constexpr (Sch::higher_modes) {
       if (polypic_extra > 0) {
         Stencil<T, D, QuadraticKernel> at_x;
-        at_x.compute(p.x[q], grid);
+        at_x.compute(x, grid);
         modes_kinetic =
             T(0.5) * m *
             polypic::modes_energy_density<T, D>(at_x, grid.inv_dx, p.modes, std::size_t(q));
@@ -364,12 +366,33 @@ struct G2pPass {
     }
     if constexpr (multilinear) {
       Stencil<T, D, LinearKernel> at_x;
-      at_x.compute(p.x[q], grid);
+      at_x.compute(x, grid);
       terms.set_affine(j, m, p.C[q], Mat<T, D>(at_x.inertia()), modes_kinetic);
     } else {  // PolyPIC's higher modes; its C is read with x and v
       terms.extra_kinetic[j] = modes_kinetic;
       for (int a = 0; a < terms.moments; ++a) terms.affine_moment[a][j] = T(0);
     }
+  }
+
+  // The ledger's sums of particles [first, end) at positions xs (from particle `first` on), with
+  // their v, C and modes as they are: the row's terms, as run_chunk forms them.
+  __attribute__((noinline)) ParticleSums ledger_sums(std::ptrdiff_t first, std::ptrdiff_t end,
+                                                     const Vec<T, D>* xs) const {
+    ChunkTerms<T, D, chunk> terms;
+    if constexpr (Sch::affine && !multilinear) terms.isotropic_k = k_inertia;
+    terms.extras = extras;
+    if (extras)
+      for (std::ptrdiff_t q = first; q < end; ++q)
+        diagnostics_terms(terms, int(q - first), q, xs[q - first]);
+    return terms.sum(&p.mass[std::size_t(first)], xs, &p.v[std::size_t(first)], p.C.data() + first,
+                     int(end - first), gravity);
+  }
+
+  // Before the chunk's update: the ledger's sums at the step's start, and xⁿ kept.
+  __attribute__((noinline)) void ledger_start(std::ptrdiff_t first, std::ptrdiff_t end,
+                                              LedgerChunk& ledger) const {
+    ledger.start = ledger_sums(first, end, &p.x[std::size_t(first)]);
+    std::copy(&p.x[std::size_t(first)], &p.x[std::size_t(first)] + (end - first), ledger_x + first);
   }
 
   // The largest move of a chunk and whether any particle left it non-finite.
@@ -379,9 +402,13 @@ struct G2pPass {
   };
 
   // Particles [first, end) of one chunk, each through gather → sums → update → move (→ its
-  // diagnostics terms); with sums, the chunk's share of the row into *sums.
+  // diagnostics terms); with sums, the chunk's share of the row into *sums; with ledger, the
+  // ledger's sums before the update and at xⁿ after it.
   __attribute__((always_inline)) ChunkMoves run_chunk(std::ptrdiff_t first, std::ptrdiff_t end,
-                                                      ParticleSums* sums) const {
+                                                      ParticleSums* sums,
+                                                      LedgerChunk* ledger) const {
+    // The ledger's calls on a copy: this pass's address never escapes the chunk's frame.
+    if (ledger) G2pPass(*this).ledger_start(first, end, *ledger);
     ChunkTerms<T, D, chunk> terms;
     // APIC-like schemes with an isotropic D_p: C, read with x and v.
     if constexpr (Sch::affine && !multilinear) terms.isotropic_k = k_inertia;
@@ -398,8 +425,9 @@ struct G2pPass {
       const Vec<T, D> v_n = p.v[q];
       update_particle(q, batch, lane, g);
       if (!move_particle(q, g, v_n, moves.largest)) moves.bad = true;
-      if (sums && terms.extras) diagnostics_terms(terms, int(q - first), q);
+      if (sums && terms.extras) diagnostics_terms(terms, int(q - first), q, p.x[q]);
     }
+    if (ledger) ledger->updated = G2pPass(*this).ledger_sums(first, end, ledger_x + first);
     if (sums)
       *sums = terms.sum(&p.mass[std::size_t(first)], &p.x[std::size_t(first)],
                         &p.v[std::size_t(first)], p.C.data() + first, int(end - first), gravity);
@@ -409,9 +437,9 @@ struct G2pPass {
 
 template <class T, int D>
 template <class K, Scheme S>
-void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
+void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums, bool ledger) {
   pack_velocities();
-  const G2pPass<T, D, K, S> pass(scene_, grid_, p_, xpic_shift_.data(), inertia_scale(), dt);
+  G2pPass<T, D, K, S> pass(scene_, grid_, p_, xpic_shift_.data(), inertia_scale(), dt);
   // With sums: the particles in fixed chunks, each summed in index order, the chunks' sums then
   // added in chunk order, so that the row does not depend on the thread count. 1024 a chunk:
   // each chunk's sum costs G2P a fixed overhead beyond its own work (docs/performance.md).
@@ -419,6 +447,11 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
   const std::ptrdiff_t n = std::ptrdiff_t(p_.size());
   const std::ptrdiff_t chunks = (n + chunk - 1) / chunk;
   if (sums) chunk_sums_.resize(std::size_t(chunks));
+  if (ledger) {
+    ledger_.chunks.resize(std::size_t(chunks));
+    ledger_.x_start.resize(p_.size());
+    pass.ledger_x = ledger_.x_start.data();
+  }
   bool bad = false;
   double max_move = 0;
 #pragma omp parallel for schedule(static) reduction(||     \
@@ -429,7 +462,8 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
     // A copy of the pass in the chunk's own frame, which no store to the particles may alias.
     const G2pPass<T, D, K, S> own = pass;
     const auto moves = own.run_chunk(c * chunk, std::min(n, (c + 1) * chunk),
-                                     sums ? &chunk_sums_[std::size_t(c)] : nullptr);
+                                     sums ? &chunk_sums_[std::size_t(c)] : nullptr,
+                                     ledger ? &ledger_.chunks[std::size_t(c)] : nullptr);
     max_move = std::max(max_move, double(moves.largest));
     bad = bad || moves.bad;
   }
@@ -442,13 +476,13 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
 }
 
 template <class T, int D>
-void MpmSimulation<T, D>::grid_to_particles(T dt, ParticleSums* sums) {
+void MpmSimulation<T, D>::grid_to_particles(T dt, ParticleSums* sums, bool ledger) {
   with_kernel(scene_.solver.kernel, [&](auto kernel) {
     with_scheme(scene_.solver.scheme, [&](auto scheme) {
       using K = decltype(kernel);
       constexpr Scheme S = decltype(scheme)::value;
       if constexpr (scheme_t<S>::grid_field) xpic_grid_passes<K>();
-      g2p_impl<K, S>(dt, sums);
+      g2p_impl<K, S>(dt, sums, ledger);
     });
   });
 }
