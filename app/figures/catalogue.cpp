@@ -187,7 +187,8 @@ std::vector<TimeFigure> time_figures() {
        p2g_L,
        {},
        false,
-       {"solver.ledger=true", "solver.integrator=symplectic", "time.dt.rule=elastic"},
+       {"solver.ledger=true", "solver.integrator=symplectic", "time.dt.rule=fixed",
+        "time.dt.value=0.0005"},
        {},
        true},
   };

@@ -70,7 +70,6 @@ struct G2pPass {
   bool extras;  // the row's terms per particle (the multilinear D_p, PolyPIC's modes)
   T k_inertia;  // k Δx²
   Vec3d gravity;
-  Vec<T, D>* ledger_x = nullptr;  // with the ledger: every xⁿ (sim/mpm/stage_ledger.hpp)
 
   G2pPass(const SceneDesc& scene, const Grid<T, D>& g, Particles<T, D>& particles,
           const Vec<T, D>* xpic, T k, T step)
@@ -388,11 +387,11 @@ struct G2pPass {
                      int(end - first), gravity);
   }
 
-  // Before the chunk's update: the ledger's sums at the step's start, and xⁿ kept.
+  // Before the chunk's update: the ledger's sums at the step's start, and xⁿ kept in x_start.
   __attribute__((noinline)) void ledger_start(std::ptrdiff_t first, std::ptrdiff_t end,
-                                              LedgerChunk& ledger) const {
+                                              LedgerChunk& ledger, Vec<T, D>* x_start) const {
     ledger.start = ledger_sums(first, end, &p.x[std::size_t(first)]);
-    std::copy(&p.x[std::size_t(first)], &p.x[std::size_t(first)] + (end - first), ledger_x + first);
+    std::copy(&p.x[std::size_t(first)], &p.x[std::size_t(first)] + (end - first), x_start + first);
   }
 
   // The largest move of a chunk and whether any particle left it non-finite.
@@ -402,13 +401,9 @@ struct G2pPass {
   };
 
   // Particles [first, end) of one chunk, each through gather → sums → update → move (→ its
-  // diagnostics terms); with sums, the chunk's share of the row into *sums; with ledger, the
-  // ledger's sums before the update and at xⁿ after it.
+  // diagnostics terms); with sums, the chunk's share of the row into *sums.
   __attribute__((always_inline)) ChunkMoves run_chunk(std::ptrdiff_t first, std::ptrdiff_t end,
-                                                      ParticleSums* sums,
-                                                      LedgerChunk* ledger) const {
-    // The ledger's calls on a copy: this pass's address never escapes the chunk's frame.
-    if (ledger) G2pPass(*this).ledger_start(first, end, *ledger);
+                                                      ParticleSums* sums) const {
     ChunkTerms<T, D, chunk> terms;
     // APIC-like schemes with an isotropic D_p: C, read with x and v.
     if constexpr (Sch::affine && !multilinear) terms.isotropic_k = k_inertia;
@@ -427,7 +422,6 @@ struct G2pPass {
       if (!move_particle(q, g, v_n, moves.largest)) moves.bad = true;
       if (sums && terms.extras) diagnostics_terms(terms, int(q - first), q, p.x[q]);
     }
-    if (ledger) ledger->updated = G2pPass(*this).ledger_sums(first, end, ledger_x + first);
     if (sums)
       *sums = terms.sum(&p.mass[std::size_t(first)], &p.x[std::size_t(first)],
                         &p.v[std::size_t(first)], p.C.data() + first, int(end - first), gravity);
@@ -439,7 +433,7 @@ template <class T, int D>
 template <class K, Scheme S>
 void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums, bool ledger) {
   pack_velocities();
-  G2pPass<T, D, K, S> pass(scene_, grid_, p_, xpic_shift_.data(), inertia_scale(), dt);
+  const G2pPass<T, D, K, S> pass(scene_, grid_, p_, xpic_shift_.data(), inertia_scale(), dt);
   // With sums: the particles in fixed chunks, each summed in index order, the chunks' sums then
   // added in chunk order, so that the row does not depend on the thread count. 1024 a chunk:
   // each chunk's sum costs G2P a fixed overhead beyond its own work (docs/performance.md).
@@ -450,7 +444,6 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums, bool ledger) {
   if (ledger) {
     ledger_.chunks.resize(std::size_t(chunks));
     ledger_.x_start.resize(p_.size());
-    pass.ledger_x = ledger_.x_start.data();
   }
   bool bad = false;
   double max_move = 0;
@@ -461,9 +454,15 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums, bool ledger) {
   for (std::ptrdiff_t c = 0; c < chunks; ++c) {
     // A copy of the pass in the chunk's own frame, which no store to the particles may alias.
     const G2pPass<T, D, K, S> own = pass;
-    const auto moves = own.run_chunk(c * chunk, std::min(n, (c + 1) * chunk),
-                                     sums ? &chunk_sums_[std::size_t(c)] : nullptr,
-                                     ledger ? &ledger_.chunks[std::size_t(c)] : nullptr);
+    const std::ptrdiff_t first = c * chunk, end = std::min(n, (c + 1) * chunk);
+    // The ledger's sums (sim/mpm/stage_ledger.hpp) before and after the chunk's update, through
+    // the shared pass: the chunk's own copy never leaves its frame.
+    if (ledger)
+      pass.ledger_start(first, end, ledger_.chunks[std::size_t(c)], ledger_.x_start.data());
+    const auto moves = own.run_chunk(first, end, sums ? &chunk_sums_[std::size_t(c)] : nullptr);
+    if (ledger)
+      ledger_.chunks[std::size_t(c)].updated =
+          pass.ledger_sums(first, end, ledger_.x_start.data() + first);
     max_move = std::max(max_move, double(moves.largest));
     bad = bad || moves.bad;
   }

@@ -190,7 +190,7 @@ round_off_or() {  # X: "<1e-12" when below, else X to one significant digit (3e-
   if awk "BEGIN {exit !($1 < 1e-12)}"; then echo "<1e-12"
   else awk "BEGIN {printf \"%.0e\", $1}" | sed 's/e-0*/e-/; s/e+0*/e/'; fi
 }
-transfers=$(awk "BEGIN {a = $(stage_dL $fl "apic rpic" 10); b = $(stage_dL $fl "apic rpic" 14); printf \"%.17g\", a > b ? a : b}")
+transfers=$(awk "BEGIN {a = $(stage_dL $fl "apic rpic" 10); b = $(stage_dL $fl "apic rpic" 14); printf \"%.17g\", (a > b ? a : b)}")
 is ledger.apic_rpic_transfers "$(round_off_or "$transfers")"
 is ledger.pic_p2g "$(round_off_or "$(stage_dL $fl pic 10)")"
 is ledger.pic_g2p "$(round_off_or "$(stage_dL $fl pic 14)")"
