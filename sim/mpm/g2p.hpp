@@ -387,11 +387,24 @@ struct G2pPass {
                      int(end - first), gravity);
   }
 
-  // Before the chunk's update: the ledger's sums at the step's start, and xⁿ kept in x_start.
-  __attribute__((noinline)) void ledger_start(std::ptrdiff_t first, std::ptrdiff_t end,
-                                              LedgerChunk& ledger, Vec<T, D>* x_start) const {
-    ledger.start = ledger_sums(first, end, &p.x[std::size_t(first)]);
-    std::copy(&p.x[std::size_t(first)], &p.x[std::size_t(first)] + (end - first), x_start + first);
+  // The ledger's sums of every chunk (sim/mpm/stage_ledger.hpp): before G2P (start) at xⁿ,
+  // keeping xⁿ, or after it at the kept xⁿ. Passes of their own, so that G2P's loop is as
+  // without the ledger.
+  __attribute__((noinline)) void ledger_chunks(StepLedger<T, D>& ledger, bool start,
+                                               bool parallel) const {
+    const std::ptrdiff_t n = std::ptrdiff_t(p.size()), chunks = (n + chunk - 1) / chunk;
+#pragma omp parallel for schedule(static) if (parallel)
+    for (std::ptrdiff_t c = 0; c < chunks; ++c) {
+      const std::ptrdiff_t first = c * chunk, end = std::min(n, (c + 1) * chunk);
+      LedgerChunk& out = ledger.chunks[std::size_t(c)];
+      if (start) {
+        out.start = ledger_sums(first, end, &p.x[std::size_t(first)]);
+        std::copy(&p.x[std::size_t(first)], &p.x[std::size_t(first)] + (end - first),
+                  ledger.x_start.data() + first);
+      } else {
+        out.updated = ledger_sums(first, end, ledger.x_start.data() + first);
+      }
+    }
   }
 
   // The largest move of a chunk and whether any particle left it non-finite.
@@ -444,6 +457,7 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums, bool ledger) {
   if (ledger) {
     ledger_.chunks.resize(std::size_t(chunks));
     ledger_.x_start.resize(p_.size());
+    pass.ledger_chunks(ledger_, true, parallel_worthwhile());
   }
   bool bad = false;
   double max_move = 0;
@@ -454,15 +468,8 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums, bool ledger) {
   for (std::ptrdiff_t c = 0; c < chunks; ++c) {
     // A copy of the pass in the chunk's own frame, which no store to the particles may alias.
     const G2pPass<T, D, K, S> own = pass;
-    const std::ptrdiff_t first = c * chunk, end = std::min(n, (c + 1) * chunk);
-    // The ledger's sums (sim/mpm/stage_ledger.hpp) before and after the chunk's update, through
-    // the shared pass: the chunk's own copy never leaves its frame.
-    if (ledger)
-      pass.ledger_start(first, end, ledger_.chunks[std::size_t(c)], ledger_.x_start.data());
-    const auto moves = own.run_chunk(first, end, sums ? &chunk_sums_[std::size_t(c)] : nullptr);
-    if (ledger)
-      ledger_.chunks[std::size_t(c)].updated =
-          pass.ledger_sums(first, end, ledger_.x_start.data() + first);
+    const auto moves = own.run_chunk(c * chunk, std::min(n, (c + 1) * chunk),
+                                     sums ? &chunk_sums_[std::size_t(c)] : nullptr);
     max_move = std::max(max_move, double(moves.largest));
     bad = bad || moves.bad;
   }
@@ -470,6 +477,7 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums, bool ledger) {
     *sums = ParticleSums{};
     for (const ParticleSums& own : chunk_sums_) sums->add(own);
   }
+  if (ledger) pass.ledger_chunks(ledger_, false, parallel_worthwhile());
   non_finite_ = non_finite_ || bad;
   blocks_.add_drift(std::isfinite(max_move) ? max_move * double(grid_.inv_dx) : 1e30);
 }
