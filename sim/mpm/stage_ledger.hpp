@@ -5,13 +5,14 @@
 //   →G2P→ particles (xⁿ, vⁿ⁺¹, Cⁿ⁺¹, Fⁿ) →move→ particles (xⁿ⁺¹, vⁿ⁺¹, Cⁿ⁺¹, Fⁿ⁺¹).
 // The particles count as the diagnostics row does (K with ½ m tr(C D Cᵀ), L with m (Bᵀ : ε)); the
 // grid as Σ m_i, Σ m_i v_i, Σ x_i × m_i v_i, ½ Σ m_i |v_i|²; Ψ and G are the particles' (x and F
-// change only in the move). The sums come from the passes the step makes anyway: G2P sums each
-// chunk before its update and, at xⁿ, after it (ChunkTerms, sim/mpm/particle_sums.hpp), the
-// boundary pass adds what each condition changes, one pass over the grid sums vⁿ and ṽ*; the
-// move's end is the row itself. Under the implicit integrators the solve sets the constrained
-// components of the wall and collider nodes first and moves the free ones (implicit_begin):
-// ṽ* is the solve's ṽ with the constrained components at vⁿ's, and the walls' and colliders'
-// terms are what setting them changes, then what the boundary pass after the solve changes.
+// change only in the move). The particles are summed as the row sums them (ChunkTerms,
+// sim/mpm/particle_sums.hpp), G2P's chunks in passes of their own before G2P and, at the kept
+// xⁿ, after it, so that G2P's loop stays as without the ledger; the boundary pass adds what each
+// condition changes, one pass over the grid sums vⁿ and ṽ*; the move's end is the row itself. Under
+// the implicit integrators the solve sets the constrained components of the wall and collider nodes
+// first and moves the free ones (implicit_begin): ṽ* is the solve's ṽ with the constrained
+// components at vⁿ's, and the walls' and colliders' terms are what setting them changes, then what
+// the boundary pass after the solve changes.
 #pragma once
 #include <vector>
 
