@@ -33,6 +33,7 @@ struct BenchOptions {
   std::string max_memory;
   std::vector<long> sizes;
   bool reference = false;
+  bool ledger = false;  // the block's rows with the conservation ledger (solver.ledger)
   std::string scene;
   int frames = 3;
   double domain_times = 1;  // --scene: the domain grown to this × its area (2D) or volume (3D)
@@ -149,6 +150,7 @@ std::optional<BlockResult> time_block(const BenchOptions& o, Precision precision
   std::vector<std::string> sets;
   if (auto gb = max_memory_gb(o.max_memory))
     sets.push_back("solver.max_memory_gb=" + std::to_string(*gb));
+  if (o.ledger) sets.push_back("solver.ledger=true");
   SceneDesc scene = parse_scene_text(bench_scene(o, particles, r.dx), "bench scene", sets);
   auto warm = make_simulation(scene, precision);
   const double dt = scene.time.dt;
@@ -454,6 +456,9 @@ void register_bench(CLI::App& root, CommandTable& table) {
       ->delimiter(',');
   cmd->add_flag("--reference", o->reference,
                 "also time the readable reference step on the same state; print the speed-up "
+                "[default: off]");
+  cmd->add_flag("--ledger", o->ledger,
+                "rows with the conservation ledger (solver.ledger): the row's share includes it "
                 "[default: off]");
   cmd->add_option("--scene", o->scene,
                   "time a real scene (name or path) instead of the block [default: the block]");

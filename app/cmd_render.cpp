@@ -25,10 +25,10 @@ namespace {
 
 // A diagnostics CSV, written a whole row at a time, with its settings sidecar (NAME.csv.json,
 // app/run_outputs.hpp).
-RowFile open_csv(const std::string& path, const nlohmann::json& settings) {
+RowFile open_csv(const std::string& path, const nlohmann::json& settings, bool ledger) {
   ensure_writable_file(path);
   RowFile out(path);
-  out.write_row(std::string(diagnostics_header()) + '\n');
+  out.write_row(diagnostics_header(ledger) + '\n');
   write_csv_sidecar(path, settings);
   return out;
 }
@@ -113,7 +113,7 @@ int render(const RenderOptions& o) {
   if (own_dump) claims.frames("--dump", o.run.dump);
   if (!o.video.empty()) claims.plain("--video", o.video, "ftyp", 4);
   claims.check_and_clear();
-  RowFile csv = open_csv(csv_path, settings);
+  RowFile csv = open_csv(csv_path, settings, scene.solver.ledger);
   if (!o.run.dump.empty()) ensure_writable_dir(o.run.dump);
   ParticleDump dump(o.run.dump, dump_formats_of(o.run, scene.solver.method == "mpm"));
   print_time_step_note(scene, o.run.quiet);
@@ -245,7 +245,7 @@ int compare(const RenderOptions& o) {
     p.key = spec.key;
     p.label = spec.method == "mpm" ? run_label(scene) : spec.key;
     p.sim = make_simulation(scene, precision_of(o.run));
-    p.csv = open_csv(o.out + "/" + spec.key + ".csv", pane_settings[k]);
+    p.csv = open_csv(o.out + "/" + spec.key + ".csv", pane_settings[k], scene.solver.ledger);
     DiagnosticsRow first = p.sim->measure();
     first.dt = 0;
     p.csv.write_row(diagnostics_row_text(first));

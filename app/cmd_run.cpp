@@ -202,7 +202,7 @@ int run(const RunCommandOptions& given, const CLI::App& cmd) {
                         resumed_at.frames_bytes);
   RowFile out = resumed ? RowFile(csv, resumed_at.csv_bytes) : RowFile(csv);
   if (!resumed) {
-    out.write_row(std::string(diagnostics_header()) + '\n');
+    out.write_row(diagnostics_header(scene.solver.ledger) + '\n');
     write_csv_sidecar(csv, settings);
   }
   if (const std::string note = time_step_note(scene); !note.empty() && !o.quiet)

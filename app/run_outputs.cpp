@@ -28,7 +28,7 @@ nlohmann::json parameter_value(const NumericParameter& p, double v) {
 }
 
 // The solver as it ran: MPM's scheme, kernel and integrator; the EoL family's contact.
-nlohmann::json solver_settings(const SceneDesc& scene) {
+nlohmann::json family_settings(const SceneDesc& scene) {
   const SolverDesc& v = scene.solver;
   if (v.method != "mpm")
     return {{"method", v.method},
@@ -41,6 +41,13 @@ nlohmann::json solver_settings(const SceneDesc& scene) {
           {"kernel", key_of(v.kernel)},
           {"integrator", key_of(v.integrator)},
           {"preconditioner", key_of(v.preconditioner)}};
+}
+
+// With the ledger's columns, "ledger": true; absent without them.
+nlohmann::json solver_settings(const SceneDesc& scene) {
+  nlohmann::json s = family_settings(scene);
+  if (scene.solver.ledger) s["ledger"] = true;
+  return s;
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "app/figures/catalogue.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "app/cli.hpp"
 
@@ -13,12 +14,21 @@ double kinetic_energy(const DiagnosticsRow& r) { return r.kinetic; }
 double time_step(const DiagnosticsRow& r) { return r.dt; }
 double grid_nodes(const DiagnosticsRow& r) { return r.grid_nodes; }
 double grid_mib(const DiagnosticsRow& r) { return r.grid_bytes / (1024.0 * 1024.0); }
+// A ledger stage's |ΔL_z| / |L_z| (docs/outputs.md, Conservation ledger), at least 1e-18 so that
+// an exact zero shows on the log scale; none for row 0, the state before any step.
+double stage_dL(const DiagnosticsRow& r, LedgerStage s) {
+  if (r.step == 0) return std::nan("");
+  return std::max(std::abs(r.stages[std::size_t(s)].L[2] / r.L[2]), 1e-18);
+}
+double p2g_dL(const DiagnosticsRow& r) { return stage_dL(r, LedgerStage::p2g); }
+double g2p_dL(const DiagnosticsRow& r) { return stage_dL(r, LedgerStage::g2p); }
 
 }  // namespace
 
 const std::vector<std::string>& figure_ids() {
-  static const std::vector<std::string> ids{"1",  "3",    "4",    "5",    "6",    "10",
-                                            "11", "eol6", "eol7", "eol8", "eol9", "scheme-energy"};
+  static const std::vector<std::string> ids{
+      "1",     "3", "4", "5", "6", "10", "11", "eol6", "eol7", "eol8", "eol9", "scheme-energy",
+      "ledger"};
   return ids;
 }
 
@@ -53,6 +63,9 @@ std::vector<TimeFigure> time_figures() {
   Quantity dt_log = dt;
   dt_log.log_y = true;
   const std::vector<std::string> eol_methods{"eol", "eulerian"};
+  Quantity g2p_L{"G2P: |dL_z| / |L_z| per step", "|g2p_dLz / Lz|", g2p_dL};
+  Quantity p2g_L{"P2G: |dL_z| / |L_z| per step", "|p2g_dLz / Lz|", p2g_dL};
+  g2p_L.log_y = p2g_L.log_y = true;
   // Figs 8 and 9 under backward Euler elasticity (docs/eol.md, "Implicit elasticity"): with the
   // paper's explicit elasticity the elastic cap sets every step. Its damping does the
   // viscosity's work, so the scene's Kelvin–Voigt term (an explicit step limit) is left out.
@@ -158,6 +171,23 @@ std::vector<TimeFigure> time_figures() {
        {},
        true,
        implicit},
+      // Jiang et al. 2017, Sec 5, stage by stage: the conservation ledger's ΔL of each transfer
+      // under symplectic Euler, where the paper's transfers are the step's.
+      {"ledger",
+       "ledger_rotating_disk",
+       "Conservation ledger — angular momentum each transfer changes, rotating disk (Sec. 5)",
+       "rotating-disk",
+       0.5,
+       2,
+       four,
+       g2p_L,
+       p2g_L,
+       {},
+       false,
+       {"solver.ledger=true", "solver.integrator=symplectic", "time.dt.rule=fixed",
+        "time.dt.value=0.0005"},
+       {},
+       true},
   };
 }
 

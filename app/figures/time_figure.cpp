@@ -126,16 +126,24 @@ void write_time_figure(ChartCanvas& canvas, const TimeFigure& f, const std::stri
   {
     std::ofstream csv(base.string() + ".csv");
     csv << "scheme,step,t,dt,kinetic,kinetic_grid,potential,total_energy,angular_momentum"
-        << (f.methods ? ",dt_limit,grid_nodes,grid_bytes,contact_pairs\n" : "\n");
+        << (f.methods ? ",dt_limit,grid_nodes,grid_bytes,contact_pairs" : "");
+    if (f.ledger)
+      for (int s = 0; s < ledger_stage_count; ++s)
+        csv << ',' << ledger_stage_name(LedgerStage(s)) << "_dLz";
+    csv << '\n';
     csv.precision(17);
     for (const jobs::Run& r : f.runs)
-      for (const DiagnosticsRow& d : r.rows)
+      for (const DiagnosticsRow& d : r.rows) {
         csv << key_of(r) << ',' << d.step << ',' << d.t << ',' << d.dt << ',' << d.kinetic << ','
             << d.kinetic_grid << ',' << d.potential << ',' << d.total << ',' << d.L[2]
             << (f.methods ? "," + d.dt_limit + "," + std::to_string(std::llround(d.grid_nodes)) +
                                 "," + std::to_string(std::llround(d.grid_bytes)) + "," +
-                                std::to_string(d.contact_pairs) + "\n"
-                          : "\n");
+                                std::to_string(d.contact_pairs)
+                          : "");
+        if (f.ledger)
+          for (const ConservedSums& c : d.stages) csv << ',' << c.L[2];
+        csv << '\n';
+      }
     if (!csv) throw cli::UsageError("cannot write " + base.string() + ".csv");
   }
   // The runs behind the CSV, as a sidecar (app/run_outputs.hpp): scene, scheme, overrides.

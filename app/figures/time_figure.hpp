@@ -34,6 +34,7 @@ struct TimeFigure {
                          // grid_bytes, contact_pairs
   std::vector<std::string> overrides{};        // `--set` KEY=VALUE for every run
   std::vector<std::string> quick_overrides{};  // and in --quick besides
+  bool ledger = false;  // CSV with each ledger stage's ΔL_z (solver.ledger among the overrides)
 };
 
 // DIR/<file>.png and DIR/<file>.csv; throws UsageError when the CSV cannot be written.

@@ -110,7 +110,7 @@ std::string write_pane(const PaneView& v, const std::string& dir) {
   } else {
     DiagnosticsRow first = v.history[0];
     first.dt = 0;  // as run's first row
-    csv = std::string(diagnostics_header()) + '\n' + diagnostics_row_text(first);
+    csv = diagnostics_header(scene.solver.ledger) + '\n' + diagnostics_row_text(first);
     summary.emplace(DriftRule::of(v.sim, first));
   }
   for (std::size_t i = from; i < v.history.size(); ++i) {

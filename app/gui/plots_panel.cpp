@@ -1,5 +1,7 @@
 // Live plots under the panes: energy, linear and angular momentum, and relative drift on a
 // log axis. One pane: every component; several: one series per pane, component picked above.
+// One pane with the conservation ledger (solver.ledger): its energy by stage instead of the drift.
+#include <array>
 #include <cmath>
 
 #include "app/drift_series.hpp"
@@ -49,6 +51,34 @@ PlotSeries legend_only(std::string label, ImU32 color, bool dashed) {
 }
 
 constexpr ImU32 kStroke = IM_COL32(90, 90, 90, 255);
+
+// The ledger's energy changes since t = 0, stacked: line k is the sum of stages 0..k, so the
+// band between lines k − 1 and k is stage k's share and the top line is E(t) − E(0)
+// (docs/outputs.md, Conservation ledger).
+std::vector<PlotSeries> ledger_stack(const History& h) {
+  using Sums = std::array<double, ledger_stage_count>;
+  auto stacked = std::make_shared<std::vector<Sums>>(h.size());
+  Sums running{};
+  for (std::size_t i = 0; i < h.size(); ++i) {
+    double below = 0;
+    for (int s = 0; s < ledger_stage_count; ++s) {
+      running[std::size_t(s)] += h[i].stages[std::size_t(s)].energy;
+      below += running[std::size_t(s)];
+      (*stacked)[i][std::size_t(s)] = below;
+    }
+  }
+  std::vector<PlotSeries> out;
+  for (int s = 0; s < ledger_stage_count; ++s) {
+    PlotSeries l;
+    l.label = std::string(s == 0 ? "" : "+ ") + ledger_stage_name(LedgerStage(s));
+    l.color = render::packed_abgr(render::palette_color(s));
+    l.count = h.size();
+    l.x = [&h](std::size_t i) { return h[i].t; };
+    l.y = [stacked, s](std::size_t i) { return (*stacked)[i][std::size_t(s)]; };
+    out.push_back(std::move(l));
+  }
+  return out;
+}
 
 // A plot's data box and legend band, for the layout tests (ViewerState::layout).
 void record_plot(ViewerState& st, const std::string& name, const PlotPick& p) {
@@ -166,9 +196,15 @@ void draw_plots(ViewerState& st, const Published& pub, ImVec2 pos, ImVec2 size) 
             " [kg m^2/s]";
   record_plot(st, "angular", plot("angular", cell, o, angular));
   ImGui::SameLine();
-  o.title = drift_title;
-  o.log_y = true;
-  record_plot(st, "drift", plot("drift", cell, o, drift));
+  if (!multi && !pub.panes.empty() && !pub.panes[0].history.empty() &&
+      pub.panes[0].history.back().ledger) {
+    o.title = "energy change by stage, stacked [J]";
+    record_plot(st, "ledger", plot("ledger", cell, o, ledger_stack(pub.panes[0].history)));
+  } else {
+    o.title = drift_title;
+    o.log_y = true;
+    record_plot(st, "drift", plot("drift", cell, o, drift));
+  }
   ImGui::End();
 }
 

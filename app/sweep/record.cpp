@@ -291,7 +291,7 @@ int record_run(const cli::RunOptions& o, const std::string& dir,
   if (ec) throw cli::UsageError("--record: cannot create '" + tmp.string() + "'");
   const std::string csv_path = (tmp / "diagnostics.csv").string();
   RowFile csv = resumed ? RowFile(csv_path, p.csv_bytes) : RowFile(csv_path);
-  if (!resumed) csv.write_row(std::string(diagnostics_header()) + '\n');
+  if (!resumed) csv.write_row(diagnostics_header(scene.solver.ledger) + '\n');
   FrameWriter frames((tmp / "frames.bin").string(), sim->precision(), p.frames_bytes);
   // --dump NAME with --record: the dumps go inside the record (so they appear with it, whole).
   std::unique_ptr<ParticleDump> dump;

@@ -15,8 +15,13 @@
 // A consistent step returns each force's work in its potential: W_e + ΔΨ, W_g + ΔG and
 // W_qvv + ΔK_transport (f_qvv takes back what turning v with the frame adds, forces.hpp) are
 // each small; the step's ΔE is their sum minus the loss.
+// The same stages give the diagnostics CSV's ledger columns (solver.ledger, docs/outputs.md):
+// forces = the work W and the impulse Δt Σ f, walls = what the impulse and contact rows change
+// beyond them (ΔK − W = −loss), move = the transport; with the mass and momenta of the nodes.
 #pragma once
 #include <algorithm>
+
+#include "sim/measure/diagnostics.hpp"
 
 namespace apiclab::eol {
 
@@ -27,6 +32,9 @@ struct EnergyLedger {
   double elastic_change = 0, gravity_change = 0;  // ΔΨ, ΔG over the transport
   double transport_kinetic_change = 0;            // ΔK over the transport
   double min_step_impulse_loss = 0;  // the smallest single-step loss (negative: a row added K)
+  // Mass and momenta (their energy unused): the forces' impulse Δt Σ f and Δt Σ x × f, the
+  // impulse stage's change with the rows, the transport's change.
+  ConservedSums force_impulse, impulse_change, transport_change;
 
   // What each force's work left unreturned to its own energy over the steps recorded.
   double elastic_residual() const { return elastic_work + elastic_change; }
@@ -47,6 +55,24 @@ struct EnergyLedger {
     elastic_change += s.elastic_change;
     gravity_change += s.gravity_change;
     transport_kinetic_change += s.transport_kinetic_change;
+    force_impulse += s.force_impulse;
+    impulse_change += s.impulse_change;
+    transport_change += s.transport_change;
+  }
+
+  // The diagnostics row's stages (LedgerStage) of the steps recorded.
+  std::array<ConservedSums, ledger_stage_count> stages() const {
+    std::array<ConservedSums, ledger_stage_count> out{};
+    ConservedSums& forces = out[std::size_t(LedgerStage::forces)];
+    forces = force_impulse;
+    forces.energy = elastic_work + gravity_work + qvv_work;
+    ConservedSums& walls = out[std::size_t(LedgerStage::walls)];
+    walls = impulse_change - force_impulse;
+    walls.energy = -impulse_loss;
+    ConservedSums& move = out[std::size_t(LedgerStage::move)];
+    move = transport_change;
+    move.energy = transport_kinetic_change + gravity_change + elastic_change;
+    return out;
   }
 };
 

@@ -15,6 +15,12 @@ typename EolSimulation<T, D>::LedgerEnergies EolSimulation<T, D>::ledger_energie
     if (!(m > 0)) continue;
     e.kinetic += 0.5 * m * double(o.u[i].squaredNorm());
     for (int a = 0; a < D; ++a) e.gravity -= m * scene_.gravity[std::size_t(a)] * double(o.x[i][a]);
+    // Mass and momenta as measure() counts them, for the CSV's ledger columns.
+    const Vec<T, D> mv = o.grid.mass[i] * o.u[i];
+    e.moments.mass += m;
+    for (int a = 0; a < D; ++a) e.moments.p[std::size_t(a)] += double(mv[a]);
+    const Eigen::Vector3d L = cross_moment<T, D>(o.x[i], mv);
+    for (int a = 0; a < 3; ++a) e.moments.L[std::size_t(a)] += L[a];
   }
   return e;
 }
@@ -39,6 +45,10 @@ void EolSimulation<T, D>::ledger_work(const EolObject<T, D>& o, double dt,
     step.gravity_work += dt * double(fg.dot(u));
     step.qvv_work += dt * double(fq.dot(u));
     step.elastic_work += dt * double((o.force[i] - fg - fq).dot(u));
+    const Vec<T, D> impulse = T(dt) * o.force[i];
+    for (int a = 0; a < D; ++a) step.force_impulse.p[std::size_t(a)] += double(impulse[a]);
+    const Eigen::Vector3d L = cross_moment<T, D>(o.x[i], impulse);
+    for (int a = 0; a < 3; ++a) step.force_impulse.L[std::size_t(a)] += L[a];
   }
 }
 
@@ -60,6 +70,7 @@ typename EolSimulation<T, D>::LedgerEnergies EolSimulation<T, D>::ledger_impulse
   const LedgerEnergies pushed = ledger_energies(o);
   const double work = step.elastic_work + step.gravity_work + step.qvv_work;
   step.impulse_loss += work - work_before - (pushed.kinetic - before.kinetic);
+  step.impulse_change += pushed.moments - before.moments;
   return pushed;
 }
 
@@ -69,6 +80,7 @@ void EolSimulation<T, D>::ledger_transport(const EolObject<T, D>& o, const Ledge
                                            const LedgerEnergies& pushed, EnergyLedger& step) const {
   const LedgerEnergies after = ledger_energies(o);
   step.transport_kinetic_change += after.kinetic - pushed.kinetic;
+  step.transport_change += after.moments - pushed.moments;
   step.gravity_change += after.gravity - before.gravity;
   step.elastic_change += elastic_energy_moved(o.grid, materials_);
 }

@@ -62,6 +62,7 @@ DiagnosticsRow EolSimulation<T, D>::measure() const {
   r.L = {L[0], L[1], L[2]};
   r.dt_limit = dt_limit_name(last_limit_);
   r.contact_pairs = int(object_pairs_.size());
+  r.ledger = scene_.solver.ledger;  // its stages are the step's (step_fixed_measured)
   if (implicit_elasticity()) {
     r.newton_iters = implicit_report_.newton_iterations;
     r.cg_iters = implicit_report_.cg_iterations;

@@ -26,6 +26,7 @@ EolSimulation<T, D>::EolSimulation(const SceneDesc& scene, bool lagrangian)
   std::size_t nodes = 0;
   for (const auto& o : objects_) nodes += o.grid.size();
   parallel_ = nodes >= scene.solver.parallel_min_particles;
+  ledger_on_ = scene.solver.ledger;  // the CSV's ledger columns
   for (auto& o : objects_) {
     update_mass(o, false);
     update_spatial(o);

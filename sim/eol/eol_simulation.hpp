@@ -104,6 +104,13 @@ class EolSimulation final : public Simulation {
   }
   // Forces (unless step() computed them ahead), then finish_step, then the next step's forces.
   void step_fixed(double dt) override;
+  // With solver.ledger, the row's stages are the step's energy ledger's (energy_ledger.hpp).
+  DiagnosticsRow step_fixed_measured(double dt) override {
+    step_fixed(dt);
+    DiagnosticsRow r = measure();
+    if (r.ledger) r.stages = last_ledger_.stages();
+    return r;
+  }
   DiagnosticsRow measure() const override;
   double total_mass() const override;
   double rest_energy_round_off() const override;
@@ -231,6 +238,7 @@ class EolSimulation final : public Simulation {
   // The energy ledger's terms (eol_ledger.hpp).
   struct LedgerEnergies {
     double kinetic = 0, gravity = 0;
+    ConservedSums moments;  // mass and momenta (energy unused)
   };
   LedgerEnergies ledger_energies(const EolObject<T, D>& o) const;
   void ledger_work(const EolObject<T, D>& o, double dt, EnergyLedger& step) const;

@@ -7,6 +7,22 @@
 
 namespace apiclab {
 
+// Mass, linear momentum, angular momentum about the origin and energy of a state, or their change
+// across one stage of a step (the conservation ledger, docs/outputs.md).
+struct ConservedSums {
+  double mass = 0;
+  std::array<double, 3> p{0, 0, 0}, L{0, 0, 0};
+  double energy = 0;
+
+  ConservedSums& operator+=(const ConservedSums& o);
+  friend ConservedSums operator-(ConservedSums a, const ConservedSums& b);
+};
+
+// The ledger's stages, in a step's order; a family without a stage leaves its change zero.
+enum class LedgerStage { p2g, forces, walls, colliders, g2p, move };
+inline constexpr int ledger_stage_count = 6;
+const char* ledger_stage_name(LedgerStage s);
+
 struct DiagnosticsRow {
   long step = 0;
   double t = 0, dt = 0;
@@ -27,12 +43,20 @@ struct DiagnosticsRow {
   // EoL: pairs of objects whose surfaces overlapped at the step's start (the contact interval
   // of Fan et al. Fig 8); not in the diagnostics CSV.
   int contact_pairs = 0;
+  // The conservation ledger (solver.ledger): each stage's change, by LedgerStage; the stages add
+  // up to the step's change. Written as the CSV's ledger columns when `ledger` is set.
+  bool ledger = false;
+  std::array<ConservedSums, ledger_stage_count> stages{};
 };
 
 inline const char* diagnostics_header() {
   return "step,t,dt,kinetic,kinetic_grid,potential,total,px,py,pz,Lx,Ly,Lz,newton_iters,cg_iters,"
          "residual,wall_s,dt_limit";
 }
+
+// The header, with the ledger's columns (STAGE_dm, STAGE_dpx … STAGE_dLz, STAGE_dE per stage)
+// after it when `ledger`.
+std::string diagnostics_header(bool ledger);
 
 void write_diagnostics_row(std::ostream& out, const DiagnosticsRow& r);
 

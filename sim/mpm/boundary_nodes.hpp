@@ -21,6 +21,7 @@ struct ConstrainedNode {
   std::size_t node;  // index into the stored region
   Vec<T, D> normal;  // into the free side
   BoundaryCondition condition;
+  bool collider = false;               // a collider's, not a domain wall's (the ledger splits them)
   Vec<T, D> body = Vec<T, D>::Zero();  // the wall's or body's velocity at the node
 };
 
@@ -69,7 +70,7 @@ class BoundaryNodes {
         for (int a = 0; a < D; ++a) at[std::size_t(a)] = double(x[a]);
         const ColliderPose::Distance d = p.distance(at);
         if (d.phi > double(eps)) continue;
-        ConstrainedNode<T, D> node{i, Vec<T, D>::Zero(), p.condition};
+        ConstrainedNode<T, D> node{i, Vec<T, D>::Zero(), p.condition, true};
         const Vec3d v = p.velocity_at(at);
         for (int a = 0; a < D; ++a) {
           node.normal[a] = T(d.normal[std::size_t(a)]);

@@ -347,16 +347,17 @@ struct G2pPass {
 
   // The diagnostics terms that ChunkTerms::sum cannot form from x, v and C
   // (sim/mpm/particle_sums.hpp): with the multilinear kernel ½ m tr(C D_p Cᵀ) and m (Bᵀ : ε) at
-  // x^{n+1}, and PolyPIC's higher modes' kinetic energy (sim/mpm/schemes/polypic_modes.hpp);
-  // particle q is the chunk's j-th.
+  // x (x^{n+1}, or the ledger's xⁿ), and PolyPIC's higher modes' kinetic energy
+  // (sim/mpm/schemes/polypic_modes.hpp); particle q is the chunk's j-th.
   __attribute__((always_inline)) void diagnostics_terms(ChunkTerms<T, D, chunk>& terms, int j,
-                                                        std::ptrdiff_t q) const {
+                                                        std::ptrdiff_t q,
+                                                        const Vec<T, D>& x) const {
     const T m = p.mass[q];
     T modes_kinetic = 0;
     if constexpr (Sch::higher_modes) {
       if (polypic_extra > 0) {
         Stencil<T, D, QuadraticKernel> at_x;
-        at_x.compute(p.x[q], grid);
+        at_x.compute(x, grid);
         modes_kinetic =
             T(0.5) * m *
             polypic::modes_energy_density<T, D>(at_x, grid.inv_dx, p.modes, std::size_t(q));
@@ -364,11 +365,45 @@ struct G2pPass {
     }
     if constexpr (multilinear) {
       Stencil<T, D, LinearKernel> at_x;
-      at_x.compute(p.x[q], grid);
+      at_x.compute(x, grid);
       terms.set_affine(j, m, p.C[q], Mat<T, D>(at_x.inertia()), modes_kinetic);
     } else {  // PolyPIC's higher modes; its C is read with x and v
       terms.extra_kinetic[j] = modes_kinetic;
       for (int a = 0; a < terms.moments; ++a) terms.affine_moment[a][j] = T(0);
+    }
+  }
+
+  // The ledger's sums of particles [first, end) at positions xs (from particle `first` on), with
+  // their v, C and modes as they are: the row's terms, as run_chunk forms them.
+  __attribute__((noinline)) ParticleSums ledger_sums(std::ptrdiff_t first, std::ptrdiff_t end,
+                                                     const Vec<T, D>* xs) const {
+    ChunkTerms<T, D, chunk> terms;
+    if constexpr (Sch::affine && !multilinear) terms.isotropic_k = k_inertia;
+    terms.extras = extras;
+    if (extras)
+      for (std::ptrdiff_t q = first; q < end; ++q)
+        diagnostics_terms(terms, int(q - first), q, xs[q - first]);
+    return terms.sum(&p.mass[std::size_t(first)], xs, &p.v[std::size_t(first)], p.C.data() + first,
+                     int(end - first), gravity);
+  }
+
+  // The ledger's sums of every chunk (sim/mpm/stage_ledger.hpp): before G2P (start) at xⁿ,
+  // keeping xⁿ, or after it at the kept xⁿ. Passes of their own, so that G2P's loop is as
+  // without the ledger.
+  __attribute__((noinline)) void ledger_chunks(StepLedger<T, D>& ledger, bool start,
+                                               bool parallel) const {
+    const std::ptrdiff_t n = std::ptrdiff_t(p.size()), chunks = (n + chunk - 1) / chunk;
+#pragma omp parallel for schedule(static) if (parallel)
+    for (std::ptrdiff_t c = 0; c < chunks; ++c) {
+      const std::ptrdiff_t first = c * chunk, end = std::min(n, (c + 1) * chunk);
+      LedgerChunk& out = ledger.chunks[std::size_t(c)];
+      if (start) {
+        out.start = ledger_sums(first, end, &p.x[std::size_t(first)]);
+        std::copy(&p.x[std::size_t(first)], &p.x[std::size_t(first)] + (end - first),
+                  ledger.x_start.data() + first);
+      } else {
+        out.updated = ledger_sums(first, end, ledger.x_start.data() + first);
+      }
     }
   }
 
@@ -398,7 +433,7 @@ struct G2pPass {
       const Vec<T, D> v_n = p.v[q];
       update_particle(q, batch, lane, g);
       if (!move_particle(q, g, v_n, moves.largest)) moves.bad = true;
-      if (sums && terms.extras) diagnostics_terms(terms, int(q - first), q);
+      if (sums && terms.extras) diagnostics_terms(terms, int(q - first), q, p.x[q]);
     }
     if (sums)
       *sums = terms.sum(&p.mass[std::size_t(first)], &p.x[std::size_t(first)],
@@ -409,7 +444,7 @@ struct G2pPass {
 
 template <class T, int D>
 template <class K, Scheme S>
-void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
+void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums, bool ledger) {
   pack_velocities();
   const G2pPass<T, D, K, S> pass(scene_, grid_, p_, xpic_shift_.data(), inertia_scale(), dt);
   // With sums: the particles in fixed chunks, each summed in index order, the chunks' sums then
@@ -419,6 +454,11 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
   const std::ptrdiff_t n = std::ptrdiff_t(p_.size());
   const std::ptrdiff_t chunks = (n + chunk - 1) / chunk;
   if (sums) chunk_sums_.resize(std::size_t(chunks));
+  if (ledger) {
+    ledger_.chunks.resize(std::size_t(chunks));
+    ledger_.x_start.resize(p_.size());
+    pass.ledger_chunks(ledger_, true, parallel_worthwhile());
+  }
   bool bad = false;
   double max_move = 0;
 #pragma omp parallel for schedule(static) reduction(||     \
@@ -437,18 +477,19 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums) {
     *sums = ParticleSums{};
     for (const ParticleSums& own : chunk_sums_) sums->add(own);
   }
+  if (ledger) pass.ledger_chunks(ledger_, false, parallel_worthwhile());
   non_finite_ = non_finite_ || bad;
   blocks_.add_drift(std::isfinite(max_move) ? max_move * double(grid_.inv_dx) : 1e30);
 }
 
 template <class T, int D>
-void MpmSimulation<T, D>::grid_to_particles(T dt, ParticleSums* sums) {
+void MpmSimulation<T, D>::grid_to_particles(T dt, ParticleSums* sums, bool ledger) {
   with_kernel(scene_.solver.kernel, [&](auto kernel) {
     with_scheme(scene_.solver.scheme, [&](auto scheme) {
       using K = decltype(kernel);
       constexpr Scheme S = decltype(scheme)::value;
       if constexpr (scheme_t<S>::grid_field) xpic_grid_passes<K>();
-      g2p_impl<K, S>(dt, sums);
+      g2p_impl<K, S>(dt, sums, ledger);
     });
   });
 }

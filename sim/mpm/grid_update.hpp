@@ -57,25 +57,41 @@ void MpmSimulation<T, D>::grid_velocity_update(T dt) {
   max_grid_speed_ = std::sqrt(vmax2);
 }
 
+// A wall's or collider's condition on a node's ṽ, relative to the body's velocity.
 template <class T, int D>
-void MpmSimulation<T, D>::apply_boundary_conditions() {
-  for (const auto& c : blocks_.box_constraints()) {  // outside the box ṽ = 0 already satisfies them
-    Vec<T, D>& v = grid_.velocity_new[c.node];
-    T vn = (v - c.body).dot(c.normal);  // relative to the wall or plane
-    switch (c.condition) {
-      case BoundaryCondition::sticky:
-        v = c.body;
-        break;
-      case BoundaryCondition::slip:
-        v -= vn * c.normal;
-        break;
-      case BoundaryCondition::separate:
-        if (vn < T(0)) v -= vn * c.normal;
-        break;
-      case BoundaryCondition::periodic:
-        break;
-    }
+inline void apply_condition(const ConstrainedNode<T, D>& c, Vec<T, D>& v) {
+  T vn = (v - c.body).dot(c.normal);  // relative to the wall or plane
+  switch (c.condition) {
+    case BoundaryCondition::sticky:
+      v = c.body;
+      break;
+    case BoundaryCondition::slip:
+      v -= vn * c.normal;
+      break;
+    case BoundaryCondition::separate:
+      if (vn < T(0)) v -= vn * c.normal;
+      break;
+    case BoundaryCondition::periodic:
+      break;
   }
+}
+
+// With the ledger, each condition's change is added to the walls' or the colliders' sums
+// (sim/mpm/stage_ledger.hpp).
+template <class T, int D>
+void MpmSimulation<T, D>::apply_boundary_conditions(bool ledger) {
+  if (ledger) {
+    for (const auto& c : blocks_.box_constraints()) {
+      Vec<T, D>& v = grid_.velocity_new[c.node];
+      const Vec<T, D> before = v;
+      apply_condition(c, v);
+      add_node_change<T, D>(c.collider ? ledger_.colliders : ledger_.walls,
+                            grid_.node_position(c.node), grid_.mass[c.node], before, v);
+    }
+    return;
+  }
+  // outside the box ṽ = 0 already satisfies them
+  for (const auto& c : blocks_.box_constraints()) apply_condition(c, grid_.velocity_new[c.node]);
 }
 
 }  // namespace apiclab

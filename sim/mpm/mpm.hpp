@@ -16,6 +16,7 @@
 #include "sim/mpm/implicit/implicit_state.hpp"
 #include "sim/mpm/particle_sums.hpp"
 #include "sim/mpm/particles.hpp"
+#include "sim/mpm/stage_ledger.hpp"
 #include "sim/mpm/stencil.hpp"
 #include "sim/plasticity.hpp"
 #include "sim/simulation.hpp"
@@ -117,10 +118,11 @@ class MpmSimulation final : public Simulation, public TransferControls {
   void particles_to_grid(
       bool with_forces);            // eqs 24-25: m_i and (m v)_i (+ eq 34 at F^n when with_forces)
   void grid_velocity_update(T dt);  // eq 29 explicit (λ = 0)
-  void apply_boundary_conditions();
+  // With ledger, each condition's change into ledger_ (sim/mpm/stage_ledger.hpp).
+  void apply_boundary_conditions(bool ledger = false);
   // Eqs 37-40, or the scheme's variant; with sums, also the row's sums over the new particle
-  // state (sim/mpm/particle_sums.hpp).
-  void grid_to_particles(T dt, ParticleSums* sums = nullptr);
+  // state (sim/mpm/particle_sums.hpp); with ledger, the ledger's particle sums into ledger_.
+  void grid_to_particles(T dt, ParticleSums* sums = nullptr, bool ledger = false);
   // Σ_i m_i v_i, Σ_i x_i × m_i v_i over the grid (after the update: updated = false gives v^n,
   // true gives ṽ).
   void grid_momentum(bool updated, Eigen::Vector3d& p, Eigen::Vector3d& L) const;
@@ -156,7 +158,12 @@ class MpmSimulation final : public Simulation, public TransferControls {
   void pack_velocities();
   bool has_mass(std::size_t node) const;
   template <class K, Scheme S>
-  void g2p_impl(T dt, ParticleSums* sums);
+  void g2p_impl(T dt, ParticleSums* sums, bool ledger);
+  // The conservation ledger (sim/mpm/mpm_ledger.hpp): the grid's sums after the update, and the
+  // stages' changes into the step's row.
+  void ledger_grid();
+  void ledger_constraints();  // the implicit solve's walls and colliders
+  DiagnosticsRow with_ledger(DiagnosticsRow r) const;
   // step_fixed; G2P fills sums when given. False when the state was frozen (non-finite) and
   // no step was taken, so the sums were not taken.
   bool step_fixed_summing(double dt, ParticleSums* sums);
@@ -238,6 +245,7 @@ class MpmSimulation final : public Simulation, public TransferControls {
   ImplicitSolveState<T, D> imp_;
   NewtonCgReport last_solve_;             // the last grid update's (zero iterations when explicit)
   std::vector<ParticleSums> chunk_sums_;  // G2P's row sums per chunk of particles (sim/mpm/g2p.hpp)
+  StepLedger<T, D> ledger_;               // the step's conservation ledger (solver.ledger)
   SolverIterationObserver on_solver_iteration_;
 };
 

@@ -97,6 +97,7 @@ DiagnosticsRow MpmSimulation<T, D>::row_of(const ParticleSums& s) const {
   r.total = r.kinetic + r.potential;
   r.p = s.p;
   r.L = s.L;
+  r.ledger = scene_.solver.ledger;  // its stages are the step's (with_ledger), zero for a state
   return r;
 }
 

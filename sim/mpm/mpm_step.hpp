@@ -30,7 +30,8 @@ void MpmSimulation<T, D>::step_fixed(double dt) {
 template <class T, int D>
 DiagnosticsRow MpmSimulation<T, D>::step_fixed_measured(double dt) {
   ParticleSums sums;
-  return step_fixed_summing(dt, &sums) ? row_of(sums) : measure();
+  if (!step_fixed_summing(dt, &sums)) return measure();
+  return scene_.solver.ledger ? with_ledger(row_of(sums)) : row_of(sums);
 }
 
 template <class T, int D>
@@ -38,6 +39,8 @@ bool MpmSimulation<T, D>::step_fixed_summing(double dt, ParticleSums* sums) {
   // A non-finite position would index the grid out of range: the state stays frozen, and
   // step() (or the caller of step_fixed, through measure()) reports it.
   if (non_finite_) return false;
+  const bool ledger = sums && scene_.solver.ledger;  // sim/mpm/stage_ledger.hpp
+  if (ledger) ledger_.elastic_start = elastic_energy();
   if (boundary_.moving()) boundary_.move_to(time_ + dt);  // moving planes where the step ends
   sort_particles();
   if (boundary_.moving()) blocks_.collect_constraints(grid_, boundary_);
@@ -53,8 +56,9 @@ bool MpmSimulation<T, D>::step_fixed_summing(double dt, ParticleSums* sums) {
     with_kernel(scene_.solver.kernel,
                 [&](auto kernel) { implicit_velocity_update<decltype(kernel)>(T(dt)); });
   }
-  apply_boundary_conditions();
-  grid_to_particles(T(dt), sums);
+  if (ledger) ledger_grid();
+  apply_boundary_conditions(ledger);
+  grid_to_particles(T(dt), sums, ledger);
   if (!p_.fp_inv.empty()) plastic_flow();
   stress_of_current_F_ = false;
   // An explicit step computes the next step's stress now: its pass also sums the elastic energy

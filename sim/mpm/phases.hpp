@@ -5,6 +5,7 @@
 #include "sim/mpm/grid_update.hpp"
 #include "sim/mpm/implicit/implicit.hpp"
 #include "sim/mpm/mpm_checkpoint.hpp"
+#include "sim/mpm/mpm_ledger.hpp"
 #include "sim/mpm/mpm_measure.hpp"
 #include "sim/mpm/mpm_output.hpp"
 #include "sim/mpm/mpm_plasticity.hpp"

@@ -149,6 +149,11 @@ std::vector<ChoiceParameter> make_table() {
        "false", "mpm", switch_options("stop with exit 3", "count it and carry on"),
        [](S& s, int, std::string_view w) { s.solver.stop_on_nonconvergence = switch_value(w); },
        [](const S& s, int) { return word(s.solver.stop_on_nonconvergence); }},
+      {"solver.ledger", "the conservation ledger's columns in the diagnostics CSV", "false", "",
+       switch_options("each stage's change of mass, momentum, angular momentum and energy",
+                      "the CSV's standard columns only"),
+       [](S& s, int, std::string_view w) { s.solver.ledger = switch_value(w); },
+       [](const S& s, int) { return word(s.solver.ledger); }},
       {"solver.contact", "contact rows against walls and colliders", "surface", "eol eulerian",
        options_of(eol_contact_choices()),
        [](S& s, int, std::string_view w) {

@@ -86,6 +86,8 @@ struct SolverDesc {
   int cg_max_iterations{};
   CgPreconditioner preconditioner{};
   bool stop_on_nonconvergence{};
+  // solver.ledger: each step's row carries its stages' changes (DiagnosticsRow::stages).
+  bool ledger{};
   double blowup_energy_factor{};
   // solver.max_memory_gb: cap on the estimated memory (sim/scene/memory_estimate.hpp); empty: the
   // machine's available memory (--max-memory none sets it to 1e300).

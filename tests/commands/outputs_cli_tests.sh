@@ -2,7 +2,7 @@
 # What a run hands a person, end to end: --dt taken exactly with the frames' real
 # times, the JSON run summary, the settings sidecar next to every CSV, compare's exit code when a
 # pane blows up, "1 step", progress without \r or escape codes when stderr is not a terminal,
-# --frames past the scene's end.
+# --frames past the scene's end, the conservation ledger's columns.
 # Usage: APICLAB=/path/to/apiclab outputs_cli_tests.sh
 set -u
 APICLAB=${APICLAB:?set APICLAB to the apiclab executable}
@@ -100,6 +100,32 @@ if "$APICLAB" compare --help >/dev/null 2>&1; then
   else
     nok "compare exit code with a blown-up pane" "exit $RC, $frames frames" "$(tail -n 3 "$ERR")"
   fi
+fi
+
+# ---- solver.ledger: the conservation ledger's columns (docs/outputs.md) -----------------------
+# 48 columns after dt_limit, row 0 zero, each row's stages adding up to its change of the total
+# energy and L_z; the sidecar says so.
+run_cli run rotating-disk --integrator symplectic --dt 0.0005 --t-end 0.0025 \
+  --csv "$TMP/ledger.csv" --set solver.ledger=true --quiet
+base_header='step,t,dt,kinetic,kinetic_grid,potential,total,px,py,pz,Lx,Ly,Lz,newton_iters,cg_iters,residual,wall_s,dt_limit'
+header=$(head -n 1 "$TMP/ledger.csv" 2>/dev/null)
+if [ "$RC" -eq 0 ] && [ "${header%%,p2g_dm,*}" = "$base_header" ] &&
+  [ "${header#*,colliders_dE,}" = 'g2p_dm,g2p_dpx,g2p_dpy,g2p_dpz,g2p_dLx,g2p_dLy,g2p_dLz,g2p_dE,move_dm,move_dpx,move_dpy,move_dpz,move_dLx,move_dLy,move_dLz,move_dE' ] &&
+  awk -F, 'NF != 66 { bad = 1 } END { exit bad || NR != 7 }' "$TMP/ledger.csv"; then
+  ok "solver.ledger: 48 ledger columns after dt_limit, 66 in every row"
+else
+  nok "solver.ledger columns" "exit $RC" "$header" "$(head -c 400 "$ERR")"
+fi
+# Stage s's dLz is column 18 + 8 s + 7, its dE 18 + 8 s + 8.
+if awk -F, 'NR == 2 { for (c = 19; c <= 66; c++) if ($c != 0) bad = 1 }
+  NR > 2 { dE = 0; dL = 0; for (s = 0; s < 6; s++) { dL += $(25 + 8 * s); dE += $(26 + 8 * s) }
+    e = dE - ($7 - E); l = dL - ($13 - L); if (e < 0) e = -e; if (l < 0) l = -l
+    if (e > 1e-12 * (E < 0 ? -E : E) || l > 1e-12 * (L < 0 ? -L : L)) bad = 1 }
+  NR > 1 { E = $7; L = $13 } END { exit bad }' "$TMP/ledger.csv" &&
+  json "$TMP/ledger.csv.json" "j['settings']['solver']['ledger'] is True"; then
+  ok "solver.ledger: row 0 zero, the stages add up to each step's change of E and L_z; the sidecar says ledger"
+else
+  nok "solver.ledger: the stages add up" "$(cut -d, -f7,13,25,26,57,58 "$TMP/ledger.csv" | head -4)"
 fi
 
 finish outputs_cli_tests

@@ -138,6 +138,45 @@ TEST(EolEnergyLedger, AddsUpAndOnlyTheElasticTransportCanGain3D) {
   check_ledger<3>(0.0, "eulerian");
 }
 
+// The diagnostics CSV's ledger columns (solver.ledger): the stages of every step add up to the
+// row's change of energy, momentum and angular momentum, and the floor's rows act in `walls`.
+TEST(EolEnergyLedger, CsvStagesAddUpToTheStep) {
+  test::EolSceneSpec spec;
+  spec.radius = 0.15;
+  spec.dx = 1.0 / 40;
+  spec.center = {0.5, 0.4, 0.5};
+  spec.velocity = {0, -2.5, 0};
+  spec.gravity = {0, -9.8, 0};
+  spec.spin = 1;
+  spec.colliders = nlohmann::json::array(
+      {{{"type", "plane"}, {"point", {0.0, 0.1}}, {"normal", {0, 1}}, {"condition", "slip"}}});
+  SceneDesc scene = parse_scene_text(test::eol_scene_json(spec), "eol-test.json");
+  scene.solver.ledger = true;
+  auto sim = make_simulation(scene);
+  DiagnosticsRow before = sim->measure();
+  ASSERT_TRUE(before.ledger);
+  double walls = 0;
+  const auto failure = sim->advance_to(0.1, [&](const DiagnosticsRow& row) {
+    ConservedSums sum;
+    double scale_E = std::abs(before.total) + std::abs(row.kinetic) + std::abs(row.potential);
+    for (const ConservedSums& c : row.stages) {
+      sum += c;
+      scale_E += std::abs(c.energy);
+    }
+    EXPECT_NEAR(sum.energy, row.total - before.total, 1e-10 * scale_E) << "step " << row.step;
+    for (int a = 0; a < 2; ++a)
+      EXPECT_NEAR(sum.p[std::size_t(a)], row.p[std::size_t(a)] - before.p[std::size_t(a)],
+                  1e-12 * (std::abs(before.p[1]) + sim->total_mass()))
+          << "step " << row.step;
+    EXPECT_NEAR(sum.L[2], row.L[2] - before.L[2], 1e-12 * (std::abs(before.L[2]) + 1))
+        << "step " << row.step;
+    walls += std::abs(row.stages[std::size_t(LedgerStage::walls)].p[1]);
+    before = row;
+  });
+  EXPECT_FALSE(failure);
+  EXPECT_GT(walls, 0.1 * sim->total_mass()) << "the floor never acted";
+}
+
 // The grid aligned with the floor (0° or 90°: the floor's rows are a row of nodes): no gain
 // beyond the bound of the existing drop test (the symplectic bound on the released energy).
 TEST(EolEnergyLedger, DropWithTheGridAlignedToTheFloorNeverGainsEnergy) {

@@ -2,6 +2,7 @@
 // (step_fixed_measured, step; sim/mpm/particle_sums.hpp) against measure()'s own pass over the same
 // particles (particle_sums, the readable oracle), for 2D and 3D, float and double, several
 // schemes and kernels, on one and two threads. Also: taking the sums leaves the step unchanged.
+// And the conservation ledger, whose sums G2P takes beside them (sim/mpm/stage_ledger.hpp).
 #include <gtest/gtest.h>
 #include <omp.h>
 
@@ -18,6 +19,7 @@
 #include "sim/mpm/particle_sums.hpp"
 #include "sim/mpm/probe.hpp"
 #include "sim/scene/scene.hpp"
+#include "tests/shipped_scenes.hpp"
 
 namespace apiclab {
 namespace {
@@ -25,8 +27,8 @@ namespace {
 // The bench's block, small: fixed-corotated, spinning about z and falling, so that v, C (the
 // rotation's skew part and the elastic waves) and x × v are all far from zero.
 // cells_per_m: 32 (2D) and 16 (3D) unless given.
-SceneDesc spinning_block(int dim, const std::string& scheme, const std::string& kernel,
-                         double cells_per_m = 0) {
+nlohmann::json spinning_block_json(int dim, const std::string& scheme, const std::string& kernel,
+                                   double cells_per_m = 0) {
   using json = nlohmann::json;
   const bool d2 = dim == 2;
   const double dx = 1 / (cells_per_m > 0 ? cells_per_m : d2 ? 32.0 : 16.0);
@@ -53,7 +55,13 @@ SceneDesc spinning_block(int dim, const std::string& scheme, const std::string& 
                                 {"velocity", d2 ? json{0.3, 0.1} : json{0.3, 0.1, -0.2}},
                                 {"angular_velocity", d2 ? json(2.0) : json{0.5, -1.0, 2.0}}}})},
   };
-  SceneDesc s = parse_scene_text(scene.dump(), "test");
+  return scene;
+}
+
+SceneDesc spinning_block(int dim, const std::string& scheme, const std::string& kernel,
+                         double cells_per_m = 0) {
+  SceneDesc s =
+      parse_scene_text(spinning_block_json(dim, scheme, kernel, cells_per_m).dump(), "test");
   s.solver.parallel_min_particles = 0;  // the threaded G2P even for this small block
   return s;
 }
@@ -309,6 +317,159 @@ TEST(ParticleSums, StepRowIsMeasureOfTheNewState) {
     EXPECT_NEAR(row.total, measured.total, 1e-13 * std::abs(measured.kinetic));
     EXPECT_NEAR(row.L[2], measured.L[2], 1e-13 * std::abs(measured.L[2]));
   }
+}
+
+// The conservation ledger (solver.ledger, sim/mpm/stage_ledger.hpp): the block of spinning_block
+// dropped against the sticky floor and a slip collider plane at x = 0.25, so that every stage
+// acts. Its stages add up to the step's change of the row, each to the round-off of the sums it
+// takes one state from the next with.
+template <class T, int D>
+MpmSimulation<T, D> ledger_block(const std::string& scheme, const std::string& kernel,
+                                 const std::string& integrator = "symplectic") {
+  using json = nlohmann::json;
+  json scene = spinning_block_json(D, scheme, kernel);
+  scene["solver"]["ledger"] = true;
+  scene["solver"]["integrator"] = integrator;
+  json& box = scene["objects"][0]["shape"];
+  box["min"][0] = 0.26;
+  box["min"][1] = 0.02;
+  box["max"][1] = 0.3;
+  scene["colliders"] = json::array({{{"type", "plane"},
+                                     {"point", D == 2 ? json{0.25, 0} : json{0.25, 0, 0}},
+                                     {"normal", D == 2 ? json{1, 0} : json{1, 0, 0}},
+                                     {"condition", "slip"}}});
+  SceneDesc s = parse_scene_text(scene.dump(), "test");
+  s.solver.parallel_min_particles = 0;
+  return MpmSimulation<T, D>(s);
+}
+
+// Σ |stage| of each quantity, the scale of the stages' round-off.
+struct LedgerScale {
+  double p = 0, L = 0, E = 0;
+};
+
+LedgerScale ledger_scale(const DiagnosticsRow& before, const DiagnosticsRow& after) {
+  LedgerScale s;
+  for (const ConservedSums& c : after.stages) {
+    s.E += std::abs(c.energy);
+    for (int a = 0; a < 3; ++a) {
+      s.p += std::abs(c.p[a]);
+      s.L += std::abs(c.L[a]);
+    }
+  }
+  s.E += std::abs(before.total) + std::abs(after.kinetic) + std::abs(after.potential);
+  for (int a = 0; a < 3; ++a) {
+    s.p += std::abs(before.p[a]);
+    s.L += std::abs(before.L[a]);
+  }
+  return s;
+}
+
+template <int D>
+void expect_stages_add_up(const std::string& scheme, const std::string& kernel,
+                          const std::string& integrator = "symplectic") {
+  SCOPED_TRACE(std::to_string(D) + "D " + scheme + " " + kernel + " " + integrator);
+  MpmSimulation<double, D> sim = ledger_block<double, D>(scheme, kernel, integrator);
+  DiagnosticsRow before = sim.measure();
+  ASSERT_TRUE(before.ledger);
+  ConservedSums acted;  // |change| of the walls and colliders over the steps
+  for (int step = 1; step <= 4; ++step) {
+    const DiagnosticsRow row = sim.step_fixed_measured(2e-4);
+    ASSERT_TRUE(row.ledger);
+    ConservedSums sum;
+    for (const ConservedSums& c : row.stages) sum += c;
+    const LedgerScale scale = ledger_scale(before, row);
+    const double eps = 1e-13;  // a few ε_64 of the sums, taken in different orders
+    EXPECT_NEAR(sum.mass, 0, eps * sim.total_mass()) << "step " << step;
+    EXPECT_NEAR(sum.energy, row.total - before.total, eps * scale.E) << "step " << step;
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_NEAR(sum.p[a], row.p[a] - before.p[a], eps * scale.p) << "step " << step;
+      EXPECT_NEAR(sum.L[a], row.L[a] - before.L[a], eps * scale.L) << "step " << step;
+    }
+    // Linear momentum through P2G for every scheme (Jiang et al. 2017, Sec 5.1.1, 5.2), and
+    // through G2P for the schemes of the paper (Sec 5.1.3; FLIP's Σ m_p Δv_p = Σ m_i Δv_i).
+    const ConservedSums& p2g = row.stages[std::size_t(LedgerStage::p2g)];
+    const ConservedSums& g2p = row.stages[std::size_t(LedgerStage::g2p)];
+    for (int a = 0; a < D; ++a) {
+      EXPECT_NEAR(p2g.p[a], 0, eps * scale.p) << "step " << step;
+      if (scheme == "pic" || scheme == "flip" || scheme == "apic" || scheme == "rpic")
+        EXPECT_NEAR(g2p.p[a], 0, eps * scale.p) << "step " << step;
+    }
+    for (LedgerStage st : {LedgerStage::walls, LedgerStage::colliders}) {
+      acted.p[std::size_t(st == LedgerStage::walls)] += std::abs(row.stages[std::size_t(st)].p[1]);
+      acted.p[2] += std::abs(row.stages[std::size_t(st)].p[0]);
+    }
+    before = row;
+  }
+  EXPECT_GT(acted.p[1], 0) << "the floor never acted";
+  EXPECT_GT(acted.p[2], 0) << "the walls and colliders never acted";
+}
+
+TEST(StageLedger, StagesAddUpToTheStep2D) {
+  for (const char* scheme :
+       {"apic", "pic", "flip", "rpic", "polypic", "mls", "tpic", "asflip", "xpic"})
+    expect_stages_add_up<2>(scheme, "quadratic");
+  expect_stages_add_up<2>("apic", "linear");  // D_p from the stencil at x
+  expect_stages_add_up<2>("apic", "cubic");
+  expect_stages_add_up<2>("apic", "quadratic", "midpoint");
+}
+
+TEST(StageLedger, StagesAddUpToTheStep3D) {
+  expect_stages_add_up<3>("apic", "quadratic");
+  expect_stages_add_up<3>("flip", "quadratic");
+}
+
+// With the ledger on, the step is the same, bit for bit.
+TEST(StageLedger, LeavesTheStepUnchanged) {
+  MpmSimulation<float, 2> on = ledger_block<float, 2>("apic", "quadratic");
+  SceneDesc plain = on.scene();
+  plain.solver.ledger = false;
+  MpmSimulation<float, 2> off(plain);
+  for (int step = 0; step < 3; ++step) {
+    on.step_fixed_measured(2e-4);
+    off.step_fixed_measured(2e-4);
+  }
+  const auto &a = MpmProbe(on).particles(), &b = MpmProbe(off).particles();
+  ASSERT_GT(a.size(), 100u);
+  for (std::size_t q = 0; q < a.size(); ++q) {
+    ASSERT_EQ(a.x[q], b.x[q]) << "particle " << q;
+    ASSERT_EQ(a.v[q], b.v[q]) << "particle " << q;
+    ASSERT_EQ(a.C[q], b.C[q]) << "particle " << q;
+  }
+}
+
+// Sec 5 as numbers on the rotating disk (Sec 6.1) under symplectic Euler, where the transfers
+// are the paper's: APIC's and RPIC's P2G and G2P change L by round-off (Sec 5.3, 5.1.2, 5.1.4),
+// PIC's P2G too but its G2P measurably (Sec 2.1: the local angular momentum l̂_p is lost).
+// Largest |stage ΔL_z| / |L_z| over the steps.
+std::array<double, ledger_stage_count> disk_dL(const std::string& scheme) {
+  SceneDesc s = load_scene(apiclab::test::shipped_scene_path("rotating-disk"),
+                           {"solver.scheme=" + scheme, "solver.integrator=symplectic",
+                            "time.dt.rule=elastic", "solver.ledger=true"});
+  auto sim = make_simulation(s);
+  std::array<double, ledger_stage_count> worst{};
+  for (int step = 0; step < 5; ++step) {
+    DiagnosticsRow row;
+    EXPECT_FALSE(sim->step(1.0, &row).has_value());
+    for (int st = 0; st < ledger_stage_count; ++st)
+      worst[std::size_t(st)] =
+          std::max(worst[std::size_t(st)], std::abs(row.stages[std::size_t(st)].L[2] / row.L[2]));
+  }
+  return worst;
+}
+
+TEST(StageLedger, AngularMomentumOfTheTransfersOnTheRotatingDisk) {
+  const auto p2g = std::size_t(LedgerStage::p2g), g2p = std::size_t(LedgerStage::g2p);
+  for (const char* scheme : {"apic", "rpic"}) {
+    const auto dL = disk_dL(scheme);
+    std::printf("%s: largest |dL_z / L_z| of P2G %.1e, G2P %.1e\n", scheme, dL[p2g], dL[g2p]);
+    EXPECT_LT(dL[p2g], 1e-12) << scheme;
+    EXPECT_LT(dL[g2p], 1e-12) << scheme;
+  }
+  const auto pic = disk_dL("pic");
+  std::printf("pic: largest |dL_z / L_z| of P2G %.1e, G2P %.1e\n", pic[p2g], pic[g2p]);
+  EXPECT_LT(pic[p2g], 1e-12);
+  EXPECT_GT(pic[g2p], 1e-6);
 }
 
 }  // namespace

@@ -174,6 +174,31 @@ check "scheme_energy.csv: every scheme (pic flip apic rpic mls tpic polypic at l
 check "scheme_energy (quick): PIC lowest, FLIP highest, the affine schemes between" "energy_order $se"
 check "scheme_energy.png shows the schemes' colours" "'$check_png' $out/scheme_energy.png 800 350 ${color[pic]} ${color[flip]} ${color[apic]}"
 
+# The conservation ledger's chart (Jiang et al. 2017, Sec 5 stage by stage): the rotating disk
+# under symplectic Euler, each stage's ΔL_z per step (docs/outputs.md, Conservation ledger).
+# figures.csv holds the quick run's numbers: APIC's and RPIC's transfers and PIC's P2G below
+# 1e-12 of L_z, PIC's and FLIP's G2P to one significant digit.
+fl=$out/ledger_rotating_disk.csv
+check "ledger_rotating_disk.png and .csv exist" "[ -s $out/ledger_rotating_disk.png ] && [ -s $fl ]"
+check "ledger_rotating_disk.csv header" \
+  "[ \"\$(head -1 $fl)\" = '$time_header,p2g_dLz,forces_dLz,walls_dLz,colliders_dLz,g2p_dLz,move_dLz' ]"
+check "ledger_rotating_disk.csv series: pic flip apic rpic" "[ \"\$(csv_schemes $fl)\" = 'apic flip pic rpic ' ]"
+check "ledger_rotating_disk.png is a chart with every series" \
+  "'$check_png' $out/ledger_rotating_disk.png 800 350 ${color[pic]} ${color[flip]} ${color[apic]}"
+stage_dL() {  # CSV "SCHEME..." COLUMN: the largest |stage ΔL_z / L_z| over the schemes' steps
+  awk -F, -v s=" $2 " -v c="$3" 'NR > 1 && $2 > 0 && index(s, " " $1 " ") {
+    r = $c / $9; if (r < 0) r = -r; if (r > m) m = r} END {printf "%.17g", m}' "$1"
+}
+round_off_or() {  # X: "<1e-12" when below, else X to one significant digit (3e-5)
+  if awk "BEGIN {exit !($1 < 1e-12)}"; then echo "<1e-12"
+  else awk "BEGIN {printf \"%.0e\", $1}" | sed 's/e-0*/e-/; s/e+0*/e/'; fi
+}
+transfers=$(awk "BEGIN {a = $(stage_dL $fl "apic rpic" 10); b = $(stage_dL $fl "apic rpic" 14); printf \"%.17g\", (a > b ? a : b)}")
+is ledger.apic_rpic_transfers "$(round_off_or "$transfers")"
+is ledger.pic_p2g "$(round_off_or "$(stage_dL $fl pic 10)")"
+is ledger.pic_g2p "$(round_off_or "$(stage_dL $fl pic 14)")"
+is ledger.flip_g2p "$(round_off_or "$(stage_dL $fl flip 14)")"
+
 if [ "$part" = quick ]; then
   echo "$passed passed, $failed failed (the --quick run's checks; the full runs are the full tier's)"
   [ "$failed" = 0 ]
