@@ -392,8 +392,9 @@ void expect_stages_add_up(const std::string& scheme, const std::string& kernel,
     const ConservedSums& g2p = row.stages[std::size_t(LedgerStage::g2p)];
     for (int a = 0; a < D; ++a) {
       EXPECT_NEAR(p2g.p[a], 0, eps * scale.p) << "step " << step;
-      if (scheme == "pic" || scheme == "flip" || scheme == "apic" || scheme == "rpic")
+      if (scheme == "pic" || scheme == "flip" || scheme == "apic" || scheme == "rpic") {
         EXPECT_NEAR(g2p.p[a], 0, eps * scale.p) << "step " << step;
+      }
     }
     for (LedgerStage st : {LedgerStage::walls, LedgerStage::colliders}) {
       acted.p[std::size_t(st == LedgerStage::walls)] += std::abs(row.stages[std::size_t(st)].p[1]);
