@@ -347,17 +347,16 @@ struct G2pPass {
 
   // The diagnostics terms that ChunkTerms::sum cannot form from x, v and C
   // (sim/mpm/particle_sums.hpp): with the multilinear kernel ½ m tr(C D_p Cᵀ) and m (Bᵀ : ε) at
-  // x (x^{n+1}, or the ledger's xⁿ), and PolyPIC's higher modes' kinetic energy
-  // (sim/mpm/schemes/polypic_modes.hpp); particle q is the chunk's j-th.
+  // x^{n+1}, and PolyPIC's higher modes' kinetic energy (sim/mpm/schemes/polypic_modes.hpp);
+  // particle q is the chunk's j-th.
   __attribute__((always_inline)) void diagnostics_terms(ChunkTerms<T, D, chunk>& terms, int j,
-                                                        std::ptrdiff_t q,
-                                                        const Vec<T, D>& x) const {
+                                                        std::ptrdiff_t q) const {
     const T m = p.mass[q];
     T modes_kinetic = 0;
     if constexpr (Sch::higher_modes) {
       if (polypic_extra > 0) {
         Stencil<T, D, QuadraticKernel> at_x;
-        at_x.compute(x, grid);
+        at_x.compute(p.x[q], grid);
         modes_kinetic =
             T(0.5) * m *
             polypic::modes_energy_density<T, D>(at_x, grid.inv_dx, p.modes, std::size_t(q));
@@ -365,45 +364,11 @@ struct G2pPass {
     }
     if constexpr (multilinear) {
       Stencil<T, D, LinearKernel> at_x;
-      at_x.compute(x, grid);
+      at_x.compute(p.x[q], grid);
       terms.set_affine(j, m, p.C[q], Mat<T, D>(at_x.inertia()), modes_kinetic);
     } else {  // PolyPIC's higher modes; its C is read with x and v
       terms.extra_kinetic[j] = modes_kinetic;
       for (int a = 0; a < terms.moments; ++a) terms.affine_moment[a][j] = T(0);
-    }
-  }
-
-  // The ledger's sums of particles [first, end) at positions xs (from particle `first` on), with
-  // their v, C and modes as they are: the row's terms, as run_chunk forms them.
-  __attribute__((noinline)) ParticleSums ledger_sums(std::ptrdiff_t first, std::ptrdiff_t end,
-                                                     const Vec<T, D>* xs) const {
-    ChunkTerms<T, D, chunk> terms;
-    if constexpr (Sch::affine && !multilinear) terms.isotropic_k = k_inertia;
-    terms.extras = extras;
-    if (extras)
-      for (std::ptrdiff_t q = first; q < end; ++q)
-        diagnostics_terms(terms, int(q - first), q, xs[q - first]);
-    return terms.sum(&p.mass[std::size_t(first)], xs, &p.v[std::size_t(first)], p.C.data() + first,
-                     int(end - first), gravity);
-  }
-
-  // The ledger's sums of every chunk (sim/mpm/stage_ledger.hpp): before G2P (start) at xⁿ,
-  // keeping xⁿ, or after it at the kept xⁿ. Passes of their own, so that G2P's loop is as
-  // without the ledger.
-  __attribute__((noinline)) void ledger_chunks(StepLedger<T, D>& ledger, bool start,
-                                               bool parallel) const {
-    const std::ptrdiff_t n = std::ptrdiff_t(p.size()), chunks = (n + chunk - 1) / chunk;
-#pragma omp parallel for schedule(static) if (parallel)
-    for (std::ptrdiff_t c = 0; c < chunks; ++c) {
-      const std::ptrdiff_t first = c * chunk, end = std::min(n, (c + 1) * chunk);
-      LedgerChunk& out = ledger.chunks[std::size_t(c)];
-      if (start) {
-        out.start = ledger_sums(first, end, &p.x[std::size_t(first)]);
-        std::copy(&p.x[std::size_t(first)], &p.x[std::size_t(first)] + (end - first),
-                  ledger.x_start.data() + first);
-      } else {
-        out.updated = ledger_sums(first, end, ledger.x_start.data() + first);
-      }
     }
   }
 
@@ -433,7 +398,7 @@ struct G2pPass {
       const Vec<T, D> v_n = p.v[q];
       update_particle(q, batch, lane, g);
       if (!move_particle(q, g, v_n, moves.largest)) moves.bad = true;
-      if (sums && terms.extras) diagnostics_terms(terms, int(q - first), q, p.x[q]);
+      if (sums && terms.extras) diagnostics_terms(terms, int(q - first), q);
     }
     if (sums)
       *sums = terms.sum(&p.mass[std::size_t(first)], &p.x[std::size_t(first)],
@@ -454,11 +419,12 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums, bool ledger) {
   const std::ptrdiff_t n = std::ptrdiff_t(p_.size());
   const std::ptrdiff_t chunks = (n + chunk - 1) / chunk;
   if (sums) chunk_sums_.resize(std::size_t(chunks));
-  if (ledger) {
-    ledger_.chunks.resize(std::size_t(chunks));
-    ledger_.x_start.resize(p_.size());
-    pass.ledger_chunks(ledger_, true, parallel_worthwhile());
-  }
+  // The ledger's particle sums (sim/mpm/mpm_ledger.hpp), once per precision and dimension: the
+  // scheme and kernel as runtime flags.
+  static_assert(chunk == StepLedger<T, D>::chunk);
+  const LedgerTerms ledger_terms{scheme_t<S>::affine, G2pPass<T, D, K, S>::multilinear,
+                                 scheme_t<S>::higher_modes && pass.polypic_extra > 0};
+  if (ledger) ledger_particles(true, ledger_terms);
   bool bad = false;
   double max_move = 0;
 #pragma omp parallel for schedule(static) reduction(||     \
@@ -477,7 +443,7 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums, bool ledger) {
     *sums = ParticleSums{};
     for (const ParticleSums& own : chunk_sums_) sums->add(own);
   }
-  if (ledger) pass.ledger_chunks(ledger_, false, parallel_worthwhile());
+  if (ledger) ledger_particles(false, ledger_terms);
   non_finite_ = non_finite_ || bad;
   blocks_.add_drift(std::isfinite(max_move) ? max_move * double(grid_.inv_dx) : 1e30);
 }

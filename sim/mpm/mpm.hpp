@@ -163,6 +163,10 @@ class MpmSimulation final : public Simulation, public TransferControls {
   // stages' changes into the step's row.
   void ledger_grid();
   void ledger_constraints();  // the implicit solve's walls and colliders
+  // G2P's particle sums (start: before G2P at xⁿ, keeping xⁿ; else after it at the kept xⁿ).
+  void ledger_particles(bool start, LedgerTerms terms);
+  ParticleSums ledger_sums(std::ptrdiff_t first, std::ptrdiff_t end, const Vec<T, D>* xs,
+                           LedgerTerms terms) const;
   DiagnosticsRow with_ledger(DiagnosticsRow r) const;
   // step_fixed; G2P fills sums when given. False when the state was frozen (non-finite) and
   // no step was taken, so the sums were not taken.

@@ -2,8 +2,68 @@
 // stage's state is).
 #pragma once
 #include "sim/mpm/mpm.hpp"
+#include "sim/mpm/schemes/polypic_modes.hpp"
+#include "sim/mpm/stencil.hpp"
 
 namespace apiclab {
+
+// The ledger's sums of particles [first, end) at positions xs (from particle `first` on), with
+// their v, C and modes as they are: the row's terms, as G2P's run_chunk and diagnostics_terms
+// form them (sim/mpm/g2p.hpp).
+template <class T, int D>
+ParticleSums MpmSimulation<T, D>::ledger_sums(std::ptrdiff_t first, std::ptrdiff_t end,
+                                              const Vec<T, D>* xs, LedgerTerms how) const {
+  ChunkTerms<T, D, StepLedger<T, D>::chunk> terms;
+  if (how.affine && !how.multilinear) terms.isotropic_k = inertia_scale();
+  terms.extras = (how.affine && how.multilinear) || how.modes;
+  if (terms.extras)
+    for (std::ptrdiff_t q = first; q < end; ++q) {
+      const int j = int(q - first);
+      const T m = p_.mass[q];
+      T modes_kinetic = 0;
+      if (how.modes) {
+        Stencil<T, D, QuadraticKernel> at_x;
+        at_x.compute(xs[j], grid_);
+        modes_kinetic =
+            T(0.5) * m *
+            polypic::modes_energy_density<T, D>(at_x, grid_.inv_dx, p_.modes, std::size_t(q));
+      }
+      if (how.multilinear) {
+        Stencil<T, D, LinearKernel> at_x;
+        at_x.compute(xs[j], grid_);
+        terms.set_affine(j, m, p_.C[q], Mat<T, D>(at_x.inertia()), modes_kinetic);
+      } else {  // PolyPIC's higher modes; its C is read with x and v
+        terms.extra_kinetic[j] = modes_kinetic;
+        for (int a = 0; a < terms.moments; ++a) terms.affine_moment[a][j] = T(0);
+      }
+    }
+  return terms.sum(&p_.mass[std::size_t(first)], xs, &p_.v[std::size_t(first)], p_.C.data() + first,
+                   int(end - first), scene_.gravity);
+}
+
+// The ledger's sums of G2P's chunks: before G2P (start) at xⁿ, keeping xⁿ, or after it at the
+// kept xⁿ. Passes of their own, so that G2P's loop is as without the ledger.
+template <class T, int D>
+void MpmSimulation<T, D>::ledger_particles(bool start, LedgerTerms how) {
+  constexpr std::ptrdiff_t chunk = StepLedger<T, D>::chunk;
+  const std::ptrdiff_t n = std::ptrdiff_t(p_.size()), chunks = (n + chunk - 1) / chunk;
+  if (start) {
+    ledger_.chunks.resize(std::size_t(chunks));
+    ledger_.x_start.resize(p_.size());
+  }
+#pragma omp parallel for schedule(static) if (parallel_worthwhile())
+  for (std::ptrdiff_t c = 0; c < chunks; ++c) {
+    const std::ptrdiff_t first = c * chunk, end = std::min(n, (c + 1) * chunk);
+    LedgerChunk& out = ledger_.chunks[std::size_t(c)];
+    if (start) {
+      out.start = ledger_sums(first, end, &p_.x[std::size_t(first)], how);
+      std::copy(&p_.x[std::size_t(first)], &p_.x[std::size_t(first)] + (end - first),
+                ledger_.x_start.data() + first);
+    } else {
+      out.updated = ledger_sums(first, end, ledger_.x_start.data() + first, how);
+    }
+  }
+}
 
 // After the grid update, before the boundary pass: the grid with vⁿ and with ṽ*, row by row of
 // the active box, the rows' sums added in row order (the same at every thread count).

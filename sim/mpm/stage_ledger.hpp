@@ -14,6 +14,7 @@
 // components at vⁿ's, and the walls' and colliders' terms are what setting them changes, then what
 // the boundary pass after the solve changes.
 #pragma once
+#include <cstddef>
 #include <vector>
 
 #include "sim/math.hpp"
@@ -28,9 +29,18 @@ struct LedgerChunk {
   ParticleSums start, updated;
 };
 
+// The scheme and kernel as the ledger's particle sums read them: at run time, so that the sums are
+// compiled once per precision and dimension, not per kernel and scheme.
+struct LedgerTerms {
+  bool affine;       // the scheme's C (D_p = k Δx² I, or the multilinear kernel's)
+  bool multilinear;  // the multilinear kernel's D_p at x
+  bool modes;        // PolyPIC's higher modes
+};
+
 // What a step with the ledger on keeps between its phases.
 template <class T, int D>
 struct StepLedger {
+  static constexpr std::ptrdiff_t chunk = 1024;  // particles a sum: G2P's chunks (sim/mpm/g2p.hpp)
   std::vector<LedgerChunk> chunks;
   std::vector<Vec<T, D>> x_start;       // xⁿ, copied by G2P chunk by chunk before the move
   double elastic_start = 0;             // Ψ(Fⁿ)
