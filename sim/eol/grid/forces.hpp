@@ -317,40 +317,35 @@ class ElasticForces {
   // Any model, one point at a time: F = Δx A⁻¹, P and Ψ from materials.hpp, τ = V₀ P Fᵀ.
   void general_tau(T dx, const ElasticMaterial<T>& mat, const CellPoints<T, D>& pts,
                    T (&tau)[D][D][P], T (&vpsi)[P]) const {
-    for (int q = 0; q < P; ++q) {
-      Mat<T, D> t = Mat<T, D>::Zero();
-      vpsi[q] = T(0);
-      if (pts.fill[q] > T(0) && pts.det[q] > T(0)) {
-        const Mat<T, D> F = dx * pts.matrix(q).inverse();
-        Mat<T, D> Pk;
-        T psi;
-        stress_and_energy<T, D>(mat, F, Pk, psi);
-        const T volume = pts.det[q] * quad_.weight * pts.fill[q];
-        t = volume * Pk * F.transpose();
-        vpsi[q] = volume * psi;
-      }
-      for (int r = 0; r < D; ++r)
-        for (int c = 0; c < D; ++c) tau[r][c][q] = t(r, c);
-    }
+    tau_of(
+        mat, pts, [&](int q) -> Mat<T, D> { return dx * pts.matrix(q).inverse(); }, tau, vpsi);
   }
   // Eq 34: at each point F_e = F F_p⁻¹(X_q), F_p⁻¹ looked up at the point's material coordinate;
   // τ = V₀ P(F_e) F_eᵀ, the gradient of V₀ Ψ(F F_p⁻¹) in y (F_p held, as X is).
   void plastic_tau(const EulerianGrid<T, D>& g, std::size_t base, const ElasticMaterial<T>& mat,
                    const PlasticSamples<T, D>& plastic, const CellPoints<T, D>& pts,
                    T (&tau)[D][D][P], T (&vpsi)[P]) const {
+    const auto Fe = [&](int q) -> Mat<T, D> {
+      Vec<T, D> X = Vec<T, D>::Zero();
+      for (int k = 0; k < P; ++k) X += quad_.N_lanes_k[q][k] * g.X[base + offset_[std::size_t(k)]];
+      return g.dx * pts.matrix(q).inverse() * plastic.at(X);
+    };
+    tau_of(mat, pts, Fe, tau, vpsi);
+  }
+  // τ = V₀ P(F) Fᵀ and V₀ Ψ(F) at each filled point, F = F_of(q) (the elastic part of F).
+  template <class FOf>
+  void tau_of(const ElasticMaterial<T>& mat, const CellPoints<T, D>& pts, const FOf& F_of,
+              T (&tau)[D][D][P], T (&vpsi)[P]) const {
     for (int q = 0; q < P; ++q) {
       Mat<T, D> t = Mat<T, D>::Zero();
       vpsi[q] = T(0);
       if (pts.fill[q] > T(0) && pts.det[q] > T(0)) {
-        Vec<T, D> X = Vec<T, D>::Zero();
-        for (int k = 0; k < P; ++k)
-          X += quad_.N_lanes_k[q][k] * g.X[base + offset_[std::size_t(k)]];
-        const Mat<T, D> Fe = g.dx * pts.matrix(q).inverse() * plastic.at(X);
+        const Mat<T, D> F = F_of(q);
         Mat<T, D> Pk;
         T psi;
-        stress_and_energy<T, D>(mat, Fe, Pk, psi);
+        stress_and_energy<T, D>(mat, F, Pk, psi);
         const T volume = pts.det[q] * quad_.weight * pts.fill[q];
-        t = volume * Pk * Fe.transpose();
+        t = volume * Pk * F.transpose();
         vpsi[q] = volume * psi;
       }
       for (int r = 0; r < D; ++r)
