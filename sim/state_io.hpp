@@ -64,7 +64,9 @@ class StateReader {
     const std::uint64_t n = value<std::uint64_t>();
     if (n > left() / sizeof(E)) throw StateError("the state ends early");
     v.resize(std::size_t(n));
-    std::memcpy(static_cast<void*>(v.data()), take(v.size() * sizeof(E)), v.size() * sizeof(E));
+    // An empty vector may hold no storage: memcpy takes no null pointer, even for 0 bytes.
+    if (!v.empty())
+      std::memcpy(static_cast<void*>(v.data()), take(v.size() * sizeof(E)), v.size() * sizeof(E));
   }
   // An array whose length the fresh solver already has (particles of the same scene): `what`
   // names it when the lengths differ.
@@ -74,7 +76,9 @@ class StateReader {
     if (n != v.size())
       throw StateError(std::string("it holds ") + std::to_string(n) + " " + what +
                        ", the scene makes " + std::to_string(v.size()));
-    std::memcpy(static_cast<void*>(v.data()), take(v.size() * sizeof(E)), v.size() * sizeof(E));
+    // An empty vector may hold no storage: memcpy takes no null pointer, even for 0 bytes.
+    if (!v.empty())
+      std::memcpy(static_cast<void*>(v.data()), take(v.size() * sizeof(E)), v.size() * sizeof(E));
   }
   std::string text() {
     const std::uint64_t n = value<std::uint64_t>();
