@@ -154,17 +154,6 @@ void advance(PySimulation& self, double t) {
   }
 }
 
-// The CSV's header for these rows: with the conservation ledger's columns where the rows carry
-// them (a DiagnosticsRow with `ledger`), the plain header otherwise.
-template <class Rows>
-auto header_of(const Rows& rows, int) -> decltype(diagnostics_header(rows.front().ledger)) {
-  return diagnostics_header(!rows.empty() && rows.front().ledger);
-}
-template <class Rows>
-std::string header_of(const Rows&, long) {
-  return diagnostics_header();
-}
-
 // The rows as the CSV writes them, parsed back into columns: numbers as float64 arrays, words
 // (dt_limit) as lists of str, so every column the CSV has appears under its header's name.
 py::dict columns_of(const std::vector<DiagnosticsRow>& rows) {
@@ -172,7 +161,8 @@ py::dict columns_of(const std::vector<DiagnosticsRow>& rows) {
   for (const DiagnosticsRow& r : rows) write_diagnostics_row(csv, r);
   std::vector<std::string> names;
   {
-    std::istringstream header(header_of(rows, 0));
+    // With the conservation ledger's columns where the rows carry them.
+    std::istringstream header(diagnostics_header(!rows.empty() && rows.front().ledger));
     for (std::string name; std::getline(header, name, ',');) names.push_back(name);
   }
   std::vector<std::vector<std::string>> cells(names.size());

@@ -38,12 +38,6 @@ using Tree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<do
 
 }  // namespace
 
-Conservation conservation(const std::vector<DiagnosticsRow>& rows, double total_mass,
-                          double extent) {
-  if (rows.empty()) return {};
-  return conservation(rows, DriftRule(rows.front(), total_mass, extent));
-}
-
 Conservation conservation(const std::vector<DiagnosticsRow>& rows, const DriftRule& drift) {
   Conservation c;
   if (rows.empty()) return c;

@@ -24,9 +24,8 @@ struct Conservation {
   double max_momentum = 0, final_momentum = 0;
   bool energy_relative = true;
 };
+// `drift`: the run's rule, from its first row (DriftRule::of).
 Conservation conservation(const std::vector<DiagnosticsRow>& rows, const DriftRule& drift);
-Conservation conservation(const std::vector<DiagnosticsRow>& rows, double total_mass,
-                          double extent);
 
 // One run at its frame times: particle positions by particle id (dim values each) and the
 // energies at that time. Frame 0 is the initial state, so positions[0] are the material points X.

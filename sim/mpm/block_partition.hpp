@@ -35,6 +35,8 @@ class BlockPartition {
             const BoundaryNodes<T, D>& boundary, KernelType kernel, bool parallel);
   // Cells the fastest particle moved this step (G2P reports it).
   void add_drift(double cells) { drift_since_sort_ += cells; }
+  // The particles were moved from outside the step (written between steps): sort them next.
+  void must_sort() { drift_since_sort_ = 1e30; }
 
   // fn(q) for every particle, colour by colour: calls of one colour may run in parallel and
   // never touch a common node.

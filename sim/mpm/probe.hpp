@@ -38,7 +38,7 @@ class MpmProbe {
   // may have left their blocks, so the next step sorts them again; the blow-up check's energy
   // and the implicit solve's velocity scale are the written state's, as setup takes the first's.
   void particles_written(bool moved) const {
-    if (moved) sim_.blocks_.add_drift(1e30);
+    if (moved) sim_.blocks_.must_sort();
     sim_.stress_of_current_F_ = false;
     sim_.energy_ref_ = sim_.energy_reference();
     const DiagnosticsRow now = sim_.measure();

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "sim/measure/metrics.hpp"
+#include "sim/measure/run_summary.hpp"
 
 namespace apiclab::metrics {
 namespace {
@@ -133,7 +134,7 @@ TEST(Metrics, ConservationOfConstructedRows) {
   rows[0].total = 2.0, rows[0].kinetic = 2.0, rows[0].L = {0, 0, 1}, rows[0].p = {1, 0, 0};
   rows[1].total = 1.9, rows[1].L = {0, 0, 1.05}, rows[1].p = {1, 0.3, 0};
   rows[2].total = 2.02, rows[2].L = {0, 0, 0.99}, rows[2].p = {1, 0, 0.4};
-  const Conservation c = conservation(rows, 1.0, 1.0);
+  const Conservation c = conservation(rows, DriftRule(rows[0], 1.0, 1.0));
   EXPECT_NEAR(c.max_energy, 0.05, 1e-15);
   EXPECT_NEAR(c.final_energy, 0.01, 1e-15);
   EXPECT_TRUE(c.angular_relative);
@@ -142,8 +143,8 @@ TEST(Metrics, ConservationOfConstructedRows) {
   EXPECT_NEAR(c.max_momentum, 0.4, 1e-15);
   // L₀ = 0 (a body at rest): the absolute |ΔL|.
   rows[0].L = {0, 0, 0};
-  EXPECT_FALSE(conservation(rows, 1.0, 1.0).angular_relative);
-  EXPECT_NEAR(conservation(rows, 1.0, 1.0).final_angular, 0.99, 1e-14);
+  EXPECT_FALSE(conservation(rows, DriftRule(rows[0], 1.0, 1.0)).angular_relative);
+  EXPECT_NEAR(conservation(rows, DriftRule(rows[0], 1.0, 1.0)).final_angular, 0.99, 1e-14);
 }
 
 TEST(Metrics, LogLogSlope) {
