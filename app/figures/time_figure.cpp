@@ -25,6 +25,10 @@ SchemeStyle run_style(const jobs::Run& r) {
 
 double value(const jobs::Run& r, const Quantity& q, std::size_t i) {
   const double v = q.of(r.rows[i]);
+  if (q.per_start) {
+    const double scaled = std::abs(v / q.per_start(r.rows.front()));
+    return q.log_y ? std::max(scaled, 1e-18) : scaled;  // NaN stays NaN
+  }
   return q.relative ? v / q.of(r.rows.front()) : v;
 }
 

@@ -20,6 +20,9 @@ struct Quantity {
   // Coloured by the step's dt_limit (EoL, Sec 3.6) instead of by run: one line per run and
   // limit, the runs told apart by dashes (Fig 8).
   bool by_dt_limit = false;
+  // When set: |of / per_start(the run's row at t = 0)|, at least 1e-18 on a log scale so that an
+  // exact zero shows.
+  double (*per_start)(const DiagnosticsRow&) = nullptr;
 };
 
 struct TimeFigure {

@@ -175,7 +175,7 @@ check "scheme_energy (quick): PIC lowest, FLIP highest, the affine schemes betwe
 check "scheme_energy.png shows the schemes' colours" "'$check_png' $out/scheme_energy.png 800 350 ${color[pic]} ${color[flip]} ${color[apic]}"
 
 # The conservation ledger's chart (Jiang et al. 2017, Sec 5 stage by stage): the rotating disk
-# under symplectic Euler, each stage's ΔL_z per step (docs/outputs.md, Conservation ledger).
+# under symplectic Euler, each stage's ΔL_z per step over L_z(0) (docs/outputs.md, Conservation ledger).
 # figures.csv holds the quick run's numbers: APIC's and RPIC's transfers and PIC's P2G below
 # 1e-12 of L_z, PIC's and FLIP's G2P to one significant digit.
 fl=$out/ledger_rotating_disk.csv
@@ -185,9 +185,10 @@ check "ledger_rotating_disk.csv header" \
 check "ledger_rotating_disk.csv series: pic flip apic rpic" "[ \"\$(csv_schemes $fl)\" = 'apic flip pic rpic ' ]"
 check "ledger_rotating_disk.png is a chart with every series" \
   "'$check_png' $out/ledger_rotating_disk.png 800 350 ${color[pic]} ${color[flip]} ${color[apic]}"
-stage_dL() {  # CSV "SCHEME..." COLUMN: the largest |stage ΔL_z / L_z| over the schemes' steps
-  awk -F, -v s=" $2 " -v c="$3" 'NR > 1 && $2 > 0 && index(s, " " $1 " ") {
-    r = $c / $9; if (r < 0) r = -r; if (r > m) m = r} END {printf "%.17g", m}' "$1"
+stage_dL() {  # CSV "SCHEME..." COLUMN: the largest |stage ΔL_z / L_z(0)| over the schemes' steps
+  awk -F, -v s=" $2 " -v c="$3" 'NR > 1 && !($1 in l0) {l0[$1] = $9}
+    NR > 1 && $2 > 0 && index(s, " " $1 " ") {
+    r = $c / l0[$1]; if (r < 0) r = -r; if (r > m) m = r} END {printf "%.17g", m}' "$1"
 }
 round_off_or() {  # X: "<1e-12" when below, else X to one significant digit (3e-5)
   if awk "BEGIN {exit !($1 < 1e-12)}"; then echo "<1e-12"
