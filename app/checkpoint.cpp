@@ -26,7 +26,7 @@ namespace {
 // (JSON), the state, and a checksum of header and state.
 constexpr char kMagic[16] = {'a', 'p', 'i', 'c', 'l', 'a', 'b', ' ',
                              'c', 'h', 'e', 'c', 'k', 'p', 't', '\n'};
-constexpr std::uint32_t kFormatVersion = 1;
+constexpr std::uint32_t kFormatVersion = 2;
 constexpr std::uint32_t kByteOrder = 0x01020304;
 constexpr std::size_t kPrefix = sizeof(kMagic) + 4 + 4 + 8 + 8;
 // States from this size on are written on a thread of their own (CheckpointWriter).

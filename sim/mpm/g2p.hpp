@@ -424,7 +424,7 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums, bool ledger) {
   static_assert(chunk == StepLedger<T, D>::chunk);
   const LedgerTerms ledger_terms{scheme_t<S>::affine, G2pPass<T, D, K, S>::multilinear,
                                  scheme_t<S>::higher_modes && pass.polypic_extra > 0};
-  if (ledger) ledger_particles(true, ledger_terms);
+  if (ledger) ledger_start(ledger_terms);
   bool bad = false;
   double max_move = 0;
 #pragma omp parallel for schedule(static) reduction(||     \
@@ -443,7 +443,7 @@ void MpmSimulation<T, D>::g2p_impl(T dt, ParticleSums* sums, bool ledger) {
     *sums = ParticleSums{};
     for (const ParticleSums& own : chunk_sums_) sums->add(own);
   }
-  if (ledger) ledger_particles(false, ledger_terms);
+  if (ledger) ledger_updated(ledger_terms);
   non_finite_ = non_finite_ || bad;
   blocks_.add_drift(std::isfinite(max_move) ? max_move * double(grid_.inv_dx) : 1e30);
 }

@@ -85,8 +85,9 @@ void MpmSimulation<T, D>::apply_boundary_conditions(bool ledger) {
       Vec<T, D>& v = grid_.velocity_new[c.node];
       const Vec<T, D> before = v;
       apply_condition(c, v);
-      add_node_change<T, D>(c.collider ? ledger_.colliders : ledger_.walls,
-                            grid_.node_position(c.node), grid_.mass[c.node], before, v);
+      if (v != before && has_mass(c.node))  // else no change to book
+        add_node_change<T, D>(c.collider ? ledger_.colliders : ledger_.walls,
+                              grid_.node_position(c.node), grid_.mass[c.node], before, v);
     }
     return;
   }

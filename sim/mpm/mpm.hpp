@@ -95,6 +95,7 @@ class MpmSimulation final : public Simulation, public TransferControls {
   // Writable access (tests, setup) may change F: the cached stress and energy are dropped.
   Particles<T, D>& particles() {
     stress_of_current_F_ = false;
+    ledger_.forget_start();
     return p_;
   }
   const Particles<T, D>& particles() const { return p_; }
@@ -163,11 +164,16 @@ class MpmSimulation final : public Simulation, public TransferControls {
   // stages' changes into the step's row.
   void ledger_grid();
   void ledger_constraints();  // the implicit solve's walls and colliders
-  // G2P's particle sums (start: before G2P at xⁿ, keeping xⁿ; else after it at the kept xⁿ).
-  void ledger_particles(bool start, LedgerTerms terms);
+  // Passes of their own beside G2P's loop, which stays as without the ledger (a call in it costs
+  // the update's registers even when not taken): before G2P, xⁿ kept and the state at the step's
+  // start summed unless the last row is it; after G2P, the particles at the kept xⁿ.
+  void ledger_start(LedgerTerms terms);
+  void ledger_updated(LedgerTerms terms);
+  std::vector<ParticleSums> ledger_chunk_sums(const Vec<T, D>* xs, LedgerTerms terms) const;
   ParticleSums ledger_sums(std::ptrdiff_t first, std::ptrdiff_t end, const Vec<T, D>* xs,
                            LedgerTerms terms) const;
-  DiagnosticsRow with_ledger(DiagnosticsRow r) const;
+  // The row with the step's stages; the row is then the next step's start.
+  DiagnosticsRow with_ledger(DiagnosticsRow r);
   // step_fixed; G2P fills sums when given. False when the state was frozen (non-finite) and
   // no step was taken, so the sums were not taken.
   bool step_fixed_summing(double dt, ParticleSums* sums);

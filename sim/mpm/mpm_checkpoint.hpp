@@ -2,9 +2,10 @@
 // (the order every sum of the next step runs in), PolyPIC's modes, the plastic model's F_p⁻¹
 // (mpm_plasticity.hpp), the block sort's state, and
 // the scalars a step reads from the one before (the two-step rule's grid speed, the grid's
-// kinetic energy, the frozen flag). Everything else a step writes before it reads: the grid,
-// XPIC's node arrays, the implicit solve's Δv (zero at each step's start, no warm start), the
-// stencils. The explicit step's stress of F^n is computed again on load, as the step did.
+// kinetic energy, the frozen flag, the conservation ledger's start). Everything else a step writes
+// before it reads: the grid, XPIC's node arrays, the implicit solve's Δv (zero at each step's
+// start, no warm start), the stencils. The explicit step's stress of F^n is computed again on load,
+// as the step did.
 #pragma once
 #include <algorithm>
 
@@ -35,6 +36,10 @@ void MpmSimulation<T, D>::save_family_state(StateWriter& w) const {
   w.value(kinetic_grid_);
   w.value(max_grid_speed_);
   w.value(std::uint8_t(non_finite_));
+  w.tag("ledger");  // the next step's start, when the last row was the ledger's
+  w.value(std::int64_t(ledger_.start_of_step));
+  w.value(ledger_.start_potential);
+  w.value(ledger_.start);
 }
 
 template <class T, int D>
@@ -67,6 +72,10 @@ void MpmSimulation<T, D>::load_family_state(StateReader& r) {
   r.value(kinetic_grid_);
   r.value(max_grid_speed_);
   non_finite_ = r.value<std::uint8_t>() != 0;
+  r.tag("ledger");
+  ledger_.start_of_step = long(r.value<std::int64_t>());
+  r.value(ledger_.start_potential);
+  r.value(ledger_.start);
   stress_of_current_F_ = false;
   if (!uses_implicit_solve() && !non_finite_) compute_stress();
 }

@@ -41,28 +41,39 @@ ParticleSums MpmSimulation<T, D>::ledger_sums(std::ptrdiff_t first, std::ptrdiff
                    int(end - first), scene_.gravity);
 }
 
-// The ledger's sums of G2P's chunks: before G2P (start) at xⁿ, keeping xⁿ, or after it at the
-// kept xⁿ. Passes of their own, so that G2P's loop is as without the ledger.
+// Before G2P: xⁿ kept for the sums after G2P, and the state at the step's start (xⁿ, vⁿ, Cⁿ,
+// Fⁿ) summed in G2P's chunks, unless the last step's row is this step's start (with_ledger).
 template <class T, int D>
-void MpmSimulation<T, D>::ledger_particles(bool start, LedgerTerms how) {
+void MpmSimulation<T, D>::ledger_start(LedgerTerms how) {
+  ledger_.x_start.assign(p_.x.begin(), p_.x.end());
+  if (ledger_.start_of_step == steps_) return;
+  ParticleSums start;
+  for (const ParticleSums& s : ledger_chunk_sums(p_.x.data(), how)) start.add(s);
+  const double elastic = elastic_energy();
+  ledger_.start = ledger_state(start, total_mass(), elastic);
+  ledger_.start_potential = elastic + start.gravity;
+  ledger_.start_of_step = steps_;
+}
+
+// After G2P: the particles' sums at the kept xⁿ, chunk by chunk.
+template <class T, int D>
+void MpmSimulation<T, D>::ledger_updated(LedgerTerms how) {
+  ledger_.updated = ledger_chunk_sums(ledger_.x_start.data(), how);
+}
+
+// The particles' sums at positions xs (one per particle), in G2P's chunks.
+template <class T, int D>
+std::vector<ParticleSums> MpmSimulation<T, D>::ledger_chunk_sums(const Vec<T, D>* xs,
+                                                                 LedgerTerms how) const {
   constexpr std::ptrdiff_t chunk = StepLedger<T, D>::chunk;
   const std::ptrdiff_t n = std::ptrdiff_t(p_.size()), chunks = (n + chunk - 1) / chunk;
-  if (start) {
-    ledger_.chunks.resize(std::size_t(chunks));
-    ledger_.x_start.resize(p_.size());
-  }
+  std::vector<ParticleSums> sums(static_cast<std::size_t>(chunks));
 #pragma omp parallel for schedule(static) if (parallel_worthwhile())
   for (std::ptrdiff_t c = 0; c < chunks; ++c) {
     const std::ptrdiff_t first = c * chunk, end = std::min(n, (c + 1) * chunk);
-    LedgerChunk& out = ledger_.chunks[std::size_t(c)];
-    if (start) {
-      out.start = ledger_sums(first, end, &p_.x[std::size_t(first)], how);
-      std::copy(&p_.x[std::size_t(first)], &p_.x[std::size_t(first)] + (end - first),
-                ledger_.x_start.data() + first);
-    } else {
-      out.updated = ledger_sums(first, end, ledger_.x_start.data() + first, how);
-    }
+    sums[std::size_t(c)] = ledger_sums(first, end, xs + first, how);
   }
+  return sums;
 }
 
 // After the grid update, before the boundary pass: the grid with vⁿ and with ṽ*, row by row of
@@ -131,15 +142,10 @@ void MpmSimulation<T, D>::ledger_constraints() {
 // start, the grid after P2G, after the forces, the walls and the colliders, the particles after
 // G2P at xⁿ, and r itself) taken one from the next. Ψ and G stay the start's until the move.
 template <class T, int D>
-DiagnosticsRow MpmSimulation<T, D>::with_ledger(DiagnosticsRow r) const {
-  ParticleSums start, updated;
-  for (const LedgerChunk& c : ledger_.chunks) {
-    start.add(c.start);
-    updated.add(c.updated);
-  }
-  const double mass = total_mass();
-  const ConservedSums s0 = ledger_state(start, mass, ledger_.elastic_start);
-  const double potential = ledger_.elastic_start + start.gravity;  // Ψ + G until the move
+DiagnosticsRow MpmSimulation<T, D>::with_ledger(DiagnosticsRow r) {
+  ParticleSums updated;
+  for (const ParticleSums& c : ledger_.updated) updated.add(c);
+  const double mass = total_mass(), potential = ledger_.start_potential;  // Ψ + G until the move
   ConservedSums grid = ledger_.grid_p2g;
   grid.energy += potential;
   ConservedSums forced = ledger_.grid_forces;
@@ -148,16 +154,19 @@ DiagnosticsRow MpmSimulation<T, D>::with_ledger(DiagnosticsRow r) const {
   walled += ledger_.walls;
   ConservedSums collided = walled;
   collided += ledger_.colliders;
-  updated.gravity = start.gravity;  // G at xⁿ, as the start's sums have it
-  const ConservedSums s5 = ledger_state(updated, mass, ledger_.elastic_start);
+  ConservedSums s5 = ledger_state(updated, mass, 0);
+  s5.energy = updated.kinetic + potential;
   ConservedSums end;
   end.mass = mass;
   end.p = r.p;
   end.L = r.L;
   end.energy = r.total;
-  const ConservedSums states[] = {s0, grid, forced, walled, collided, s5, end};
+  const ConservedSums states[] = {ledger_.start, grid, forced, walled, collided, s5, end};
   for (int s = 0; s < ledger_stage_count; ++s) r.stages[std::size_t(s)] = states[s + 1] - states[s];
   r.ledger = true;
+  ledger_.start = end;
+  ledger_.start_potential = r.potential;
+  ledger_.start_of_step = steps_;
   return r;
 }
 

@@ -18,6 +18,7 @@ void MpmSimulation<T, D>::set_scheme(Scheme scheme, double flip_alpha) {
   const bool was_affine = is_affine(scene_.solver.scheme);
   scene_.solver.scheme = scheme;
   scene_.solver.flip_alpha = flip_alpha;
+  ledger_.forget_start();    // the particles' sums count C by the scheme
   if (!is_affine(scheme)) {  // PIC, FLIP, XPIC: no C_p
     for (auto& C : p_.C) C.setZero();
   } else if (scheme == Scheme::rpic && was_affine) {

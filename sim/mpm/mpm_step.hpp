@@ -39,8 +39,7 @@ bool MpmSimulation<T, D>::step_fixed_summing(double dt, ParticleSums* sums) {
   // A non-finite position would index the grid out of range: the state stays frozen, and
   // step() (or the caller of step_fixed, through measure()) reports it.
   if (non_finite_) return false;
-  const bool ledger = sums && scene_.solver.ledger;  // sim/mpm/stage_ledger.hpp
-  if (ledger) ledger_.elastic_start = elastic_energy();
+  const bool ledger = sums && scene_.solver.ledger;       // sim/mpm/stage_ledger.hpp
   if (boundary_.moving()) boundary_.move_to(time_ + dt);  // moving planes where the step ends
   sort_particles();
   if (boundary_.moving()) blocks_.collect_constraints(grid_, boundary_);

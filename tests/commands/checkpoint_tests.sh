@@ -184,7 +184,7 @@ printf '\x55' | dd of="$c/flip/checkpoint.bin" bs=1 seek=3000 conv=notrunc 2>/de
 refused "corrupt" "its checksum does not match" run --resume "$c/flip"
 cp -r "$CK" "$c/version"
 printf '\x07' | dd of="$c/version/checkpoint.bin" bs=1 seek=16 conv=notrunc 2>/dev/null
-refused "another format version" "has format version 7, this build reads version 1" \
+refused "another format version" "has format version 7, this build reads version 2" \
   run --resume "$c/version"
 
 finish checkpoint_tests

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -436,6 +437,51 @@ TEST(StageLedger, LeavesTheStepUnchanged) {
     ASSERT_EQ(a.x[q], b.x[q]) << "particle " << q;
     ASSERT_EQ(a.v[q], b.v[q]) << "particle " << q;
     ASSERT_EQ(a.C[q], b.C[q]) << "particle " << q;
+  }
+}
+
+// The step's start is the last row unless the state was written since: after v and C are
+// written between steps (as the Python module does) or the scheme switched, P2G still keeps
+// the momentum of the state it transfers (a start taken from the old row would book the write
+// on P2G). And a start taken from the row equals the start summed again, to round-off.
+TEST(StageLedger, StartIsTheWrittenState) {
+  MpmSimulation<double, 2> sim = ledger_block<double, 2>("apic", "quadratic");
+  for (int step = 0; step < 2; ++step) sim.step_fixed_measured(2e-4);
+  auto& p = MpmProbe(sim).particles();
+  for (std::size_t q = 0; q < p.size(); ++q) {
+    p.v[q] += Vec<double, 2>(0.5, -0.25);
+    p.C[q] *= 2.0;
+  }
+  const DiagnosticsRow written = sim.measure();
+  DiagnosticsRow row = sim.step_fixed_measured(2e-4);
+  const LedgerScale scale = ledger_scale(written, row);
+  for (int a = 0; a < 2; ++a)
+    EXPECT_NEAR(row.stages[std::size_t(LedgerStage::p2g)].p[a], 0, 1e-13 * scale.p);
+  sim.set_scheme(Scheme::pic, 0);  // C dropped: the kinetic energy and L lose its share
+  const DiagnosticsRow switched = sim.measure();
+  row = sim.step_fixed_measured(2e-4);
+  ConservedSums sum;
+  for (const ConservedSums& c : row.stages) sum += c;
+  EXPECT_NEAR(sum.energy, row.total - switched.total, 1e-13 * ledger_scale(switched, row).E);
+  EXPECT_NEAR(sum.L[2], row.L[2] - switched.L[2], 1e-13 * ledger_scale(switched, row).L);
+}
+
+TEST(StageLedger, StartFromTheRowEqualsTheSummedStart) {
+  MpmSimulation<double, 2> kept = ledger_block<double, 2>("apic", "linear");
+  MpmSimulation<double, 2> summed = ledger_block<double, 2>("apic", "linear");
+  for (int step = 1; step <= 4; ++step) {
+    MpmProbe(summed).particles();  // writable access: the start is summed again
+    const DiagnosticsRow a = kept.step_fixed_measured(2e-4), b = summed.step_fixed_measured(2e-4);
+    const LedgerScale scale = ledger_scale(a, a);
+    for (int s = 0; s < ledger_stage_count; ++s) {
+      const ConservedSums &x = a.stages[std::size_t(s)], &y = b.stages[std::size_t(s)];
+      EXPECT_NEAR(x.energy, y.energy, 1e-13 * scale.E) << "step " << step << " stage " << s;
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(x.p[c], y.p[c], 1e-13 * scale.p) << "step " << step << " stage " << s;
+        EXPECT_NEAR(x.L[c], y.L[c], 1e-13 * scale.L) << "step " << step << " stage " << s;
+      }
+    }
+    EXPECT_EQ(std::memcmp(&a.total, &b.total, sizeof(double)), 0) << "step " << step;
   }
 }
 
