@@ -11,6 +11,7 @@
 // that direction's tangents, measured from the body's center. Cells of the world grid would
 // cut a face at every grid line it crosses and leave slivers of rows.
 #pragma once
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -112,9 +113,16 @@ void assemble_body_rows(const EulerianGrid<T, D>& g, const std::vector<Vec<T, D>
         centroid += x / T(D);
         behind |= body.distance(to_vec3d(x)).phi <= 0;
       }
-      if (!behind) continue;
       // The tangent plane at the body's point nearest the centroid: N·x + c ≤ 0 inside.
       const ColliderPose::Distance near = body.distance(to_vec3d(centroid));
+      // A body thinner than the simplex can cross it with no vertex inside: then the body's
+      // distance at the centroid is below the simplex's reach from it.
+      if (!behind) {
+        T reach = 0;
+        for (int v = 0; v < D; ++v)
+          reach = std::max(reach, Vec<T, D>(R * s.p[std::size_t(v)] + p - centroid).norm());
+        if (!(T(near.phi) < reach)) continue;
+      }
       const Vec<T, D> N = from_vec3d<T, D>(near.normal);
       const Vec<T, D> q = centroid - T(near.phi) * N;
       const Vec<T, D> ny = R.transpose() * N;

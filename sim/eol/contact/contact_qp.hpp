@@ -38,21 +38,28 @@ class ContactSolver {
     const int m = int(J.rows());
     st.rows = m;
     if (m == 0) return st;
-    // b = J u* (every node), and per node its rows with mass: entries sorted by node.
+    // b = J u* (every node), and per node its rows with mass: the entries bucketed by node (a
+    // counting sort, linear in the entries: a comparison sort of the tens of thousands of
+    // quadrature entries of a face lying on a plane cost more than the rest of the solve).
     rates(J, u);
-    order_.clear();
+    start_.assign(mass.size() + 1, 0);
     for (std::size_t e = 0; e < J.row.size(); ++e)
-      if (mass[J.node[e]] > T(0)) order_.push_back(std::uint32_t(e));
-    std::sort(order_.begin(), order_.end(), [&](std::uint32_t a, std::uint32_t b) {
-      return J.node[a] != J.node[b] ? J.node[a] < J.node[b] : J.row[a] < J.row[b];
-    });
-    // One entry per (node, row): the quadrature points' terms summed.
+      if (mass[J.node[e]] > T(0)) ++start_[J.node[e] + 1];
+    for (std::size_t i = 0; i < mass.size(); ++i) start_[i + 1] += start_[i];
+    order_.resize(start_.back());
+    for (std::size_t e = 0; e < J.row.size(); ++e)
+      if (mass[J.node[e]] > T(0)) order_[start_[J.node[e]]++] = std::uint32_t(e);
+    // One entry per (node, row): the quadrature points' terms summed in their order.
     node_.clear();
     row_.clear();
     coeff_.clear();
+    std::size_t first = 0;  // the current node's first merged entry
     for (std::uint32_t e : order_) {
-      if (!node_.empty() && node_.back() == J.node[e] && row_.back() == J.row[e]) {
-        coeff_.back() += J.coeff[e];
+      if (node_.empty() || node_.back() != J.node[e]) first = node_.size();
+      std::size_t k = first;
+      while (k < node_.size() && row_[k] != J.row[e]) ++k;
+      if (k < node_.size()) {
+        coeff_[k] += J.coeff[e];
         continue;
       }
       node_.push_back(J.node[e]);
@@ -111,6 +118,20 @@ class ContactSolver {
     for (int k = 0; k < m; ++k) usable_[std::size_t(k)] = A_(k, k) > 1e-12 * diag_max;
     lambda_.setZero(m);
     const double tol = 1e-15 * (diag_max > 0 ? 1.0 : 0.0);
+    // A's nonzeros by column (A is symmetric, so a column is a row): a row meets only the rows
+    // that share a node with it, so a sweep costs the nonzeros, not m² (a face lying on a plane
+    // has hundreds of rows and the sweeps were most of its step).
+    col_start_.assign(std::size_t(m) + 1, 0);
+    col_row_.clear();
+    col_value_.clear();
+    for (int k = 0; k < m; ++k) {
+      for (int j = 0; j < m; ++j)
+        if (A_(j, k) != 0.0) {
+          col_row_.push_back(j);
+          col_value_.push_back(A_(j, k));
+        }
+      col_start_[std::size_t(k) + 1] = col_row_.size();
+    }
     // Projected Gauss–Seidel on the dual, to a relative step of 1e-12 or 2000 sweeps.
     double b_scale = 0;  // max |b|
     for (double v : b_) b_scale = std::max(b_scale, std::abs(v));
@@ -118,8 +139,9 @@ class ContactSolver {
       double change = 0;
       for (int k = 0; k < m; ++k) {
         if (!usable_[std::size_t(k)]) continue;
-        // A is symmetric: its column k is row k, and contiguous.
-        const double w = b_[std::size_t(k)] - A_.col(k).dot(lambda_);
+        double w = b_[std::size_t(k)];
+        for (std::size_t e = col_start_[std::size_t(k)]; e < col_start_[std::size_t(k) + 1]; ++e)
+          w -= col_value_[e] * lambda_[col_row_[e]];
         double l = lambda_[k] + w / A_(k, k);
         if (!bilateral[std::size_t(k)]) l = std::max(l, 0.0);
         change = std::max(change, std::abs(l - lambda_[k]) * A_(k, k));
@@ -170,10 +192,12 @@ class ContactSolver {
   }
 
   std::vector<double> b_;
-  std::vector<std::uint32_t> order_, node_, row_;
+  std::vector<std::uint32_t> order_, node_, row_, start_;
   std::vector<Vec<T, D>> coeff_;
   std::vector<char> usable_;
-  std::vector<int> active_;
+  std::vector<int> active_, col_row_;
+  std::vector<std::size_t> col_start_;
+  std::vector<double> col_value_;
   Eigen::MatrixXd A_;
   Eigen::VectorXd lambda_;
 };

@@ -54,8 +54,15 @@ struct ContactRows {
   // Per row, the rate jᵀv_b its jᵀu is held to (a moving plane's rows: the constraint is on the
   // velocity relative to the plane); rows past its end hold 0, so it is empty while no body moves.
   std::vector<T> rate;
+  // add_point_rows' memory: the normal rows the last quadrature points went to, and the row and
+  // first entry of the run of points that went to one row.
+  std::array<std::size_t, 4> recent{};
+  std::size_t run_row = SIZE_MAX, run_from = 0;
   std::size_t rows() const { return bilateral.size(); }
   void clear() {
+    recent = {};
+    run_row = SIZE_MAX;
+    run_from = 0;
     rate.clear();
     row.clear();
     node.clear();
@@ -206,22 +213,48 @@ void add_point_rows(const PointRows<T, D>& group, std::array<std::int64_t, D + 1
   const std::int64_t key0 = key[0];
   for (int kind = 0; kind < group.kinds; ++kind) {
     key[0] = key0 + group.step * kind;
+    // The points of one piece share a cell and a few collision cells: the recent rows first, then
+    // the scan (a face lying on a plane has hundreds of rows and tens of thousands of points).
     std::uint32_t r = std::uint32_t(group.first_row);
-    while (r < rows.key.size() && rows.key[r] != key) ++r;
+    bool found = false;
+    for (std::size_t k = 0; k < rows.recent.size() && !found; ++k) {
+      const std::size_t guess = rows.recent[k] + std::size_t(kind);
+      found = guess >= group.first_row && guess < rows.key.size() && rows.key[guess] == key;
+      if (found) r = std::uint32_t(guess);
+    }
+    while (!found && r < rows.key.size() && rows.key[r] != key) ++r;
+    if (kind == 0 && !found) {
+      std::rotate(rows.recent.rbegin(), rows.recent.rbegin() + 1, rows.recent.rend());
+      rows.recent[0] = r;
+    }
     if (r == rows.key.size()) {
       rows.key.push_back(key);
       rows.bilateral.push_back(kind > 0 || group.bilateral);
+    }
+    // A run of points with the same row adds into the run's entries at the same node (one cell's
+    // 2^D nodes, mostly), so J holds about an entry per row and node, not per point and corner.
+    if (r != rows.run_row) {
+      rows.run_row = r;
+      rows.run_from = rows.row.size();
     }
     const Vec<T, D> dir = kind == 0 ? group.n : group.tangents[std::size_t(kind - 1)];
     for (int corner = 0; corner < (1 << D); ++corner) {
       const T phi = cw.weight[std::size_t(corner)];
       if (phi == T(0)) continue;
-      rows.row.push_back(r);
-      rows.node.push_back(group.node_offset + std::uint32_t(cw.index[std::size_t(corner)]));
-      rows.coeff.push_back((w * phi) * dir);
+      const Vec<T, D> term = (w * phi) * dir;
+      const std::uint32_t node = group.node_offset + std::uint32_t(cw.index[std::size_t(corner)]);
+      std::size_t e = rows.run_from;
+      while (e < rows.node.size() && (rows.node[e] != node || rows.row[e] != r)) ++e;
+      if (e < rows.node.size()) {
+        rows.coeff[e] += term;
+      } else {
+        rows.row.push_back(r);
+        rows.node.push_back(node);
+        rows.coeff.push_back(term);
+      }
       if (vb) {
         if (rows.rate.size() < rows.rows()) rows.rate.resize(rows.rows(), T(0));
-        rows.rate[r] += rows.coeff.back().dot(*vb);
+        rows.rate[r] += term.dot(*vb);
       }
     }
   }
