@@ -169,7 +169,8 @@ class MpmSimulation final : public Simulation, public TransferControls {
   // start summed unless the last row is it; after G2P, the particles at the kept xⁿ.
   void ledger_start(LedgerTerms terms);
   void ledger_updated(LedgerTerms terms);
-  std::vector<ParticleSums> ledger_chunk_sums(const Vec<T, D>* xs, LedgerTerms terms) const;
+  void ledger_chunk_sums(const Vec<T, D>* xs, LedgerTerms terms,
+                         std::vector<ParticleSums>& sums) const;
   ParticleSums ledger_sums(std::ptrdiff_t first, std::ptrdiff_t end, const Vec<T, D>* xs,
                            LedgerTerms terms) const;
   // The row with the step's stages; the row is then the next step's start.

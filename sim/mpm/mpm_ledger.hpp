@@ -47,8 +47,10 @@ template <class T, int D>
 void MpmSimulation<T, D>::ledger_start(LedgerTerms how) {
   ledger_.x_start.assign(p_.x.begin(), p_.x.end());
   if (ledger_.start_of_step == steps_) return;
+  std::vector<ParticleSums> sums;
+  ledger_chunk_sums(p_.x.data(), how, sums);
   ParticleSums start;
-  for (const ParticleSums& s : ledger_chunk_sums(p_.x.data(), how)) start.add(s);
+  for (const ParticleSums& s : sums) start.add(s);
   const double elastic = elastic_energy();
   ledger_.start = ledger_state(start, total_mass(), elastic);
   ledger_.start_potential = elastic + start.gravity;
@@ -58,22 +60,22 @@ void MpmSimulation<T, D>::ledger_start(LedgerTerms how) {
 // After G2P: the particles' sums at the kept xⁿ, chunk by chunk.
 template <class T, int D>
 void MpmSimulation<T, D>::ledger_updated(LedgerTerms how) {
-  ledger_.updated = ledger_chunk_sums(ledger_.x_start.data(), how);
+  ledger_chunk_sums(ledger_.x_start.data(), how, ledger_.updated);
 }
 
-// The particles' sums at positions xs (one per particle), in G2P's chunks.
+// The particles' sums at positions xs (one per particle), in G2P's chunks, into `sums` (kept
+// between steps: no allocation a step).
 template <class T, int D>
-std::vector<ParticleSums> MpmSimulation<T, D>::ledger_chunk_sums(const Vec<T, D>* xs,
-                                                                 LedgerTerms how) const {
+void MpmSimulation<T, D>::ledger_chunk_sums(const Vec<T, D>* xs, LedgerTerms how,
+                                            std::vector<ParticleSums>& sums) const {
   constexpr std::ptrdiff_t chunk = StepLedger<T, D>::chunk;
   const std::ptrdiff_t n = std::ptrdiff_t(p_.size()), chunks = (n + chunk - 1) / chunk;
-  std::vector<ParticleSums> sums(static_cast<std::size_t>(chunks));
+  sums.resize(std::size_t(chunks));
 #pragma omp parallel for schedule(static) if (parallel_worthwhile())
   for (std::ptrdiff_t c = 0; c < chunks; ++c) {
     const std::ptrdiff_t first = c * chunk, end = std::min(n, (c + 1) * chunk);
     sums[std::size_t(c)] = ledger_sums(first, end, xs + first, how);
   }
-  return sums;
 }
 
 // After the grid update, before the boundary pass: the grid with vⁿ and with ṽ*, row by row of

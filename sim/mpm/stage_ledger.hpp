@@ -49,6 +49,15 @@ struct StepLedger {
   void forget_start() { start_of_step = -1; }
 };
 
+// Momentum mv at node position x added to `sums`: p and x × mv, in double.
+template <class T, int D>
+[[gnu::always_inline]] inline void add_moments(ConservedSums& sums, const Vec<T, D>& x,
+                                               const Eigen::Matrix<double, D, 1>& mv) {
+  for (int a = 0; a < D; ++a) sums.p[std::size_t(a)] += mv[a];
+  const Eigen::Vector3d L = cross_moment<double, D>(x.template cast<double>(), mv);
+  for (int a = 0; a < 3; ++a) sums.L[std::size_t(a)] += L[a];
+}
+
 // The grid's node i of mass m and velocity v added to `sums`, in double. Inlined: the ledger's
 // grid pass calls it twice a node.
 template <class T, int D>
@@ -57,9 +66,7 @@ template <class T, int D>
   const double md = double(m);
   const Eigen::Matrix<double, D, 1> mv = md * v.template cast<double>();
   sums.mass += md;
-  for (int a = 0; a < D; ++a) sums.p[std::size_t(a)] += mv[a];
-  const Eigen::Vector3d L = cross_moment<double, D>(x.template cast<double>(), mv);
-  for (int a = 0; a < 3; ++a) sums.L[std::size_t(a)] += L[a];
+  add_moments<T, D>(sums, x, mv);
   sums.energy += 0.5 * mv.dot(v.template cast<double>());
 }
 
@@ -71,10 +78,8 @@ template <class T, int D>
                                                    const Vec<T, D>& after) {
   const double md = double(m);
   const Eigen::Matrix<double, D, 1> a = after.template cast<double>(),
-                                    b = before.template cast<double>(), dmv = md * (a - b);
-  for (int k = 0; k < D; ++k) sums.p[std::size_t(k)] += dmv[k];
-  const Eigen::Vector3d L = cross_moment<double, D>(x.template cast<double>(), dmv);
-  for (int k = 0; k < 3; ++k) sums.L[std::size_t(k)] += L[k];
+                                    b = before.template cast<double>();
+  add_moments<T, D>(sums, x, Eigen::Matrix<double, D, 1>(md * (a - b)));
   sums.energy += 0.5 * md * (a.squaredNorm() - b.squaredNorm());
 }
 
